@@ -1,0 +1,51 @@
+"""`python -m freecad_conformal COMMAND ...`: the headless entry point.
+
+Each command lives in `freecad_conformal/commands/<name>.py` and exposes
+`add_arguments(parser)` and `run(args) -> int`. Those modules import heavy dependencies
+(FreeCAD, matplotlib) inside `run`, so `--help` is instant and pure commands never load
+FreeCAD.
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from typing import Sequence
+
+from freecad_conformal import __version__
+from freecad_conformal.errors import ConformalError
+
+#: command name -> (module under freecad_conformal.commands, one-line help)
+COMMANDS: dict[str, tuple[str, str]] = {
+    "sections": ("sections", "exact planar or cylindrical sections of a solid"),
+}
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="python -m freecad_conformal",
+        description="Conformal: multi-axis additive process planning on exact B-rep solids.",
+    )
+    parser.add_argument("--version", action="version", version=f"conformal {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub.required = True
+    for name, (module_name, help_text) in COMMANDS.items():
+        module = importlib.import_module(f"freecad_conformal.commands.{module_name}")
+        command_parser = sub.add_parser(name, help=help_text, description=help_text)
+        module.add_arguments(command_parser)
+        command_parser.set_defaults(_run=module.run)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run one command; return its exit code (2 for usage errors, 1 for failures)."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return int(args._run(args) or 0)
+    except ConformalError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130

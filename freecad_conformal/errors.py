@@ -1,0 +1,29 @@
+"""One exception hierarchy for the project; messages name the object and the value at fault."""
+
+
+class ConformalError(Exception):
+    """Base of every error the project raises on purpose (bad input, impossible plan, ...)."""
+
+
+class GeometryError(ConformalError):
+    """A shape is missing, invalid, not a solid, or a geometric operation failed."""
+
+
+class PlanError(ConformalError):
+    """A process plan cannot be made with the given parameters."""
+
+
+class KinematicsError(ConformalError):
+    """A pose cannot be reached by the machine, or a machine definition is invalid."""
+
+
+class PostError(ConformalError):
+    """A toolpath cannot be turned into G-code (unknown dialect, bad values, ...)."""
+
+
+class ProcessError(ConformalError):
+    """A tool, material or design-of-experiments definition is invalid."""
+
+
+class StreamError(ConformalError):
+    """Sending a program to a machine failed (port, protocol, state file)."""

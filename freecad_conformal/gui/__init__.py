@@ -1,0 +1,1 @@
+"""The only package that imports FreeCADGui and Qt: a thin layer over the rest."""
