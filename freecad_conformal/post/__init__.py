@@ -1,0 +1,1 @@
+"""Post-processing: neutral toolpath -> machine joints -> G-code dialect (no FreeCAD)."""

@@ -1,0 +1,191 @@
+"""Forward and inverse kinematics for machines described as data (`post.machine`).
+
+Joint vectors are (X, Y, Z, rotary...) in mm and radians, rotary axes in machine order.
+Orientation: R_table(θ) · axis_part = R_head(φ) · tool_direction, where each side's
+rotations compose from the machine base outward. With two rotary axes this is the classic
+"two rotations take one vector onto another" problem (Paden-Kahan subproblem 2), which has
+two solutions; with one it has at most one; with none the axis must already match.
+Position: the tip in the machine frame is M_table(θ)·p = (X, Y, Z) + head_offset(φ).
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+from freecad_conformal.errors import KinematicsError
+from freecad_conformal.post.machine import Machine, RotaryAxis
+
+#: Below this |sin| the tool axis is parallel to a rotary axis and that axis' angle is
+#: undefined (e.g. A ≈ 0 on an A/C table): keep its previous value. 1e-9 rad of tool axis
+#: is far below any angular tolerance, so ignoring the angle there costs nothing.
+SINGULAR_SIN = 1e-9
+
+#: Slack when testing limits and reachability (rad / unit vector), so values computed as
+#: exactly the limit are not rejected through rounding.
+LIMIT_SLACK = 1e-9
+
+#: An axis orientation that misses the reachable cone by more than this is an error.
+#: 1e-6 rad is the accuracy of a toolpath written with 7 significant digits.
+REACH_TOLERANCE = 1e-6
+
+Locator = Callable[[int], str]
+
+
+def rotate(vectors: np.ndarray, axis: np.ndarray, angles: np.ndarray) -> np.ndarray:
+    """Rotate (n, 3) vectors about the unit `axis` by (n,) angles (Rodrigues' formula)."""
+    cos = np.cos(angles)[:, None]
+    sin = np.sin(angles)[:, None]
+    return (vectors * cos + np.cross(axis, vectors) * sin
+            + np.outer(vectors @ axis, axis) * (1.0 - cos))
+
+
+def _rotate_about(points: np.ndarray, axis: RotaryAxis, angles: np.ndarray) -> np.ndarray:
+    return axis.pivot + rotate(points - axis.pivot, axis.direction, angles)
+
+
+def _angles(machine: Machine, joints: np.ndarray, axes: tuple[RotaryAxis, ...]) -> list[np.ndarray]:
+    names = machine.joint_names
+    return [joints[:, names.index(a.name)] for a in axes]
+
+
+def head_offset(machine: Machine, joints: np.ndarray) -> np.ndarray:
+    """(n, 3) tool-tip offset from the commanded X, Y, Z caused by head rotations."""
+    offset = np.zeros((len(joints), 3))
+    for axis, angle in reversed(list(zip(machine.head_axes, _angles(machine, joints, machine.head_axes)))):
+        offset = _rotate_about(offset, axis, angle)
+    return offset
+
+
+def forward(machine: Machine, joints: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Joint vectors (n, J) -> tool-tip points and unit tool axes in the part frame."""
+    joints = np.atleast_2d(np.asarray(joints, dtype=float))
+    tip = joints[:, :3] + head_offset(machine, joints)
+    axis = np.broadcast_to(machine.tool_direction, tip.shape).copy()
+    for head, angle in reversed(list(zip(machine.head_axes, _angles(machine, joints, machine.head_axes)))):
+        axis = rotate(axis, head.direction, angle)
+    for table, angle in zip(machine.table_axes, _angles(machine, joints, machine.table_axes)):
+        tip = _rotate_about(tip, table, -angle)
+        axis = rotate(axis, table.direction, -angle)
+    return tip, axis
+
+
+def table_transform(machine: Machine, joints: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Part-frame points -> machine frame for the table angles in `joints`."""
+    out = np.array(points, dtype=float)
+    for table, angle in reversed(list(zip(machine.table_axes, _angles(machine, joints, machine.table_axes)))):
+        out = _rotate_about(out, table, angle)
+    return out
+
+
+def _angle_between(omega: np.ndarray, source: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """Angle rotating `source` onto `target` about `omega` (subproblem 1); NaN if undefined."""
+    s = source - np.outer(source @ omega, omega)
+    t = target - np.outer(target @ omega, omega)
+    angle = np.arctan2(np.cross(s, t) @ omega, np.einsum("ij,ij->i", s, t))
+    undefined = np.linalg.norm(s, axis=1) < SINGULAR_SIN
+    angle[undefined] = np.nan
+    return angle
+
+
+def _orientation_problem(machine: Machine, axes: np.ndarray):
+    """Map the machine's rotary layout onto Rot(w1, x1) Rot(w2, x2) p = q.
+
+    Returns (w1, w2, p, q, order, signs): joint angle k = signs[k] * x[order[k]].
+    """
+    tables, heads = machine.table_axes, machine.head_axes
+    home = np.broadcast_to(machine.tool_direction, axes.shape)
+    names = [a.name for a in machine.rotary]
+    if len(tables) == 2:
+        first, second, p, q, signs = tables[0], tables[1], axes, home, (1.0, 1.0)
+    elif len(heads) == 2:
+        first, second, p, q, signs = heads[0], heads[1], home, axes, (1.0, 1.0)
+    else:
+        first, second, p, q, signs = heads[0], tables[0], axes, home, (-1.0, 1.0)
+    order = [names.index(first.name), names.index(second.name)]
+    return first.direction, second.direction, p, q, order, signs
+
+
+def rotary_candidates(machine: Machine, axes: np.ndarray, locate: Locator) -> np.ndarray:
+    """(n, branches, r) rotary angles (rad, NaN where undefined) that orient the tool.
+
+    Raises KinematicsError naming the first point whose axis the machine cannot reach.
+    """
+    n, r = len(axes), len(machine.rotary)
+    if r == 0:
+        miss = np.arccos(np.clip(axes @ machine.tool_direction, -1.0, 1.0))
+        _raise_unreachable(miss > REACH_TOLERANCE, axes, locate, machine, "has no rotary axis")
+        return np.zeros((n, 1, 0))
+    if r == 1:
+        rot = machine.rotary[0]
+        sign = 1.0 if rot.on == "table" else -1.0
+        home = np.broadcast_to(machine.tool_direction, axes.shape)
+        miss = np.abs(axes @ rot.direction - machine.tool_direction @ rot.direction)
+        _raise_unreachable(miss > REACH_TOLERANCE, axes, locate, machine,
+                           f"keeps the axis component along {rot.name} fixed")
+        angle = sign * _angle_between(rot.direction, axes, home)
+        return angle[:, None, None]
+    w1, w2, p, q, order, signs = _orientation_problem(machine, axes)
+    c12 = float(w1 @ w2)
+    cross = np.cross(w1, w2)
+    if np.linalg.norm(cross) < 1e-9:
+        raise KinematicsError(f"machine {machine.name}: rotary axes {machine.rotary[0].name} and "
+                              f"{machine.rotary[1].name} are parallel; cannot orient the tool")
+    w2p, w1q = p @ w2, q @ w1
+    alpha = (w1q - c12 * w2p) / (1.0 - c12 * c12)
+    beta = (w2p - c12 * w1q) / (1.0 - c12 * c12)
+    gamma2 = (1.0 - alpha ** 2 - beta ** 2 - 2.0 * alpha * beta * c12) / float(cross @ cross)
+    _raise_unreachable(gamma2 < -2.0 * REACH_TOLERANCE, axes, locate, machine,
+                       "cannot tilt that far with its rotary axes")
+    gamma = np.sqrt(np.clip(gamma2, 0.0, None))
+    out = np.empty((n, 2, 2))
+    for branch, sign in enumerate((1.0, -1.0)):
+        z = np.outer(alpha, w1) + np.outer(beta, w2) + np.outer(sign * gamma, cross)
+        z /= np.linalg.norm(z, axis=1)[:, None]
+        x2 = _angle_between(w2, p, z)
+        x1 = _angle_between(w1, z, q)
+        out[:, branch, order[0]] = signs[0] * x1
+        out[:, branch, order[1]] = signs[1] * x2
+    return out
+
+
+def _raise_unreachable(bad: np.ndarray, axes: np.ndarray, locate: Locator, machine: Machine,
+                       reason: str) -> None:
+    if np.any(bad):
+        i = int(np.argmax(bad))
+        raise KinematicsError(f"tool axis {np.round(axes[i], 6).tolist()} at {locate(i)} is not "
+                              f"reachable: machine {machine.name} {reason}")
+
+
+def inverse(machine: Machine, points: np.ndarray, axes: np.ndarray,
+            locate: Locator | None = None, previous: np.ndarray | None = None) -> np.ndarray:
+    """Tool-tip points and unit axes (part frame) -> joint vectors (n, J).
+
+    Of the two orientation solutions each point takes the one within limits that moves
+    least from the point before (the first from `previous`, default home); continuous axes
+    unwind (no 360° jumps); an undefined angle keeps its previous value. Raises
+    KinematicsError naming the segment and point for unreachable or out-of-limit poses.
+    """
+    from freecad_conformal.post.branches import choose_rotary
+
+    locate = locate or (lambda i: f"point {i}")
+    points = np.asarray(points, dtype=float)
+    axes = np.asarray(axes, dtype=float)
+    start = machine.home_joints() if previous is None else np.asarray(previous, dtype=float)
+    candidates = rotary_candidates(machine, axes, locate)
+    rotary = choose_rotary(machine, candidates, start[3:], locate)
+    joints = np.empty((len(points), 3 + len(machine.rotary)))
+    joints[:, 3:] = rotary
+    joints[:, :3] = table_transform(machine, joints, points) - head_offset(machine, joints)
+    check_linear_limits(machine, joints, locate)
+    return joints
+
+
+def check_linear_limits(machine: Machine, joints: np.ndarray, locate: Locator) -> None:
+    for k, axis in enumerate(machine.linear):
+        low, high = axis.limits
+        bad = (joints[:, k] < low - LIMIT_SLACK) | (joints[:, k] > high + LIMIT_SLACK)
+        if np.any(bad):
+            i = int(np.argmax(bad))
+            raise KinematicsError(f"{axis.name} = {joints[i, k]:.4f} mm at {locate(i)} is outside "
+                                  f"the limits [{low}, {high}] of machine {machine.name}")
