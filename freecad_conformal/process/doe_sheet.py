@@ -83,6 +83,20 @@ def _infer_factor(name: str, values: list[str], where: str) -> Factor:
     return Factor(name, low=numbers[0], high=numbers[-1])
 
 
+def _code_column(factor: Factor, values: list[str], where: str) -> np.ndarray:
+    """Code a column that holds real levels, or coded levels (−1/0/+1) throughout."""
+    try:
+        return np.array([factor.code(v) for v in values])
+    except ProcessError as real_error:
+        try:
+            numbers = {float(v) for v in values}
+        except ValueError:
+            raise ProcessError(f"{where}: {real_error}") from None
+        if numbers <= {-1.0, 0.0, 1.0}:
+            return np.array([float(v) for v in values])
+        raise ProcessError(f"{where}: {real_error}") from None
+
+
 def read_table(path: str | os.PathLike, value_columns: Sequence[str],
                design: Design | None = None) -> Table:
     """Read a results CSV; every row must hold a number in each of `value_columns`."""
@@ -102,7 +116,8 @@ def read_table(path: str | os.PathLike, value_columns: Sequence[str],
     for column in value_columns:
         if column not in header:
             raise ProcessError(f"{where}: no column {column!r} (columns: {', '.join(header)})")
-    coded = np.array([[f.code(row[f.name]) for f in factors] for row in rows], dtype=float)
+    coded = np.column_stack([_code_column(f, [row[f.name] for row in rows], where)
+                             for f in factors])
     values: dict[str, np.ndarray] = {}
     for column in value_columns:
         numbers = []

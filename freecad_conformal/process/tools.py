@@ -24,6 +24,11 @@ MASK_SHAPES = ("disk", "square", "star", "heart", "custom")
 ID_PATTERN = re.compile(r"^[a-z0-9][a-z0-9_.-]{0,63}$")
 
 
+def _degrees(radians: float) -> float:
+    """Degrees for the JSON file, rounded to 1e-9° so 60° does not come back as 59.99999…"""
+    return round(math.degrees(radians), 9)
+
+
 @dataclass
 class Envelope:
     """Collision envelope: a cone tip widening from `tip_diameter` at the tool point to
@@ -241,12 +246,12 @@ class Tool:
         block_key = KIND_BLOCKS[self.kind][0] if self.kind in KIND_BLOCKS else "spec"
         data: dict[str, Any] = {
             "id": self.id, "name": self.name, "kind": self.kind, "diameter": self.diameter,
-            "head": self.head, "max_tilt_deg": math.degrees(self.max_tilt),
+            "head": self.head, "max_tilt_deg": _degrees(self.max_tilt),
             "envelope": self.envelope.to_dict(), block_key: self.spec.to_dict(),
             "settings": {name: s.to_dict() for name, s in self.settings.items()},
         }
         if self.head == "angled":
-            data["bend_angle_deg"] = math.degrees(self.bend_angle)
+            data["bend_angle_deg"] = _degrees(self.bend_angle)
         if self.notes:
             data["notes"] = self.notes
         return data
