@@ -64,6 +64,18 @@ def _ffill(values: np.ndarray, start: np.ndarray) -> np.ndarray:
     return out
 
 
+def _first_defined(values: np.ndarray, start: np.ndarray) -> np.ndarray:
+    """Per column the first defined angle (start if none): a toolpath that begins at a
+    singular pose takes the angle its first defined pose needs, instead of turning later
+    while already tilted."""
+    out = np.array(start, dtype=float)
+    defined = ~np.isnan(values)
+    for k in range(values.shape[1]):
+        if defined[:, k].any():
+            out[k] = values[np.argmax(defined[:, k]), k]
+    return out
+
+
 def _distance(a: np.ndarray, b: np.ndarray, short: np.ndarray) -> np.ndarray:
     delta = b - a
     delta = np.where(short, delta, _wrap(delta))
@@ -84,7 +96,7 @@ def choose_rotary(machine: Machine, candidates: np.ndarray, start: np.ndarray,
     filled = _ffill(values, start)
     state = _branch_states(filled, valid, start, short)
     chosen = values[np.arange(n), state]
-    chosen = _ffill(chosen, start)
+    chosen = _ffill(chosen, _first_defined(chosen, start))
     return _unwind(machine, chosen, start, short, locate)
 
 

@@ -158,13 +158,15 @@ def _raise_unreachable(bad: np.ndarray, axes: np.ndarray, locate: Locator, machi
 
 
 def inverse(machine: Machine, points: np.ndarray, axes: np.ndarray,
-            locate: Locator | None = None, previous: np.ndarray | None = None) -> np.ndarray:
+            locate: Locator | None = None, previous: np.ndarray | None = None,
+            with_undefined: bool = False):
     """Tool-tip points and unit axes (part frame) -> joint vectors (n, J).
 
     Of the two orientation solutions each point takes the one within limits that moves
     least from the point before (the first from `previous`, default home); continuous axes
     unwind (no 360° jumps); an undefined angle keeps its previous value. Raises
     KinematicsError naming the segment and point for unreachable or out-of-limit poses.
+    With `with_undefined` also returns the (n, r) mask of angles that were free there.
     """
     from freecad_conformal.post.branches import choose_rotary
 
@@ -178,7 +180,14 @@ def inverse(machine: Machine, points: np.ndarray, axes: np.ndarray,
     joints[:, 3:] = rotary
     joints[:, :3] = table_transform(machine, joints, points) - head_offset(machine, joints)
     check_linear_limits(machine, joints, locate)
+    if with_undefined:
+        return joints, np.isnan(candidates).all(axis=1)
     return joints
+
+
+def positions_for(machine: Machine, points: np.ndarray, joints: np.ndarray) -> np.ndarray:
+    """X, Y, Z that put the tip on part-frame `points` with the rotary angles in `joints`."""
+    return table_transform(machine, joints, points) - head_offset(machine, joints)
 
 
 def check_linear_limits(machine: Machine, joints: np.ndarray, locate: Locator) -> None:

@@ -1,0 +1,73 @@
+"""What differs between controllers: comments, preamble, events, feed modes, extrusion."""
+from __future__ import annotations
+
+from freecad_conformal.post.machine import Machine
+from freecad_conformal.tolerances import DEFAULT_LINEAR_TOLERANCE
+from freecad_conformal.toolpath import Event
+
+
+def number(value: float, decimals: int = 4) -> str:
+    """Fixed-point without trailing zeros and without '-0' (G-code has no exponents)."""
+    text = f"{value:.{decimals}f}".rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+def feed_number(value: float) -> str:
+    """Feeds span 1e-4 (slow inverse time) to 1e5: keep about six significant digits."""
+    decimals = 4
+    magnitude = abs(value)
+    while decimals < 10 and 0 < magnitude < 10.0 ** (2 - decimals):
+        decimals += 1
+    return number(value, decimals)
+
+
+class Dialect:
+    """Base dialect: override the class attributes and the hooks that differ."""
+
+    name = "base"
+    #: G93 inverse-time feed for moves with rotary motion
+    inverse_time = False
+    #: E words carry the extrusion on deposit moves
+    extrusion = False
+
+    def __init__(self, tolerance: float = DEFAULT_LINEAR_TOLERANCE) -> None:
+        #: the post's linear tolerance (mm), for controllers that blend corners within one
+        self.tolerance = tolerance
+
+    def comment(self, text: str) -> str:
+        return f"; {text}"
+
+    def preamble(self, machine: Machine, relative_e: bool) -> list[str]:
+        return ["G21", "G90"]
+
+    def postamble(self, machine: Machine) -> list[str]:
+        return ["M400"]
+
+    def power_on(self, machine: Machine, power: float) -> str:
+        return f"M3 S{number(power * machine.spindle_max, 2)}"
+
+    def power_off(self, machine: Machine) -> str:
+        return "M5"
+
+    def dwell(self, seconds: float) -> str:
+        return f"G4 P{number(seconds * 1000.0, 1)}"
+
+    def tool_change(self, tool: int) -> list[str]:
+        return [f"T{tool}"]
+
+    def extruder(self, on: bool) -> list[str]:
+        state = "on" if on else "off"
+        return [self.comment(f"extruder {state}: E words on the moves drive it")]
+
+    def event(self, event: Event, machine: Machine) -> list[str]:
+        """Lines for one process event."""
+        action = event.action
+        if action in ("light_on", "laser_on"):
+            return [self.power_on(machine, event.power)]
+        if action in ("light_off", "laser_off"):
+            return [self.power_off(machine)]
+        if action in ("extruder_on", "extruder_off"):
+            return self.extruder(action == "extruder_on")
+        if action == "dwell":
+            return [self.dwell(event.seconds)]
+        return self.tool_change(event.tool)

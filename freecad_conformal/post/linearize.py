@@ -1,0 +1,249 @@
+"""Toolpath -> machine blocks: inverse kinematics, subdivision to tolerance, collinear merge.
+
+A machine interpolates its joints linearly between blocks, so a part-frame straight move
+with rotary motion bends. Each such move is split into k equal parts in the part frame, k
+estimated from the mid-chord deviation (which falls as 1/k²) and checked at ¼, ½ and ¾ of
+every part, so the count stays close to the fewest blocks that meet the tolerance.
+Afterwards consecutive moves of one segment that are collinear in joint space (weighted so
+rotary motion counts as tip motion at the largest lever) become one block: a helix given as
+"joint_linear" on a rotary mandrel comes out as one block per straight line unrolled.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from freecad_conformal.errors import PostError
+from freecad_conformal.post.kinematics import forward, inverse, positions_for
+from freecad_conformal.post.machine import Machine
+from freecad_conformal.tolerances import DEFAULT_ANGULAR_TOLERANCE, DEFAULT_LINEAR_TOLERANCE
+from freecad_conformal.toolpath import INTERPOLATIONS, Toolpath
+
+#: Joint-space deviation (as tip mm) allowed when merging collinear moves, as a fraction of
+#: the tolerance: merging must not eat into the budget the subdivision already used.
+MERGE_FRACTION = 0.01
+
+#: Moves whose joints change by less than this (mm, or rad × lever) are dropped as empty.
+ZERO_MOVE = 1e-9
+
+#: Sample parameters along each sub-move where the deviation is measured.
+CHECK_PARAMETERS = (0.25, 0.5, 0.75)
+
+#: Refinement rounds; each multiplies the parts by the measured sqrt(deviation ratio), so
+#: smooth moves settle in two rounds and only near-singular ones need more.
+MAX_ROUNDS = 12
+
+
+@dataclass
+class Blocks:
+    """Joint targets in program order; row 0 is the start pose (reached by a rapid)."""
+
+    joints: np.ndarray       # (b, J) mm and rad, rotary axes unwound
+    segment: np.ndarray      # (b,) toolpath segment of the move into each row
+    tip_length: np.ndarray   # (b,) designed tool-tip path length of that move (mm)
+    point: np.ndarray        # (b,) toolpath point the row ends at or before
+
+
+def slerp(a: np.ndarray, b: np.ndarray, s: np.ndarray | float) -> np.ndarray:
+    """Spherical interpolation of unit vectors row by row (normalised lerp when close)."""
+    s = np.broadcast_to(np.asarray(s, dtype=float), (len(a),))[:, None]
+    dot = np.clip(np.einsum("ij,ij->i", a, b), -1.0, 1.0)[:, None]
+    angle = np.arccos(dot)
+    sin = np.sin(angle)
+    close = sin[:, 0] < 1e-6
+    wa = np.where(close[:, None], 1.0 - s, np.sin((1.0 - s) * angle) / np.where(close[:, None], 1.0, sin))
+    wb = np.where(close[:, None], s, np.sin(s * angle) / np.where(close[:, None], 1.0, sin))
+    out = wa * a + wb * b
+    return out / np.linalg.norm(out, axis=1)[:, None]
+
+
+def joint_scale(machine: Machine, points: np.ndarray) -> np.ndarray:
+    """Per-joint weights turning joint motion into tip motion: 1 for mm, lever for rad."""
+    pivots = [np.linalg.norm(a.pivot) for a in machine.rotary]
+    lever = float(np.max(np.linalg.norm(points, axis=1))) + max(pivots, default=0.0)
+    return np.array([1.0] * 3 + [max(lever, 1.0)] * len(machine.rotary))
+
+
+def linearize(tp: Toolpath, machine: Machine, tolerance: float = DEFAULT_LINEAR_TOLERANCE,
+              angular_tolerance: float = DEFAULT_ANGULAR_TOLERANCE) -> Blocks:
+    """Turn a validated toolpath into joint blocks within `tolerance` (mm, rad)."""
+    if not (tolerance > 0 and angular_tolerance > 0):
+        raise PostError(f"tolerances must be > 0 (got {tolerance} mm, {angular_tolerance} rad)")
+    part_linear = tp.interpolation[tp.segment_index] == INTERPOLATIONS.index("part_linear")
+    part_linear[0] = False
+    parts = np.ones(len(tp.points), dtype=np.int64)
+    order = np.full(len(tp.points), 2.0)       # deviation ~ parts^-order (2: smooth chord)
+    last_worst = np.full(len(tp.points), np.inf)
+    last_parts = parts.copy()
+    for _ in range(MAX_ROUNDS):
+        points, axes, origin = _refine(tp, parts)
+        joints, undefined = inverse(machine, points, axes, lambda i: tp.locate(int(origin[i])),
+                                    with_undefined=True)
+        if not machine.rotary:
+            break
+        points, axes, origin, joints = _turn_at_poles(machine, points, axes, origin, joints,
+                                                      undefined, tolerance)
+        ratio = _deviation_ratio(machine, points, axes, joints, tolerance, angular_tolerance)
+        worst = np.zeros(len(tp.points))
+        np.maximum.at(worst, origin[1:], ratio)
+        worst[~part_linear] = 0.0
+        if np.all(worst <= 1.0):
+            break
+        new_parts = _grow(parts, order, worst, last_worst, last_parts)
+        last_worst, last_parts, parts = np.where(worst > 1.0, worst, np.inf), parts, new_parts
+    else:
+        i = int(np.argmax(worst))
+        raise PostError(f"cannot linearise the move into {tp.locate(i)} within {tolerance} mm / "
+                        f"{math.degrees(angular_tolerance):.3f}° after {MAX_ROUNDS} rounds "
+                        "(orientation too close to a singular pose?)")
+    segment = tp.segment_index[origin]
+    lengths = np.zeros(len(points))
+    lengths[1:] = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    keep = _merge(joints, segment, joint_scale(machine, points), MERGE_FRACTION * tolerance)
+    kept = np.flatnonzero(keep)
+    cumulative = np.cumsum(lengths)
+    tip = np.diff(np.concatenate(([0.0], cumulative[kept])))
+    tip[0] = 0.0
+    return Blocks(joints=joints[kept], segment=segment[kept], tip_length=tip, point=origin[kept])
+
+
+def _grow(parts: np.ndarray, order: np.ndarray, worst: np.ndarray, last_worst: np.ndarray,
+          last_parts: np.ndarray) -> np.ndarray:
+    """More parts for moves over tolerance, using the convergence order seen so far.
+
+    A chord's deviation falls as 1/k², but a move leaving a singular pose (C must turn
+    while A is still tiny) only as 1/k; the observed order picks the right growth.
+    """
+    grow = worst > 1.0
+    seen = grow & np.isfinite(last_worst) & (last_worst > worst) & (parts > last_parts)
+    if np.any(seen):
+        observed = np.log(last_worst[seen] / worst[seen]) / np.log(parts[seen] / last_parts[seen])
+        order[seen] = np.clip(observed, 1.0, 2.0)   # updated in place for the next round
+    new_parts = parts.copy()
+    factor = np.maximum(worst[grow] ** (1.0 / order[grow]), 1.0)
+    new_parts[grow] = np.maximum(parts[grow] + 1, np.ceil(parts[grow] * factor * 1.02))
+    return new_parts
+
+
+def _turn_at_poles(machine: Machine, points: np.ndarray, axes: np.ndarray, origin: np.ndarray,
+                   joints: np.ndarray, undefined: np.ndarray, tolerance: float):
+    """Leaving a singular pose (e.g. A = 0) with another C: turn C first, at the pole.
+
+    At the pole C is free, so the turn does not change the tool axis; done in steps whose
+    chord stays within `tolerance` at the tip's radius, with X, Y, Z following the part.
+    Without it the whole turn would fall into the first piece of the move however finely
+    that move is split.
+    """
+    delta = joints[1:, 3:] - joints[:-1, 3:]
+    leaving = undefined[:-1] & ~undefined[1:] & (np.abs(delta) > 1e-12)
+    rows = np.flatnonzero(leaving.any(axis=1)) + 1
+    if len(rows) == 0:
+        return points, axes, origin, joints
+    pieces = [(points, axes, origin, joints)]
+    inserts = []
+    for r in rows.tolist():
+        turn = np.where(leaving[r - 1], delta[r - 1], 0.0)
+        radius = max(float(np.linalg.norm(points[r - 1])) + max(
+            (float(np.linalg.norm(a.pivot)) for a in machine.rotary), default=0.0), tolerance)
+        step = 2.0 * math.acos(max(1.0 - tolerance / radius, -1.0))
+        count = max(int(math.ceil(float(np.max(np.abs(turn))) / step)), 1)
+        s = np.arange(1, count + 1) / count
+        turned = np.repeat(joints[r - 1:r], count, axis=0)
+        turned[:, 3:] += s[:, None] * turn
+        repeated = np.repeat(points[r - 1:r], count, axis=0)
+        turned[:, :3] = positions_for(machine, repeated, turned)
+        inserts.append((r, repeated, np.repeat(axes[r - 1:r], count, axis=0),
+                        np.full(count, origin[r]), turned))
+    pieces = []
+    last = 0
+    for r, p, a, o, j in inserts:
+        pieces.append((points[last:r], axes[last:r], origin[last:r], joints[last:r]))
+        pieces.append((p, a, o, j))
+        last = r
+    pieces.append((points[last:], axes[last:], origin[last:], joints[last:]))
+    return tuple(np.concatenate([piece[k] for piece in pieces]) for k in range(4))
+
+
+def _refine(tp: Toolpath, parts: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Split the move into point i into parts[i] equal part-frame pieces."""
+    if np.all(parts == 1):
+        return tp.points, tp.axes, np.arange(len(tp.points))
+    origin = np.repeat(np.arange(len(tp.points)), parts)
+    first = np.cumsum(parts) - parts
+    step = np.arange(len(origin)) - first[origin] + 1          # 1..parts within each move
+    s = step / parts[origin]
+    prev = np.maximum(origin - 1, 0)
+    points = tp.points[prev] + (tp.points[origin] - tp.points[prev]) * s[:, None]
+    axes = slerp(tp.axes[prev], tp.axes[origin], s)
+    return points, axes, origin
+
+
+def _deviation_ratio(machine: Machine, points: np.ndarray, axes: np.ndarray, joints: np.ndarray,
+                     tolerance: float, angular_tolerance: float) -> np.ndarray:
+    """Worst (deviation / tolerance) of each move into rows 1.. when joints move linearly."""
+    a, b = points[:-1], points[1:]
+    chord = b - a
+    length2 = np.maximum(np.einsum("ij,ij->i", chord, chord), 1e-300)
+    worst = np.zeros(len(a))
+    for s in CHECK_PARAMETERS:
+        tip, axis = forward(machine, joints[:-1] + s * (joints[1:] - joints[:-1]))
+        t = np.clip(np.einsum("ij,ij->i", tip - a, chord) / length2, 0.0, 1.0)
+        position = np.linalg.norm(tip - (a + t[:, None] * chord), axis=1)
+        designed = slerp(axes[:-1], axes[1:], s)
+        angle = np.arccos(np.clip(np.einsum("ij,ij->i", axis, designed), -1.0, 1.0))
+        worst = np.maximum(worst, np.maximum(position / tolerance, angle / angular_tolerance))
+    return worst
+
+
+def _merge(joints: np.ndarray, segment: np.ndarray, scale: np.ndarray, merge_tol: float) -> np.ndarray:
+    """Rows to keep: drop empty moves, then interior rows collinear in joint space."""
+    q = joints * scale
+    keep = np.ones(len(q), dtype=bool)
+    step = np.linalg.norm(np.diff(q, axis=0), axis=1)
+    keep[1:] = step > ZERO_MOVE
+    rows = np.flatnonzero(keep)
+    if len(rows) < 3:
+        return keep
+    kq, kseg = q[rows], segment[rows]
+    before, after = kq[1:-1] - kq[:-2], kq[2:] - kq[1:-1]
+    same_segment = kseg[1:-1] == kseg[2:]
+    forward_going = np.einsum("ij,ij->i", before, after) > 0
+    candidate = same_segment & forward_going & (_line_distance(kq[:-2], kq[2:], kq[1:-1]) <= merge_tol)
+    inner = np.ones(len(rows), dtype=bool)
+    inner[1:-1] = ~candidate
+    _restore_within_tolerance(kq, inner, merge_tol)
+    keep[rows[~inner]] = False
+    return keep
+
+
+def _line_distance(start: np.ndarray, end: np.ndarray, point: np.ndarray) -> np.ndarray:
+    chord = end - start
+    length2 = np.maximum(np.einsum("ij,ij->i", chord, chord), 1e-300)
+    t = np.clip(np.einsum("ij,ij->i", point - start, chord) / length2, 0.0, 1.0)
+    return np.linalg.norm(point - (start + t[:, None] * chord), axis=1)
+
+
+def _restore_within_tolerance(q: np.ndarray, keep: np.ndarray, merge_tol: float) -> None:
+    """Re-keep the worst dropped row of every merged run that strays over `merge_tol`.
+
+    Locally collinear rows can drift over a long run (a gentle arc); like Douglas-Peucker
+    restricted to the dropped rows, repeat until every run fits.
+    """
+    index = np.arange(len(q))
+    while True:
+        anchor = np.where(keep, index, 0)
+        np.maximum.accumulate(anchor, out=anchor)
+        following = np.where(keep, index, len(q) - 1)
+        following = np.minimum.accumulate(following[::-1])[::-1]
+        dropped = np.flatnonzero(~keep)
+        if len(dropped) == 0:
+            return
+        deviation = _line_distance(q[anchor[dropped]], q[following[dropped]], q[dropped])
+        worst = np.zeros(len(q))
+        np.maximum.at(worst, anchor[dropped], deviation)
+        over = (deviation > merge_tol) & (deviation >= worst[anchor[dropped]])
+        if not over.any():
+            return
+        keep[dropped[over]] = True
