@@ -18,6 +18,8 @@ from freecad_conformal.errors import ConformalError
 #: command name -> (module under freecad_conformal.commands, one-line help)
 COMMANDS: dict[str, tuple[str, str]] = {
     "sections": ("sections", "exact planar or cylindrical sections of a solid"),
+    "post": ("post", "post-process a toolpath into G-code for a machine"),
+    "verify": ("verify", "replay G-code through kinematics against the toolpath"),
     "doe": ("doe", "design of experiments: run sheets, effects, models, optimum"),
     "tools": ("tools", "tool library: list, show, check, import, export, choose"),
 }

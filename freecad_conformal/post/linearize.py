@@ -191,7 +191,7 @@ def _deviation_ratio(machine: Machine, points: np.ndarray, axes: np.ndarray, joi
         tip, axis = forward(machine, joints[:-1] + s * (joints[1:] - joints[:-1]))
         t = np.clip(np.einsum("ij,ij->i", tip - a, chord) / length2, 0.0, 1.0)
         position = np.linalg.norm(tip - (a + t[:, None] * chord), axis=1)
-        designed = slerp(axes[:-1], axes[1:], s)
+        designed = slerp(axes[:-1], axes[1:], t)   # the axis designed where the tip is
         angle = np.arccos(np.clip(np.einsum("ij,ij->i", axis, designed), -1.0, 1.0))
         worst = np.maximum(worst, np.maximum(position / tolerance, angle / angular_tolerance))
     return worst
