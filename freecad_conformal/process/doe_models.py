@@ -102,8 +102,8 @@ def find_optimum(names: Sequence[str], location: Model, dispersion: Model | None
 
     larger / smaller: the location model decides first; among equal predictions the lowest
     predicted ln s² wins (the two-step of METHODS: A, D maximise ŷ, then B, C minimise s²).
-    nominal: the smallest expected squared loss (ŷ − target)² + ŝ²; afterwards each numeric
-    factor in `numeric` is tuned over [−1, 1] to lower the loss further.
+    nominal: the smallest expected squared loss (ŷ − target)² + ŝ², where from every corner
+    the numeric factors in `numeric` are tuned over [−1, 1] (qualitative ones stay ±1).
     Factors in no model are reported as free and left at their low level.
     """
     if goal not in GOALS:
@@ -114,11 +114,11 @@ def find_optimum(names: Sequence[str], location: Model, dispersion: Model | None
     best_key, best = None, None
     for levels in itertools.product((-1.0, 1.0), repeat=len(names)):
         coded = dict(zip(names, levels))
+        if goal == "nominal":  # the loss surface is not convex: tune from every corner
+            coded = _tune_nominal(coded, location, dispersion, target, numeric)
         key = _objective(coded, location, dispersion, goal, target, scale)
         if best_key is None or key < best_key:
             best_key, best = key, coded
-    if goal == "nominal":
-        best = _tune_nominal(best, location, dispersion, target, numeric)
     used = location.factors() | (dispersion.factors() if dispersion else set())
     free = [n for n in names if n not in used]
     for name in free:
@@ -138,15 +138,21 @@ def _objective(coded, location, dispersion, goal, target, scale) -> tuple:
 
 
 def _tune_nominal(coded, location, dispersion, target, numeric) -> dict[str, float]:
+    """Coordinate descent over the numeric factors, each scanned on NOMINAL_GRID at once
+    (the models accept arrays); stops when a sweep changes nothing."""
     def loss(point):
-        variance = math.exp(dispersion.predict(point)) if dispersion else 0.0
+        variance = np.exp(dispersion.predict(point)) if dispersion else 0.0
         return (location.predict(point) - target) ** 2 + variance
 
     best = dict(coded)
-    for _ in range(5):  # coordinate sweeps; the models are multilinear, so this settles fast
+    for _ in range(10):
+        moved = False
         for name in numeric:
-            trials = [loss({**best, name: float(x)}) for x in NOMINAL_GRID]
-            best[name] = float(NOMINAL_GRID[int(np.argmin(trials))])
+            level = float(NOMINAL_GRID[int(np.argmin(loss({**best, name: NOMINAL_GRID})))])
+            moved |= level != best[name]
+            best[name] = level
+        if not moved:
+            break
     return best
 
 
