@@ -28,6 +28,9 @@ MERGE_FRACTION = 0.01
 #: Moves whose joints change by less than this (mm, or rad × lever) are dropped as empty.
 ZERO_MOVE = 1e-9
 
+#: A move shorter than this (mm) only reorients the tool: its axis is matched by parameter.
+ZERO_CHORD = 1e-6
+
 #: Sample parameters along each sub-move where the deviation is measured.
 CHECK_PARAMETERS = (0.25, 0.5, 0.75)
 
@@ -191,7 +194,8 @@ def _deviation_ratio(machine: Machine, points: np.ndarray, axes: np.ndarray, joi
         tip, axis = forward(machine, joints[:-1] + s * (joints[1:] - joints[:-1]))
         t = np.clip(np.einsum("ij,ij->i", tip - a, chord) / length2, 0.0, 1.0)
         position = np.linalg.norm(tip - (a + t[:, None] * chord), axis=1)
-        designed = slerp(axes[:-1], axes[1:], t)   # the axis designed where the tip is
+        # the axis designed where the tip is; a pure reorientation (no chord) goes by s
+        designed = slerp(axes[:-1], axes[1:], np.where(length2 > ZERO_CHORD ** 2, t, s))
         angle = np.arccos(np.clip(np.einsum("ij,ij->i", axis, designed), -1.0, 1.0))
         worst = np.maximum(worst, np.maximum(position / tolerance, angle / angular_tolerance))
     return worst

@@ -18,7 +18,7 @@ import numpy as np
 
 from freecad_conformal.errors import PostError
 from freecad_conformal.post.kinematics import forward
-from freecad_conformal.post.linearize import slerp
+from freecad_conformal.post.linearize import ZERO_CHORD, slerp
 from freecad_conformal.post.machine import Machine
 from freecad_conformal.toolpath import Toolpath
 
@@ -27,7 +27,17 @@ _WORD = re.compile(r"([A-Z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
 #: Replay samples per mm of block motion (tip mm or rad × 10): fine enough that sampling
 #: cannot hide a deviation larger than the tolerances the post works to.
 SAMPLES_PER_MM = 4.0
-MAX_SAMPLES_PER_BLOCK = 400
+MAX_SAMPLES_PER_BLOCK = 100_000
+
+#: Probes per block to measure its tip path length (a block may wind many turns).
+LENGTH_PROBES = 64
+
+#: Probes along a pure reorientation's arc of axes (1/64 of a 30° turn is under 0.5°·¼).
+ARC_PROBES = 257
+
+#: Matching a sample to the design weighs the axis angle as tip motion at this lever (mm
+#: per rad, about a tool's length), so where the tip stands still the axis decides.
+POSE_LEVER = 50.0
 
 #: Candidate designed moves looked at around the cursor when matching samples in order.
 WINDOW = 512
@@ -91,8 +101,13 @@ def _unwrap_like_controller(machine: Machine, joints: np.ndarray) -> np.ndarray:
 def replay(machine: Machine, joints: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Sample every block in joint space; return part-frame tips and axes along the path."""
     delta = np.diff(joints, axis=0)
-    tip0, _ = forward(machine, joints)
-    reach = np.linalg.norm(np.diff(tip0, axis=0), axis=1) + 10.0 * np.abs(delta[:, 3:]).sum(axis=1)
+    reach = np.zeros(len(delta))
+    previous, _ = forward(machine, joints[:-1])
+    for s in np.arange(1, LENGTH_PROBES + 1) / LENGTH_PROBES:   # tip path length per block
+        tip, _ = forward(machine, joints[:-1] + s * delta)
+        reach += np.linalg.norm(tip - previous, axis=1)
+        previous = tip
+    reach += 10.0 * np.abs(delta[:, 3:]).sum(axis=1)
     counts = np.clip(np.ceil(reach * SAMPLES_PER_MM), 1, MAX_SAMPLES_PER_BLOCK).astype(np.int64)
     block = np.repeat(np.arange(len(delta)), counts)
     first = np.cumsum(counts) - counts
@@ -120,12 +135,25 @@ def polyline_deviation(samples: np.ndarray, sample_axes: np.ndarray, path: np.nd
         length2 = np.maximum(np.einsum("ij,ij->i", chord, chord), 1e-300)
         t = np.clip(((point - a[low:high]) * chord).sum(axis=1) / length2, 0.0, 1.0)
         distance = np.linalg.norm(a[low:high] + t[:, None] * chord - point, axis=1)
-        best = int(np.argmin(distance))
-        cursor = low + best
-        designed = slerp(path_axes[cursor:cursor + 1], path_axes[cursor + 1:cursor + 2], t[best])[0]
-        worst_distance = max(worst_distance, float(distance[best]))
-        worst_angle = max(worst_angle, float(np.arccos(np.clip(axis @ designed, -1.0, 1.0))))
+        designed = slerp(path_axes[low:high], path_axes[low + 1:high + 1], t)
+        angles = np.arccos(np.clip(designed @ axis, -1.0, 1.0))
+        for j in np.flatnonzero(length2 <= ZERO_CHORD ** 2).tolist():
+            angles[j] = _axis_miss(path_axes, low + j, axis)
+        pick = int(np.argmin(distance + POSE_LEVER * angles))
+        cursor = low + pick
+        worst_distance = max(worst_distance, float(distance[pick]))
+        angle = float(angles[pick])
+        worst_angle = max(worst_angle, angle)
     return worst_distance, worst_angle
+
+
+def _axis_miss(path_axes: np.ndarray, move: int, axis: np.ndarray) -> float:
+    """Angle from `axis` to the arc of axes of a pure reorientation (the tip stands still
+    while the axis turns, so any axis on that arc is on the design)."""
+    params = np.linspace(0.0, 1.0, ARC_PROBES)
+    designed = slerp(np.repeat(path_axes[move:move + 1], ARC_PROBES, axis=0),
+                     np.repeat(path_axes[move + 1:move + 2], ARC_PROBES, axis=0), params)
+    return float(np.arccos(np.clip(designed @ axis, -1.0, 1.0)).min())
 
 
 def verify_program(text: str, machine: Machine, toolpath: Toolpath) -> Deviation:
