@@ -76,7 +76,7 @@ def _infer_factor(name: str, values: list[str], where: str) -> Factor:
         raise ProcessError(f"{where}: column {name} holds text levels "
                            f"({', '.join(sorted(set(values)))}); pass the design file so they "
                            "can be coded") from None
-    if set(numbers) <= {-1.0, 0.0, 1.0} and len(numbers) > 1:
+    if {-1.0, 1.0} <= set(numbers) <= {-1.0, 0.0, 1.0}:
         return Factor(name, low=-1.0, high=1.0)
     if len(numbers) < 2:
         raise ProcessError(f"{where}: factor column {name} has a single level {numbers[0]:g}")

@@ -40,9 +40,12 @@ class ToolChoice:
         if self.recommended is not None:
             return (f"recommended {self.recommended.id} (dt {self.recommended.diameter:g} mm); "
                     f"tools fitting: {', '.join(t.id for t in self.fitting)}")
-        lines = ["no tool fits: " + (f"need dt <= {min(self.reach_limit, self.rotation_limit):.4g} mm"
-                                     if math.isfinite(min(self.reach_limit, self.rotation_limit))
-                                     else "")]
+        limit = min(self.reach_limit, self.rotation_limit)
+        if self.fitting:
+            head = "tools fit, but none resolves the feature width asked"
+        else:
+            head = "no tool fits" + (f": need dt <= {limit:.4g} mm" if math.isfinite(limit) else "")
+        lines = [head]
         lines += [f"  {tool_id}: {why}" for tool_id, why in sorted(self.reasons.items())]
         return "\n".join(lines)
 

@@ -160,3 +160,22 @@ def test_design_matches_pydoe3_where_installed():
         k = len(pattern.split())
         mine = {tuple(row) for row in Design.build(k, generators).matrix()}
         assert mine == {tuple(row) for row in pydoe.fracfact(pattern)}
+
+
+def test_cli_saves_the_optimum_into_the_user_library(tmp_path, capsys):
+    import argparse
+
+    from freecad_conformal.commands import doe as doe_command
+    from freecad_conformal.process.library import ToolLibrary
+
+    parser = argparse.ArgumentParser()
+    doe_command.add_arguments(parser)
+    args = parser.parse_args([
+        "analyze", str(DATA / "line_curing_replicates.csv"), "--design",
+        str(DATA / "line_curing_design.json"), "--location", "D,A", "--dispersion", "B,D,C",
+        "--response-scale", "3.556", "--response-unit", "mm/s", "--no-plot",
+        "--save-tool", "uv_small", "--material", "resin", "--user-dir", str(tmp_path)])
+    assert doe_command.run(args) == 0
+    saved = ToolLibrary.load(user_dir=tmp_path).get("uv_small").settings["resin"]
+    assert saved.feed / 60 == pytest.approx(2.53, abs=0.005)
+    assert saved.parameters["strategy"] == "tool above the resin"

@@ -194,3 +194,11 @@ def test_cli_design_json(capsys):
     assert run_doe(["design", "-k", "3", "--json", "--no-randomize"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert data["resolution"] is None and len(data["aliases"]) == 7
+
+
+def test_real_levels_zero_and_one_are_not_taken_as_coded(tmp_path):
+    path = tmp_path / "r.csv"
+    path.write_text("A,B,y\n0,10,1\n1,10,2\n0,20,3\n1,20,4\n")
+    table = read_table(path, ["y"])
+    assert sorted(set(table.coded[:, 0])) == [-1.0, 1.0]
+    assert sorted(set(table.coded[:, 1])) == [-1.0, 1.0]

@@ -89,3 +89,9 @@ def test_cli_choose(tmp_path, capsys):
     args = parser.parse_args(["--user-dir", str(tmp_path), "choose", "--rs", "0.2", "--cd",
                               "0.1", "--theta", "30"])
     assert tools_command.run(args) == 1
+
+
+def test_fitting_tools_that_do_not_resolve_are_explained(tools):
+    choice = choose_tool(tools, rs=5.0, cd=0.5, theta=math.radians(30), resolution=0.1)
+    assert choice.recommended is None and choice.fitting
+    assert choice.explanation().startswith("tools fit, but none resolves")
