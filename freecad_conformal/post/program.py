@@ -27,6 +27,7 @@ class PostResult:
     blocks: Blocks
     values: np.ndarray       # (b, J) as written: mm, degrees (wrapped where the machine wraps)
     rapid: np.ndarray        # (b,) row moved by G0
+    names: tuple[str, ...]   # axis letters of the columns of `values`
     time_s: float            # estimated run time (toolpath summary, machine acceleration)
 
 
@@ -72,7 +73,7 @@ def post_toolpath(tp: Toolpath, machine: Machine, dialect: str | None = None,
         for event in events.get((segment, "after"), []):
             lines += writer.event(event, machine)
     lines += writer.postamble(machine)
-    return PostResult("\n".join(lines) + "\n", blocks, values, rapid, summary.time_s)
+    return PostResult("\n".join(lines) + "\n", blocks, values, rapid, names, summary.time_s)
 
 
 def write_program(path: str | Path, result: PostResult) -> None:
