@@ -22,6 +22,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "verify": ("verify", "replay G-code through kinematics against the toolpath"),
     "doe": ("doe", "design of experiments: run sheets, effects, models, optimum"),
     "tools": ("tools", "tool library: list, show, check, import, export, choose"),
+    "stream": ("stream", "send G-code to a machine over a serial port (Marlin or grbl), resumably"),
 }
 
 

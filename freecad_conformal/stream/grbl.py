@@ -25,7 +25,12 @@ RX_BUFFER_BYTES = 127
 #: grbl's LINE_BUFFER_SIZE is 80 including the NUL: longer lines are rejected (error:11).
 MAX_LINE_BYTES = 79
 #: Real-time commands: bytes grbl acts on at once, outside the receive buffer.
-FEED_HOLD, CYCLE_START, SOFT_RESET = b"!", b"~", b"\x18"
+FEED_HOLD, CYCLE_START, SOFT_RESET, STATUS_QUERY = b"!", b"~", b"\x18", b"?"
+#: Seconds between status queries while a controller boots.
+STATUS_QUERY_INTERVAL = 0.25
+#: Seconds of silence that mark the end of the greeting's stale answers (a grbl answers a
+#: line within milliseconds; 0.2 s is ample even at 9600 baud).
+GREETING_QUIET = 0.2
 #: The meaning of the errors a program (not a setting) can cause, from grbl 1.1's error list.
 ERROR_MEANINGS = {
     1: "G-code words consist of a letter and a value; letter was not found",
@@ -52,7 +57,8 @@ class GrblTimeouts:
         answer: grbl answers when a line enters the planner; with the planner full that is
             when the oldest block finishes, so a single long move can hold an answer back.
             Real grbl never drops an answer, so silence this long means a dead link.
-        banner: grbl resets when the port opens (DTR) and greets after ~1 s; wait this long.
+        banner: grbl resets when the port opens (DTR) and greets after ~1 s; a controller
+            that shows no sign of life for this long is not there.
     """
 
     answer: float = 600.0
@@ -115,18 +121,32 @@ class _GrblRun:
                           f"{self.job.program.commands[index]!r})")
 
     def _greet(self) -> None:
-        """Wake the controller and wait for its banner, so nothing is sent into a reset."""
-        self.link.write(b"\r\n\r\n")
+        """Make sure a live controller listens before the first line, and drop stale answers.
+
+        A newline ends any half line left in grbl's line buffer by an earlier session; the
+        status query '?' is acted on at once by a running grbl (it is lost while the board
+        reboots after the reset many boards do when the port opens, hence the repeats).
+        """
+        self.link.write(b"\n")
         deadline = time.monotonic() + self.timeouts.banner
-        while time.monotonic() < deadline:
+        next_query = 0.0
+        while True:
+            now = time.monotonic()
+            if now >= deadline:
+                raise StreamError(f"no grbl answers on {self.link.name} (no banner, no status "
+                                  f"report in {self.timeouts.banner:.1f} s): is it a grbl "
+                                  "controller, switched on, at this baud rate?")
+            if now >= next_query:
+                self.link.write(STATUS_QUERY)
+                next_query = now + STATUS_QUERY_INTERVAL
             text = self.link.readline(READ_SLICE)
             if text is None:
                 continue
             self.job.log("<", text)
-            if text.lower().startswith("grbl"):
+            if text.startswith("<") or text.lower().startswith("grbl"):
                 break
-        # Answers to the wake-up blank lines (grbl 1.1 sends none, grblHAL may) are stale.
-        while (text := self.link.readline(READ_SLICE)) is not None:
+        # Answers to the newline and to repeated queries are stale: wait for quiet.
+        while (text := self.link.readline(GREETING_QUIET)) is not None:
             self.job.log("<", text)
 
     def _fill_buffer(self) -> None:
