@@ -17,6 +17,7 @@ from freecad_conformal.errors import ConformalError
 
 #: command name -> (module under freecad_conformal.commands, one-line help)
 COMMANDS: dict[str, tuple[str, str]] = {
+    "demo": ("demo", "the main job on a built-in sample part, written to out/"),
     "sections": ("sections", "exact planar or cylindrical sections of a solid"),
     "post": ("post", "post-process a toolpath into G-code for a machine"),
     "verify": ("verify", "replay G-code through kinematics against the toolpath"),

@@ -1,0 +1,62 @@
+"""Layer frames: an orthonormal (u, v, n) basis for a build direction n (pure numpy)."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+
+from freecad_conformal.errors import GeometryError
+
+#: A direction shorter than this cannot be normalised meaningfully.
+MIN_DIRECTION_LENGTH = 1e-12
+
+
+def unit(vector: Sequence[float], what: str = "direction") -> np.ndarray:
+    """`vector` normalised; a zero, NaN or infinite vector is a GeometryError naming `what`."""
+    array = np.asarray(vector, dtype=float).reshape(-1)
+    if array.shape != (3,) or not np.all(np.isfinite(array)):
+        raise GeometryError(f"{what} must be three finite numbers, got {list(vector)!r}")
+    length = float(np.linalg.norm(array))
+    if length < MIN_DIRECTION_LENGTH:
+        raise GeometryError(f"{what} must not be the zero vector, got {list(vector)!r}")
+    return array / length
+
+
+@dataclass(frozen=True)
+class LayerFrame:
+    """Right-handed frame: 2D layer coordinates (u, v) and height along n, about the origin.
+
+    For n = +Z the frame is the world frame (u = X, v = Y), so layer coordinates read as
+    ordinary XY coordinates in the common case.
+    """
+
+    u: np.ndarray
+    v: np.ndarray
+    n: np.ndarray
+
+    @classmethod
+    def for_direction(cls, direction: Sequence[float]) -> "LayerFrame":
+        n = unit(direction)
+        # Pick the world axis least aligned with n as the seed for u; X first keeps +Z -> XY.
+        seeds = np.eye(3)
+        seed = seeds[int(np.argmin(np.abs(seeds @ n)))]
+        if abs(n[2]) > 1 - 1e-12:
+            seed = np.array([1.0, 0.0, 0.0])
+        u = seed - (seed @ n) * n
+        u /= np.linalg.norm(u)
+        v = np.cross(n, u)
+        return cls(u=u, v=v, n=n)
+
+    def to_2d(self, points: np.ndarray) -> np.ndarray:
+        """World points (N, 3) -> layer coordinates (N, 2)."""
+        pts = np.asarray(points, dtype=float)
+        return np.column_stack((pts @ self.u, pts @ self.v))
+
+    def to_3d(self, uv: np.ndarray, height: float) -> np.ndarray:
+        """Layer coordinates (N, 2) at `height` along n -> world points (N, 3)."""
+        uv = np.asarray(uv, dtype=float)
+        return np.outer(uv[:, 0], self.u) + np.outer(uv[:, 1], self.v) + height * self.n
+
+    def height_of(self, points: np.ndarray) -> np.ndarray:
+        return np.asarray(points, dtype=float) @ self.n

@@ -1,0 +1,109 @@
+"""Section loops: exact wires paired with their polygons in a 2D frame, outer loops and holes."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+import shapely
+from shapely.geometry import MultiPolygon, Polygon
+
+from freecad_conformal.freecad_env import import_freecad
+
+#: Maps discretised 3D points (N, 3) of a loop to 2D coordinates (N, 2).
+Mapping = Callable[[np.ndarray], np.ndarray]
+
+
+def signed_area(points: np.ndarray) -> float:
+    """Shoelace area of a closed polygon (first point not repeated); > 0 counter-clockwise."""
+    x, y = points[:, 0], points[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+
+
+@dataclass
+class Loop:
+    """One closed boundary of a section face.
+
+    `points` is the polygon in 2D coordinates at the stated chord tolerance, outer loops
+    counter-clockwise and holes clockwise; `wire` is the exact 3D wire; `face_index` tells
+    which section face (island) the loop bounds.
+    """
+
+    outer: bool
+    points: np.ndarray
+    wire: object = field(repr=False)
+    face_index: int
+    _exact_area: float | None = field(default=None, repr=False)
+
+    @property
+    def area(self) -> float:
+        """Exact area enclosed by this loop alone (an OCC face built on its wire)."""
+        if self._exact_area is None:
+            _, Part = import_freecad()
+            try:
+                self._exact_area = float(Part.Face(self.wire).Area)
+            except Part.OCCError:
+                # A wire OCC cannot fill (non-planar loop on a cylinder, say): fall back to
+                # the polygon, which is within the chord tolerance of the exact value.
+                self._exact_area = abs(signed_area(self.points))
+        return self._exact_area
+
+    @property
+    def polygon_area(self) -> float:
+        return abs(signed_area(self.points))
+
+    def to_dict(self, with_points: bool = True) -> dict:
+        data = {"outer": self.outer, "area": self.area, "face": self.face_index}
+        if with_points:
+            data["points"] = np.round(self.points, 9).tolist()
+        return data
+
+
+def discretize_wire(wire, chord_tolerance: float) -> np.ndarray:
+    """Points (N, 3) along the wire in its order, closing point dropped."""
+    points = np.array([tuple(p) for p in wire.discretize(Deflection=chord_tolerance)])
+    if len(points) > 1 and np.linalg.norm(points[0] - points[-1]) < 1e-9:
+        points = points[:-1]
+    return points
+
+
+def loops_of_faces(faces: list, frame, chord_tolerance: float,
+                   mapping: Mapping | None = None) -> list[Loop]:
+    """Loops of `faces` mapped to 2D by `frame.to_2d` (or `mapping`), oriented outer CCW."""
+    to_2d = mapping if mapping is not None else frame.to_2d
+    loops = []
+    for index, face in enumerate(faces):
+        outer = face.OuterWire
+        for wire in face.Wires:
+            is_outer = wire.isSame(outer)
+            points = to_2d(discretize_wire(wire, chord_tolerance))
+            if (signed_area(points) > 0) != is_outer:
+                points = points[::-1].copy()
+            loops.append(Loop(outer=is_outer, points=points, wire=wire, face_index=index))
+    return loops
+
+
+def polygons_of_loops(loops: list[Loop]) -> MultiPolygon:
+    """Shapely polygons (one per island, holes inside) from loops grouped by face."""
+    by_face: dict[int, dict] = {}
+    for loop in loops:
+        entry = by_face.setdefault(loop.face_index, {"shell": None, "holes": []})
+        if loop.outer:
+            entry["shell"] = loop.points
+        else:
+            entry["holes"].append(loop.points)
+    polygons = []
+    for entry in by_face.values():
+        if entry["shell"] is None or len(entry["shell"]) < 3:
+            continue
+        polygon = Polygon(entry["shell"], [h for h in entry["holes"] if len(h) >= 3])
+        if not polygon.is_valid:
+            polygon = shapely.make_valid(polygon)
+        polygons.extend(_polygons_in(polygon))
+    return MultiPolygon(polygons)
+
+
+def _polygons_in(geometry) -> list[Polygon]:
+    if isinstance(geometry, Polygon):
+        return [geometry] if not geometry.is_empty else []
+    return [g for part in getattr(geometry, "geoms", []) for g in _polygons_in(part)]

@@ -1,0 +1,273 @@
+"""Exact planar sections of B-rep solids (OpenCASCADE Booleans through FreeCAD's Part).
+
+Each section is the Boolean common of a solid with a bounded plane, so OCC returns faces with
+their holes already told apart: areas and centroids come from those faces (exact up to OCC's
+integration), loops are their wires, and a plane lying on a face of the part returns that face
+rather than a ragged set of edges. Polygons for path planning are derived from the exact wires
+at a stated chord tolerance.
+
+Heights are signed distances along the (unit) direction from the world origin, so the same
+height means the same plane whatever the part's position.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Iterable, Sequence
+
+import numpy as np
+
+from freecad_conformal.errors import GeometryError
+from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.frames import LayerFrame
+from freecad_conformal.geometry.loops import Loop, loops_of_faces, polygons_of_loops
+from freecad_conformal.geometry.solids import solids_of
+from freecad_conformal.tolerances import DEFAULT_CHORD_TOLERANCE, MIN_SECTION_AREA
+
+#: The cutting plane extends this far (relative) beyond the solid's bounding box, so no
+#: section is clipped by the plane's own border.
+PLANE_MARGIN = 0.1
+
+ProgressCallback = Callable[[int, int], None]
+
+
+@dataclass
+class PlanarSection:
+    """One layer: the exact section faces of every solid at `height` along the frame normal."""
+
+    height: float
+    frame: LayerFrame
+    faces: list = field(repr=False)
+    area: float
+    centroid: np.ndarray
+    chord_tolerance: float = DEFAULT_CHORD_TOLERANCE
+    _loops: list[Loop] | None = field(default=None, repr=False)
+
+    @property
+    def is_empty(self) -> bool:
+        return not self.faces
+
+    @property
+    def wires(self) -> list:
+        """Exact 3D wires: each face's outer wire followed by its holes."""
+        return [wire for face in self.faces for wire in [face.OuterWire] + _holes(face)]
+
+    @property
+    def loops(self) -> list[Loop]:
+        """Loops in the layer frame (outer counter-clockwise, holes clockwise)."""
+        if self._loops is None:
+            self._loops = loops_of_faces(self.faces, self.frame, self.chord_tolerance)
+        return self._loops
+
+    def polygons(self):
+        """The section as a shapely MultiPolygon in layer coordinates (islands and holes)."""
+        return polygons_of_loops(self.loops)
+
+    def to_dict(self, with_points: bool = True) -> dict:
+        return {
+            "height": self.height,
+            "area": self.area,
+            "centroid": [float(c) for c in self.centroid],
+            "loops": [loop.to_dict(with_points) for loop in self.loops],
+        }
+
+
+@dataclass
+class SectionStack:
+    """A stack of planar sections along one direction."""
+
+    frame: LayerFrame
+    layers: list[PlanarSection]
+    chord_tolerance: float
+
+    @property
+    def direction(self) -> np.ndarray:
+        return self.frame.n
+
+    def to_dict(self, with_points: bool = True) -> dict:
+        """The documented JSON form (docs/sections-format.md)."""
+        return {
+            "format": "conformal.sections/1",
+            "kind": "planar",
+            "direction": [float(c) for c in self.frame.n],
+            "frame": {"u": [float(c) for c in self.frame.u], "v": [float(c) for c in self.frame.v]},
+            "chord_tolerance": self.chord_tolerance,
+            "layers": [layer.to_dict(with_points) for layer in self.layers],
+        }
+
+    def wires_compound(self):
+        _, Part = import_freecad()
+        return Part.makeCompound([wire for layer in self.layers for wire in layer.wires])
+
+
+def _holes(face) -> list:
+    outer = face.OuterWire
+    return [wire for wire in face.Wires if not wire.isSame(outer)]
+
+
+def uniform_heights(shape, direction: Sequence[float], layer: float) -> list[float]:
+    """Mid-layer heights at spacing `layer` covering the shape's extent along `direction`.
+
+    Planes sit at the middle of each layer (first at min + layer/2), the usual slicer choice:
+    it never lands on the bottom or top face, and layer area × spacing integrates the volume
+    with midpoint-rule accuracy.
+    """
+    if not np.isfinite(layer) or layer <= 0:
+        raise GeometryError(f"layer thickness must be a positive number of mm, got {layer!r}")
+    frame = LayerFrame.for_direction(direction)
+    low, high = extent_along(shape, frame.n)
+    count = int(np.ceil((high - low) / layer - 1e-9))
+    if count > 1_000_000:
+        raise GeometryError(f"layer {layer} mm gives {count} layers over {high - low:.3f} mm; "
+                            "use a thicker layer")
+    return [low + (index + 0.5) * layer for index in range(count)]
+
+
+def extent_along(shape, direction: np.ndarray) -> tuple[float, float]:
+    """Exact (min, max) of the shape's vertices and curves projected on `direction`."""
+    App, _ = import_freecad()
+    box = shape.optimalBoundingBox() if hasattr(shape, "optimalBoundingBox") else shape.BoundBox
+    corners = np.array([[x, y, z] for x in (box.XMin, box.XMax) for y in (box.YMin, box.YMax)
+                        for z in (box.ZMin, box.ZMax)])
+    axis_aligned = np.count_nonzero(np.abs(direction) > 1e-12) == 1
+    if axis_aligned:
+        heights = corners @ direction
+        return float(heights.min()), float(heights.max())
+    # Oblique direction: a box corner over-estimates; measure the distance to far planes.
+    _, Part = import_freecad()
+    reach = float(np.max(np.abs(corners @ direction))) + box.DiagonalLength + 1.0
+    size = 4 * box.DiagonalLength + 2.0
+    far_low = _plane_face(Part, App, -reach, direction, size, box)
+    far_high = _plane_face(Part, App, reach, direction, size, box)
+    low = -reach + far_low.distToShape(shape)[0]
+    high = reach - far_high.distToShape(shape)[0]
+    return float(low), float(high)
+
+
+def _plane_face(Part, App, height: float, direction: Sequence[float], size: float, box):
+    """A square planar face normal to `direction` at `height`, centred over the box centre."""
+    n = np.asarray(direction, dtype=float)
+    centre = np.array([box.Center.x, box.Center.y, box.Center.z])
+    centre = centre + (height - centre @ n) * n
+    frame = LayerFrame.for_direction(n)
+    corner = centre - 0.5 * size * (frame.u + frame.v)
+    return Part.makePlane(size, size, App.Vector(*corner), App.Vector(*frame.n), App.Vector(*frame.u))
+
+
+class PlanarSlicer:
+    """Cuts the solids of one shape with planes normal to one direction.
+
+    Building it validates the shape once. Many planes are cut in one Boolean per chunk of
+    `CHUNK` heights: OCC's Boolean set-up is then paid once per chunk, not once per layer
+    (measured 2× faster on the real parts than one Boolean per layer).
+    """
+
+    #: Heights per Boolean; larger chunks lose again as OCC's pave filler grows (measured).
+    CHUNK = 32
+
+    def __init__(self, shape, direction: Sequence[float] = (0.0, 0.0, 1.0),
+                 chord_tolerance: float = DEFAULT_CHORD_TOLERANCE) -> None:
+        App, Part = import_freecad()
+        if not np.isfinite(chord_tolerance) or chord_tolerance <= 0:
+            raise GeometryError(f"chord tolerance must be a positive length, got {chord_tolerance!r}")
+        self._App, self._Part = App, Part
+        self.solids = solids_of(shape)
+        self.frame = LayerFrame.for_direction(direction)
+        self.chord_tolerance = chord_tolerance
+        self._boxes = [solid.BoundBox for solid in self.solids]
+
+    def section(self, height: float) -> PlanarSection:
+        return self.sections([height])[0]
+
+    def sections(self, heights: Sequence[float]) -> list[PlanarSection]:
+        """Sections at `heights` (any order), in the order given."""
+        levels = np.asarray(heights, dtype=float).reshape(-1)
+        bad = levels[~np.isfinite(levels)]
+        if bad.size:
+            raise GeometryError(f"section heights must be finite, got {bad[0]!r}")
+        faces_at: list[list] = [[] for _ in levels]
+        for solid_index in range(len(self.solids)):
+            for chunk in self._chunks(solid_index, levels):
+                for index, faces in zip(chunk, self.cut_chunk(solid_index, levels[chunk])):
+                    faces_at[index].extend(faces)
+        return [self._make_section(h, faces) for h, faces in zip(levels, faces_at)]
+
+    def _chunks(self, solid_index: int, levels: np.ndarray) -> list[np.ndarray]:
+        """Indices of `levels` that meet the solid's box, grouped into chunks."""
+        inside = [i for i, h in enumerate(levels)
+                  if _plane_meets_box(self._boxes[solid_index], self.frame.n, h)]
+        return [np.array(inside[k:k + self.CHUNK]) for k in range(0, len(inside), self.CHUNK)]
+
+    def cut_chunk(self, solid_index: int, heights: np.ndarray) -> list[list]:
+        """Section faces of one solid for each height of a chunk (one Boolean)."""
+        solid, box = self.solids[solid_index], self._boxes[solid_index]
+        size = box.DiagonalLength * (1 + 2 * PLANE_MARGIN) + 1.0
+        planes = [_plane_face(self._Part, self._App, h, self.frame.n, size, box) for h in heights]
+        tool = planes[0] if len(planes) == 1 else self._Part.makeCompound(planes)
+        result = [[] for _ in heights]
+        order = np.argsort(heights)
+        sorted_heights = heights[order]
+        for face in solid.common(tool).Faces:
+            if face.Area <= MIN_SECTION_AREA:
+                continue
+            h = float(np.array(tuple(face.CenterOfMass)) @ self.frame.n)
+            slot = int(np.clip(np.searchsorted(sorted_heights, h), 0, len(heights) - 1))
+            if slot > 0 and abs(sorted_heights[slot - 1] - h) < abs(sorted_heights[slot] - h):
+                slot -= 1
+            result[int(order[slot])].append(face)
+        return result
+
+    def _make_section(self, height: float, faces: list) -> PlanarSection:
+        area = float(sum(f.Area for f in faces))
+        if faces:
+            moments = sum((np.array(tuple(f.CenterOfMass)) * f.Area for f in faces), np.zeros(3))
+            centroid = moments / area
+        else:
+            centroid = np.full(3, np.nan)
+        return PlanarSection(height=float(height), frame=self.frame, faces=faces, area=area,
+                             centroid=centroid, chord_tolerance=self.chord_tolerance)
+
+
+def _plane_meets_box(box, n: np.ndarray, height: float) -> bool:
+    corners = np.array([[x, y, z] for x in (box.XMin, box.XMax) for y in (box.YMin, box.YMax)
+                        for z in (box.ZMin, box.ZMax)])
+    heights = corners @ n
+    slack = 1e-7 * (1.0 + box.DiagonalLength)
+    return heights.min() - slack <= height <= heights.max() + slack
+
+
+def planar_sections(shape, direction: Sequence[float] = (0.0, 0.0, 1.0), *,
+                    layer: float | None = None, heights: Iterable[float] | None = None,
+                    chord_tolerance: float = DEFAULT_CHORD_TOLERANCE,
+                    progress: ProgressCallback | None = None,
+                    workers: int = 1) -> SectionStack:
+    """Section `shape` with planes normal to `direction`.
+
+    Args:
+        shape: a solid or a compound of solids (each is cut separately).
+        direction: build direction; need not be unit length.
+        layer: uniform spacing (mm); planes at mid-layer heights (see `uniform_heights`).
+        heights: explicit heights along the unit direction, instead of `layer`.
+        chord_tolerance: largest distance between a loop's polygon and its exact curve (mm).
+        progress: called as progress(done, total) as layers complete.
+        workers: processes to use (1: this process only); see section_pool.
+    Raises:
+        GeometryError: bad shape, direction, spacing or heights.
+    """
+    if (layer is None) == (heights is None):
+        raise GeometryError("give exactly one of layer (spacing) or heights")
+    slicer = PlanarSlicer(shape, direction, chord_tolerance)
+    if heights is None:
+        levels = uniform_heights(shape, slicer.frame.n, float(layer))
+    else:
+        levels = [float(h) for h in heights]
+    if workers > 1 and len(levels) > PlanarSlicer.CHUNK:
+        from freecad_conformal.geometry.section_pool import parallel_sections
+
+        layers = parallel_sections(slicer, levels, workers, progress)
+        return SectionStack(frame=slicer.frame, layers=layers, chord_tolerance=chord_tolerance)
+    layers: list[PlanarSection] = []
+    for start in range(0, len(levels), PlanarSlicer.CHUNK):
+        layers.extend(slicer.sections(levels[start:start + PlanarSlicer.CHUNK]))
+        if progress is not None:
+            progress(len(layers), len(levels))
+    return SectionStack(frame=slicer.frame, layers=layers, chord_tolerance=chord_tolerance)
