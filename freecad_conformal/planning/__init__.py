@@ -1,0 +1,1 @@
+"""Decomposition, build order, layers per sub-part, rotary (unrolled) planning."""
