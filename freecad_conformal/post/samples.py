@@ -64,15 +64,20 @@ def mandrel_helix(turns: float = 10.0, radius: float = 20.0, pitch: float = 2.0,
 
 
 def dome_spiral(points: int, radius: float = 30.0, turns: float = 40.0,
-                max_tilt_deg: float = 60.0, segments: int = 100) -> Toolpath:
-    """A spiral on a sphere cap with the tool along the surface normal (5-axis cure)."""
+                max_tilt_deg: float = 60.0, segments: int = 100,
+                center: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> Toolpath:
+    """A spiral on a sphere cap with the tool along the surface normal (5-axis cure).
+
+    Centred on an A/C table's pivot the joints move linearly (one block per segment);
+    off the pivot X, Y, Z swing with the table and the post must subdivide.
+    """
     u = np.linspace(0.0, 1.0, points)
     polar = np.radians(max_tilt_deg) * (0.05 + 0.95 * u)
     azimuth = 2.0 * math.pi * turns * u
     normals = np.stack([np.sin(polar) * np.cos(azimuth), np.sin(polar) * np.sin(azimuth),
                         np.cos(polar)], axis=1)
     builder = ToolpathBuilder(part="dome spiral", material="UV resin")
-    for chunk_points, chunk_axes in zip(np.array_split(normals * radius, segments),
+    for chunk_points, chunk_axes in zip(np.array_split(normals * radius + center, segments),
                                         np.array_split(normals, segments)):
         builder.add_segment(chunk_points, chunk_axes, kind="cure", feed=120.0, tool=1, flow=0.01)
     return builder.build()
