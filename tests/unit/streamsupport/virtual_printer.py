@@ -60,6 +60,13 @@ def make_virtual_printer(**overrides):
     class RecordingPrinter(VirtualPrinter):
         """The virtual printer, recording every command it dispatches (N and checksum removed)."""
 
+        # OctoPrint's printer answers a checksum error with "Resend: current_line + 1", where
+        # current_line counts every checksummed line received, repeats included; after the
+        # first resend it runs ahead of the line number and the printer would ask for lines
+        # never sent (and set its line count past them). Marlin asks for its last N + 1:
+        # tying the counter to lastN makes the peer do what Marlin does.
+        current_line = property(lambda self: self.lastN, lambda self, value: None)
+
         def __init__(self, *args, **kwargs) -> None:
             self.executed: list[str] = []
             super().__init__(*args, **kwargs)
