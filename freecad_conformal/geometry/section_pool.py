@@ -38,6 +38,7 @@ def parallel_sections(slicer, heights: Sequence[float], workers: int,
     levels = np.asarray(heights, dtype=float).reshape(-1)
     if not np.all(np.isfinite(levels)):
         raise GeometryError(f"section heights must be finite, got {levels[~np.isfinite(levels)][0]!r}")
+    levels, where = np.unique(levels, return_inverse=True)
     jobs = [(solid_index, chunk) for solid_index in range(len(slicer.solids))
             for chunk in slicer._chunks(solid_index, levels)]
     faces_at: list[list] = [[] for _ in levels]
@@ -59,4 +60,4 @@ def parallel_sections(slicer, heights: Sequence[float], workers: int,
                     progress(min(done_layers, len(levels)), len(levels))
     finally:
         _WORKER_SLICER = None
-    return [slicer._make_section(h, faces) for h, faces in zip(levels, faces_at)]
+    return [slicer._make_section(levels[k], list(faces_at[k])) for k in where]

@@ -184,12 +184,14 @@ class PlanarSlicer:
         bad = levels[~np.isfinite(levels)]
         if bad.size:
             raise GeometryError(f"section heights must be finite, got {bad[0]!r}")
-        faces_at: list[list] = [[] for _ in levels]
+        # Repeated heights are cut once: two coincident planes in one Boolean would share faces.
+        distinct, where = np.unique(levels, return_inverse=True)
+        faces_at: list[list] = [[] for _ in distinct]
         for solid_index in range(len(self.solids)):
-            for chunk in self._chunks(solid_index, levels):
-                for index, faces in zip(chunk, self.cut_chunk(solid_index, levels[chunk])):
+            for chunk in self._chunks(solid_index, distinct):
+                for index, faces in zip(chunk, self.cut_chunk(solid_index, distinct[chunk])):
                     faces_at[index].extend(faces)
-        return [self._make_section(h, faces) for h, faces in zip(levels, faces_at)]
+        return [self._make_section(levels[i], list(faces_at[k])) for i, k in enumerate(where)]
 
     def _chunks(self, solid_index: int, levels: np.ndarray) -> list[np.ndarray]:
         """Indices of `levels` that meet the solid's box, grouped into chunks."""
@@ -214,7 +216,7 @@ class PlanarSlicer:
             if slot > 0 and abs(sorted_heights[slot - 1] - h) < abs(sorted_heights[slot] - h):
                 slot -= 1
             result[int(order[slot])].append(face)
-        return result
+        return [_merge_touching(faces) for faces in result]
 
     def _make_section(self, height: float, faces: list) -> PlanarSection:
         area = float(sum(f.Area for f in faces))
@@ -225,6 +227,20 @@ class PlanarSlicer:
             centroid = np.full(3, np.nan)
         return PlanarSection(height=float(height), frame=self.frame, faces=faces, area=area,
                              centroid=centroid, chord_tolerance=self.chord_tolerance)
+
+
+def _merge_touching(faces: list) -> list:
+    """One face per island: a plane lying on a face of the part returns that face and the
+    section beside it as separate faces sharing edges; fuse and drop the splitter edges."""
+    if len(faces) < 2:
+        return faces
+    boxes = [f.BoundBox for f in faces]
+    touching = any(boxes[i].intersect(boxes[j]) for i in range(len(faces))
+                   for j in range(i + 1, len(faces)))
+    if not touching:
+        return faces
+    merged = faces[0].fuse(faces[1:]).removeSplitter()
+    return [f for f in merged.Faces if f.Area > MIN_SECTION_AREA]
 
 
 def _plane_meets_box(box, n: np.ndarray, height: float) -> bool:

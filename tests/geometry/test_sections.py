@@ -1,0 +1,184 @@
+"""Exact planar sections against closed forms, at awkward places, and on the real parts."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from freecad_conformal.errors import GeometryError
+from freecad_conformal.geometry.sections import PlanarSlicer, planar_sections, uniform_heights
+
+#: The accuracy the issue asks of exact sections against closed forms.
+REL = 1e-9
+
+
+def rel_err(value: float, expected: float) -> float:
+    return abs(value - expected) / abs(expected)
+
+
+def test_box_section_area_and_centroid(App, Part):
+    box = Part.makeBox(20, 10, 5, App.Vector(1, 2, 3))
+    section = PlanarSlicer(box).section(4.0)
+    assert rel_err(section.area, 200.0) < REL
+    assert np.allclose(section.centroid, [11, 7, 4], atol=1e-9)
+    assert [loop.outer for loop in section.loops] == [True]
+    assert section.loops[0].polygon_area == pytest.approx(200.0, rel=1e-12)
+
+
+@pytest.mark.parametrize("height", [0.0, 2.5, -4.9, 4.99])
+def test_sphere_section_is_disk(Part, height):
+    section = PlanarSlicer(Part.makeSphere(5)).section(height)
+    assert rel_err(section.area, math.pi * (25 - height ** 2)) < REL
+    assert np.allclose(section.centroid, [0, 0, height], atol=1e-9)
+
+
+def test_cylinder_oblique_section_is_ellipse(App, Part):
+    cylinder = Part.makeCylinder(5, 100, App.Vector(0, 0, -50))
+    tilt = math.radians(30)
+    direction = (math.sin(tilt), 0.0, math.cos(tilt))
+    section = PlanarSlicer(cylinder, direction).section(0.0)
+    assert rel_err(section.area, math.pi * 25 / math.cos(tilt)) < REL
+    assert np.allclose(section.centroid, 0, atol=1e-9)
+    polygon = section.polygons()
+    # The polygon is within the chord tolerance of the exact ellipse: area off by < 1e-3 relative.
+    assert polygon.area == pytest.approx(section.area, rel=1e-3)
+
+
+def test_cone_section(Part):
+    cone = Part.makeCone(5, 2, 10)
+    radius = 5 - 3 * 0.4
+    section = PlanarSlicer(cone).section(4.0)
+    assert rel_err(section.area, math.pi * radius ** 2) < REL
+    assert np.allclose(section.centroid, [0, 0, 4], atol=1e-9)
+
+
+def test_torus_sections_have_holes_and_islands(Part):
+    torus = Part.makeTorus(10, 2)
+    across = PlanarSlicer(torus).section(1.0)        # an annulus: one island with a hole
+    s = math.sqrt(4 - 1)
+    assert rel_err(across.area, 4 * math.pi * 10 * s) < REL
+    assert sorted(loop.outer for loop in across.loops) == [False, True]
+    assert len(across.polygons().geoms) == 1 and len(across.polygons().geoms[0].interiors) == 1
+    through_axis = PlanarSlicer(torus, (1, 0, 0)).section(0.0)  # two disks: two islands
+    assert rel_err(through_axis.area, 2 * math.pi * 4) < REL
+    assert [loop.outer for loop in through_axis.loops] == [True, True]
+    assert np.allclose(through_axis.centroid, 0, atol=1e-9)
+    hole = [loop for loop in across.loops if not loop.outer][0]
+    assert rel_err(hole.area, math.pi * (10 - s) ** 2) < REL
+
+
+def test_loop_orientation_outer_ccw_holes_cw(App, Part):
+    plate = Part.makeBox(30, 30, 4).cut(Part.makeCylinder(5, 4, App.Vector(15, 15, 0)))
+    section = PlanarSlicer(plate).section(2.0)
+    for loop in section.loops:
+        signed = 0.5 * np.sum(loop.points[:, 0] * np.roll(loop.points[:, 1], -1)
+                              - loop.points[:, 1] * np.roll(loop.points[:, 0], -1))
+        assert (signed > 0) == loop.outer
+    assert rel_err(section.area, 900 - 25 * math.pi) < REL
+
+
+def test_plane_on_a_horizontal_face_returns_the_closed_section(App, Part):
+    l_block = Part.makeBox(20, 10, 10).fuse(Part.makeBox(10, 10, 20)).removeSplitter()
+    slicer = PlanarSlicer(l_block)
+    on_step = slicer.section(10.0)
+    assert rel_err(on_step.area, 200.0) < REL
+    assert len(on_step.loops) == 1, "the step face and the column's section form one island"
+    assert rel_err(slicer.section(10.0 + 1e-6).area, 100.0) < REL
+    assert rel_err(slicer.section(0.0).area, 200.0) < REL   # the bottom face itself
+
+
+def test_plane_through_edge_vertex_and_tangencies_is_empty_or_exact(App, Part):
+    cube = Part.makeBox(10, 10, 10)
+    cube.rotate(App.Vector(0, 0, 0), App.Vector(1, 0, 0), 45)     # an edge on top
+    slicer = PlanarSlicer(cube)
+    assert slicer.section(cube.BoundBox.ZMax).is_empty
+    assert rel_err(slicer.section(10 / math.sqrt(2)).area, 10 * 10 * math.sqrt(2)) < REL
+    corner = Part.makeBox(10, 10, 10)
+    corner.rotate(App.Vector(0, 0, 0), App.Vector(1, 0, 0), 45)
+    corner.rotate(App.Vector(0, 0, 0), App.Vector(0, 1, 0), math.degrees(math.atan(1 / math.sqrt(2))))
+    top = PlanarSlicer(corner).section(corner.BoundBox.ZMax)       # through a vertex only
+    assert top.is_empty and top.area == 0.0 and np.all(np.isnan(top.centroid))
+    lying = Part.makeCylinder(5, 20, App.Vector(0, 0, 0), App.Vector(1, 0, 0))
+    slicer = PlanarSlicer(lying)
+    assert slicer.section(5.0).is_empty                              # tangent on top
+    near = slicer.section(5.0 - 1e-4)                                # a thin strip below it
+    assert rel_err(near.area, 20 * 2 * math.sqrt(25 - (5 - 1e-4) ** 2)) < 1e-6
+    assert PlanarSlicer(Part.makeSphere(5)).section(5.0).is_empty   # tangent sphere
+    assert PlanarSlicer(Part.makeSphere(5)).section(50.0).loops == []  # beyond the part
+
+
+def test_compound_of_two_solids_is_cut_per_solid(App, Part):
+    pair = Part.makeCompound([Part.makeBox(10, 10, 10),
+                              Part.makeSphere(3, App.Vector(30, 0, 5))])
+    section = PlanarSlicer(pair).section(5.0)
+    assert rel_err(section.area, 100 + 9 * math.pi) < REL
+    assert len([loop for loop in section.loops if loop.outer]) == 2
+    expected = (np.array([5, 5, 5]) * 100 + np.array([30, 0, 5]) * 9 * math.pi) / (100 + 9 * math.pi)
+    assert np.allclose(section.centroid, expected, atol=1e-9)
+
+
+def test_explicit_heights_and_order_are_kept(Part):
+    stack = planar_sections(Part.makeSphere(5), heights=[3.0, -1.0, 0.0, 3.0])
+    assert [layer.height for layer in stack.layers] == [3.0, -1.0, 0.0, 3.0]
+    assert [round(layer.area, 9) for layer in stack.layers] == [
+        round(math.pi * 16, 9), round(math.pi * 24, 9), round(math.pi * 25, 9), round(math.pi * 16, 9)]
+
+
+def test_uniform_heights_are_mid_layer(App, Part):
+    heights = uniform_heights(Part.makeBox(1, 1, 1, App.Vector(0, 0, 2)), (0, 0, 1), 0.25)
+    assert heights == pytest.approx([2.125, 2.375, 2.625, 2.875])
+
+
+def test_parallel_sections_equal_serial(Part):
+    torus = Part.makeTorus(10, 2)
+    serial = planar_sections(torus, (0.3, 0.2, 1.0), layer=0.05)
+    parallel = planar_sections(torus, (0.3, 0.2, 1.0), layer=0.05, workers=2)
+    assert len(serial.layers) == len(parallel.layers) > 64
+    for a, b in zip(serial.layers, parallel.layers):
+        assert a.height == b.height
+        assert a.area == pytest.approx(b.area, rel=1e-12, abs=1e-12)
+
+
+@pytest.mark.parametrize("bad, message", [
+    ({"layer": 0.0}, "positive"),
+    ({"layer": -1.0}, "positive"),
+    ({"heights": [float("nan")]}, "finite"),
+    ({"layer": 1.0, "direction": (0, 0, 0)}, "zero vector"),
+    ({"layer": 1.0, "chord_tolerance": 0.0}, "chord tolerance"),
+])
+def test_bad_parameters_are_clear_errors(Part, bad, message):
+    with pytest.raises(GeometryError, match=message):
+        planar_sections(Part.makeBox(1, 1, 1), **bad)
+
+
+def test_bad_shapes_are_clear_errors(App, Part):
+    with pytest.raises(GeometryError, match="empty"):
+        planar_sections(Part.Shape(), layer=1.0)
+    shell = Part.makeBox(1, 1, 1).Shells[0]
+    with pytest.raises(GeometryError, match="Shell"):
+        planar_sections(shell, layer=1.0)
+    with pytest.raises(GeometryError, match="not a Part shape"):
+        planar_sections("box", layer=1.0)
+    face = Part.makePlane(1, 1)
+    with pytest.raises(GeometryError, match="not a solid"):
+        planar_sections(face, layer=1.0)
+
+
+def test_invalid_solid_is_a_clear_error(App, Part):
+    outer = Part.makeBox(10, 10, 10).Shells[0]
+    inner = Part.makeBox(4, 4, 4, App.Vector(8, 8, 8)).Shells[0]  # pokes through the outer
+    broken = Part.Solid(Part.makeShell(outer.Faces + inner.Faces))
+    assert not broken.isValid()
+    with pytest.raises(GeometryError, match="invalid"):
+        planar_sections(broken, layer=1.0)
+
+
+def test_json_form_has_the_documented_fields(Part):
+    stack = planar_sections(Part.makeTorus(10, 2), layer=1.0)
+    data = stack.to_dict()
+    assert data["direction"] == [0.0, 0.0, 1.0]
+    layer = data["layers"][2]
+    assert set(layer) >= {"height", "area", "centroid", "loops"}
+    assert {loop["outer"] for loop in layer["loops"]} == {True, False}
+    assert all(len(point) == 2 for loop in layer["loops"] for point in loop["points"])
