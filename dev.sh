@@ -32,6 +32,8 @@ need_venv() {
   # FreeCAD's modules live outside sys.path; a .pth file makes `import FreeCAD` work in the venv.
   local site; site="$("$venv/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')"
   echo "/usr/lib/freecad-python3/lib" > "$site/freecad.pth"
+  # The checkout itself, so `python -m freecad_conformal` works from any folder.
+  echo "$here" > "$site/conformal-checkout.pth"
   digest="$(cat "${requirements[@]}" | sha256sum | cut -d' ' -f1)"
   if [ "$(cat "$stamp" 2>/dev/null)" != "$digest" ]; then
     echo "== installing Python packages: ${requirements[*]}"
