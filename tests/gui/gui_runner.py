@@ -1,0 +1,33 @@
+"""Executed by the FreeCAD GUI (`freecad gui_runner.py`): runs one check script, reports JSON.
+
+Environment (set by freecad_gui.run_gui_check): CONFORMAL_GUI_CHECK (script defining
+main(params) -> dict), CONFORMAL_GUI_RESULT (JSON path), CONFORMAL_GUI_PARAMS (JSON object),
+CONFORMAL_GUI_SUPPORT (folder of gui_support.py). The check runs once the event loop is up;
+the process then ends at once (os._exit) so no "save changes?" dialog can hold it.
+"""
+import json
+import os
+import runpy
+import sys
+import traceback
+
+from PySide import QtCore
+
+
+def _run_check() -> None:
+    result = {}
+    try:
+        sys.path.insert(0, os.environ["CONFORMAL_GUI_SUPPORT"])
+        params = json.loads(os.environ.get("CONFORMAL_GUI_PARAMS") or "{}")
+        main = runpy.run_path(os.environ["CONFORMAL_GUI_CHECK"])["main"]
+        result = main(params)
+    except BaseException:  # noqa: B036 - every failure must reach the JSON, then we exit
+        result = dict(result or {}, error=traceback.format_exc())
+    with open(os.environ["CONFORMAL_GUI_RESULT"], "w", encoding="utf-8") as handle:
+        json.dump(result, handle, indent=1, default=str)
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(0)
+
+
+QtCore.QTimer.singleShot(0, _run_check)
