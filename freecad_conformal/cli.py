@@ -24,6 +24,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "doe": ("doe", "design of experiments: run sheets, effects, models, optimum"),
     "tools": ("tools", "tool library: list, show, check, import, export, choose"),
     "stream": ("stream", "send G-code to a machine over a serial port (Marlin or grbl), resumably"),
+    "mandrel": ("mandrel", "build around a rotating mandrel: unrolled cylindrical layers to G-code"),
 }
 
 
