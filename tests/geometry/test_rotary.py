@@ -14,6 +14,8 @@ from freecad_conformal.planning.rotary import (
 from freecad_conformal.post.machine import load_machine
 from freecad_conformal.post.verify import verify_program
 
+pytestmark = pytest.mark.slow   # the spring plans take ~10 s in all
+
 RADIUS, PITCH, TURNS, SECTION = 10.0, 8.0, 3.0, 2.0
 LAYER, WIDTH = 0.5, 0.5
 
