@@ -1,0 +1,139 @@
+"""Safe moves between sub-parts, checked against the material already built.
+
+Leaving a sub-part the tool retracts along its axis until it is outside the *safe sphere*
+(the bounding sphere of everything built, plus `SAFE_MARGIN`), travels over that sphere
+while the tool axis turns to the next sub-part's direction, and approaches the next first
+layer along the new axis. The whole move (tool tip, and the tool body as a line along the
+axis) is then measured against the built sub-parts with OCC's exact distance: a move that
+comes closer than the tool's envelope allows is a PlanError naming the sub-parts.
+"""
+from __future__ import annotations
+
+import math
+from typing import Sequence
+
+import numpy as np
+
+from freecad_conformal.errors import PlanError
+from freecad_conformal.freecad_env import import_freecad
+
+#: Clearance (mm) between the safe sphere and the built material's bounding sphere: several
+#: layer heights and nozzle diameters, so a travel never skims a surface.
+SAFE_MARGIN = 5.0
+
+#: Arc points every this many radians over the safe sphere: the chord sag of a 5° step is
+#: 0.1 % of the radius, inside the margin for any part that fits a desktop machine.
+ARC_STEP = math.radians(5.0)
+
+#: The start of a retract and the end of an approach touch the material by design (the tip
+#: leaves or lands on a layer); the check ignores the first and last millimetre along the axis.
+CONTACT_LENGTH = 1.0
+
+#: Slack (mm) on the clearance checks: OCC distances are exact to far better than this.
+CHECK_SLACK = 1e-6
+
+
+def bounding_sphere(shapes: Sequence) -> tuple[np.ndarray, float]:
+    """Centre and radius of a sphere holding the bounding boxes of `shapes`."""
+    boxes = [shape.BoundBox for shape in shapes]
+    low = np.min([[b.XMin, b.YMin, b.ZMin] for b in boxes], axis=0)
+    high = np.max([[b.XMax, b.YMax, b.ZMax] for b in boxes], axis=0)
+    return 0.5 * (low + high), 0.5 * float(np.linalg.norm(high - low))
+
+
+def exit_distance(point: np.ndarray, axis: np.ndarray, centre: np.ndarray, radius: float) -> float:
+    """Distance along `axis` from `point` to the sphere's surface (0 when already outside)."""
+    offset = point - centre
+    along = float(offset @ axis)
+    gap = along * along - float(offset @ offset) + radius * radius
+    return max(0.0, -along + math.sqrt(max(gap, 0.0)))
+
+
+def slerp_directions(a: np.ndarray, b: np.ndarray, count: int, fallback: np.ndarray) -> np.ndarray:
+    """`count` unit vectors from a to b (inclusive) on the great circle; antiparallel a, b
+    turn through `fallback`'s component normal to a."""
+    a = a / np.linalg.norm(a)
+    b = b / np.linalg.norm(b)
+    angle = math.acos(float(np.clip(a @ b, -1.0, 1.0)))
+    t = np.linspace(0.0, 1.0, count)
+    if angle < 1e-9:
+        return np.repeat(a[None], count, axis=0)
+    if math.pi - angle < 1e-6:
+        side = fallback - (fallback @ a) * a
+        if np.linalg.norm(side) < 1e-9:
+            side = np.eye(3)[int(np.argmin(np.abs(a)))]
+            side = side - (side @ a) * a
+        side /= np.linalg.norm(side)
+        return np.outer(np.cos(math.pi * t), a) + np.outer(np.sin(math.pi * t), side)
+    w = np.sin(np.outer(1.0 - t, [angle])) / math.sin(angle)
+    v = np.sin(np.outer(t, [angle])) / math.sin(angle)
+    out = w * a + v * b
+    return out / np.linalg.norm(out, axis=1)[:, None]
+
+
+def transition(end: np.ndarray, end_axis: np.ndarray, start: np.ndarray, start_axis: np.ndarray,
+               centre: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
+    """Points and tool axes from `end` (excluded) to `start` (included) over the safe sphere."""
+    safe = radius + SAFE_MARGIN
+    lifted = end + exit_distance(end, end_axis, centre, safe) * end_axis
+    above = start + exit_distance(start, start_axis, centre, safe) * start_axis
+    r1, r2 = np.linalg.norm(lifted - centre), np.linalg.norm(above - centre)
+    d1, d2 = (lifted - centre) / r1, (above - centre) / r2
+    turn = math.acos(float(np.clip(d1 @ d2, -1.0, 1.0)))
+    count = max(2, int(math.ceil(turn / ARC_STEP)) + 1)
+    directions = slerp_directions(d1, d2, count, end_axis + start_axis)
+    radii = np.linspace(r1, r2, count)
+    arc = centre + directions * radii[:, None]
+    axes = slerp_directions(end_axis, start_axis, count, d1 + d2)
+    points = np.vstack((arc, start[None]))
+    return points, np.vstack((axes, start_axis[None]))
+
+
+def check_clearance(points: np.ndarray, axes: np.ndarray, built: Sequence, envelope,
+                    what: str, names: str) -> None:
+    """Raise PlanError if the move's tip or tool body comes too close to `built` solids.
+
+    `points`/`axes` run from the leaving point (first) to the landing point (last); the
+    first and last `CONTACT_LENGTH` mm are where the tip meets the material on purpose.
+    """
+    if not built or len(points) < 2:
+        return
+    App, Part = import_freecad()
+    tip = _trim(points, CONTACT_LENGTH)
+    if len(tip) < 2:
+        return
+    target = Part.makeCompound(list(built))
+    V = App.Vector
+    tip_wire = Part.makePolygon([V(*p) for p in tip])
+    tip_gap = tip_wire.distToShape(target)[0]
+    need_tip = 0.5 * envelope.tip_diameter
+    if tip_gap < need_tip - CHECK_SLACK:
+        raise PlanError(f"{what}: the tool tip passes {tip_gap:.3f} mm from built {names} "
+                        f"(needs {need_tip:.3f} mm)")
+    base = envelope.tip_length
+    body = [Part.LineSegment(V(*(p + base * a)), V(*(p + (base + envelope.body_length) * a))).toShape()
+            for p, a in zip(points[1:-1], axes[1:-1])]
+    if body:
+        body_gap = Part.makeCompound(body).distToShape(target)[0]
+        need_body = 0.5 * envelope.body_diameter
+        if body_gap < need_body - CHECK_SLACK:
+            raise PlanError(f"{what}: the tool body passes {body_gap:.3f} mm from built {names} "
+                            f"(needs {need_body:.3f} mm)")
+
+
+def _trim(points: np.ndarray, length: float) -> np.ndarray:
+    """The polyline without its first and last `length` mm."""
+    steps = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    total = float(steps.sum())
+    if total <= 2 * length:
+        return points[:0]
+    along = np.concatenate(([0.0], np.cumsum(steps)))
+    keep = (along > length) & (along < total - length)
+    start = np.interp(length, along, np.arange(len(points)))
+    end = np.interp(total - length, along, np.arange(len(points)))
+    return np.vstack((_at(points, start), points[keep], _at(points, end)))
+
+
+def _at(points: np.ndarray, position: float) -> np.ndarray:
+    k = min(int(position), len(points) - 2)
+    return points[k] + (position - k) * (points[k + 1] - points[k])

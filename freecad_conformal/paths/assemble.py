@@ -1,0 +1,160 @@
+"""A BuildPlan's layers -> ordered 3D deposition paths -> the neutral toolpath.
+
+Sub-parts are built in the plan's order. Inside a layer the nozzle travels straight in the
+layer's top plane; between layers it first rises onto the next top plane along the new
+normal; between sub-parts it takes the checked safe move of `paths.approach`. Each deposit
+carries flow = bead width × layer thickness (mm³/mm: a rectangular bead; at the spacing of
+one bead width it fills the slab exactly, as a rounded bead at slicers' spacing does).
+Layers that would print faster than `min_layer_time` are slowed (not below `min_speed`),
+as slicers do to let a small layer cool.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+
+from freecad_conformal.errors import PlanError
+from freecad_conformal.paths.approach import (SAFE_MARGIN, bounding_sphere, check_clearance,
+                                              exit_distance, transition)
+from freecad_conformal.paths.fill2d import FillSettings, fill_layer
+from freecad_conformal.paths.map3d import Path3D, map_paths, skin_regions
+from freecad_conformal.planning.layers import Layer
+from freecad_conformal.planning.subparts import BuildPlan
+from freecad_conformal.toolpath import Toolpath, ToolpathBuilder
+
+#: Region polygons are simplified to this fraction of the bead width before path planning:
+#: sections come at a 1 µm chord tolerance, far finer than a bead can follow, and the
+#: points only cost time downstream.
+SIMPLIFY_FRACTION = 1.0 / 40.0
+
+
+@dataclass
+class Feeds:
+    """Tool-tip speeds per role in mm/min (METHODS section 4: print 40/60, travel 150 mm/s)."""
+
+    external_perimeter: float = 40.0 * 60
+    perimeter: float = 40.0 * 60
+    infill: float = 60.0 * 60
+    solid_infill: float = 60.0 * 60
+    travel: float = 150.0 * 60
+
+    def for_role(self, role: str) -> float:
+        return float(getattr(self, role))
+
+    def validate(self) -> None:
+        for name in ("external_perimeter", "perimeter", "infill", "solid_infill", "travel"):
+            value = getattr(self, name)
+            if not (np.isfinite(value) and value > 0):
+                raise PlanError(f"{name} feed must be > 0 mm/min, got {value!r}")
+
+
+@dataclass
+class PathSettings:
+    """Fill, feeds, solid skins (layers), cooling slowdown (s, mm/min) and the tool number."""
+
+    fill: FillSettings = field(default_factory=FillSettings)
+    feeds: Feeds = field(default_factory=Feeds)
+    top_layers: int = 3
+    bottom_layers: int = 3
+    min_layer_time: float = 5.0
+    min_speed: float = 10.0 * 60
+    tool_number: int = 1
+
+
+@dataclass
+class Assembly:
+    """The toolpath and what it was made of (deposit paths for previews and statistics)."""
+
+    toolpath: Toolpath
+    paths: list[Path3D]
+    travels: list[np.ndarray]
+    moves_checked: int
+
+
+def plan_paths(layers: Sequence[Layer], settings: PathSettings, rests_on_parent: bool,
+               position: np.ndarray | None) -> list[list[Path3D]]:
+    """Ordered 3D paths per layer of one sub-part, starting near `position`."""
+    tolerance = settings.fill.bead_width * SIMPLIFY_FRACTION
+    skins = skin_regions(layers, settings.top_layers, settings.bottom_layers, rests_on_parent)
+    result = []
+    for layer, skin in zip(layers, skins):
+        here = layer.frame.to_2d(position[None])[0] if position is not None else None
+        region = layer.region.simplify(tolerance)
+        paths = map_paths(layer, fill_layer(region, settings.fill, layer.index, skin, here))
+        if paths:
+            position = paths[-1].points[-1]
+        result.append(paths)
+    return result
+
+
+def _layer_feeds(paths: Sequence[Path3D], settings: PathSettings) -> list[float]:
+    """Deposit feeds, slowed together when the layer would take under `min_layer_time`."""
+    feeds = [settings.feeds.for_role(p.role) for p in paths]
+    seconds = sum(60.0 * p.length / f for p, f in zip(paths, feeds))
+    if seconds <= 0 or seconds >= settings.min_layer_time:
+        return feeds
+    scale = seconds / settings.min_layer_time
+    return [max(min(f, settings.min_speed), f * scale) for f in feeds]
+
+
+def assemble(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSettings,
+             envelope, **metadata: str) -> Assembly:
+    """Build the toolpath of a whole plan (sub-parts in `plan.order`)."""
+    settings.fill.validate()
+    settings.feeds.validate()
+    builder = ToolpathBuilder(**metadata)
+    builder.event("tool_change", tool=settings.tool_number)
+    width, travel_feed, tool = settings.fill.bead_width, settings.feeds.travel, settings.tool_number
+    built: list = []
+    names: list[str] = []
+    all_paths: list[Path3D] = []
+    travels: list[np.ndarray] = []
+    position: np.ndarray | None = None
+    axis: np.ndarray | None = None
+    checked = 0
+
+    def travel(points: np.ndarray, axes: np.ndarray) -> None:
+        builder.add_segment(points, axes, kind="travel", feed=travel_feed, tool=tool)
+        travels.append(np.vstack((position[None], points)) if position is not None else points)
+
+    for subpart in plan.ordered():
+        per_layer = plan_paths(layers[subpart.index], settings, subpart.parent is not None, position)
+        first = True
+        for paths in per_layer:
+            feeds = _layer_feeds(paths, settings)
+            for k, (path, feed) in enumerate(zip(paths, feeds)):
+                start, new_axis = path.points[0], path.axis
+                if position is None:
+                    lift = SAFE_MARGIN + bounding_sphere([subpart.shape])[1]
+                    travel(np.array([start + lift * new_axis, start]), np.array([new_axis, new_axis]))
+                elif first:
+                    centre, radius = bounding_sphere(built)
+                    points, axes = transition(position, axis, start, new_axis, centre, radius)
+                    check_clearance(np.vstack((position[None], points)), np.vstack((axis[None], axes)),
+                                    built, envelope,
+                                    f"move to sub-part {subpart.index}", ", ".join(names))
+                    checked += 1
+                    travel(points, axes)
+                elif k == 0:
+                    rise = position + float((path.points[0] - position) @ new_axis) * new_axis
+                    travel(np.array([rise, start]), np.array([new_axis, new_axis]))
+                elif np.linalg.norm(start - position) > 1e-9:
+                    travel(start[None], new_axis[None])
+                first = False
+                builder.event("extruder_on")
+                builder.add_segment(path.points[1:], new_axis, kind="deposit", feed=feed, tool=tool,
+                                    flow=width * path.thickness)
+                builder.event("extruder_off")
+                position, axis = path.points[-1], new_axis
+                all_paths.append(path)
+        built.append(subpart.shape)
+        names.append(f"sub-part {subpart.index}")
+    if position is None:
+        raise PlanError("the plan has no layer with material to deposit")
+    centre, radius = bounding_sphere(built)
+    retract = position + (exit_distance(position, axis, centre, radius + SAFE_MARGIN) + 1.0) * axis
+    travel(retract[None], axis[None])
+    return Assembly(builder.build(), all_paths, travels, checked)
+

@@ -1,0 +1,283 @@
+"""2D deposition paths of one layer (shapely): perimeters, zigzag infill, seams, travel order.
+
+- Perimeters: the region offset inwards by (k + ½)·bead width, k = 0..perimeters−1 (mitred
+  corners), outer boundaries and holes alike; printed innermost first, the external one last
+  (its surface is the part's, so it goes on last, as slicers do).
+- Infill: what is left inside the last perimeter; sparse where `density` < 1 (line spacing
+  bead width / density), solid (spacing = bead width) in `solid` areas (top/bottom skins).
+  Lines are zigzags linked by short connectors that stay inside the infill area, along the
+  direction that needs the fewest turns (or a given angle), turned 90° on odd layers.
+- Seams: "aligned" (the rearmost vertex: +v), "nearest" (closest to the nozzle) or
+  "sharpest" (the sharpest corner hides it).
+- Order: islands, loops and infill chains are taken greedily nearest-first from the
+  nozzle's position, infill chains in whichever direction starts closer.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from shapely import affinity
+from shapely.geometry import LineString, MultiLineString, MultiPolygon, Polygon
+
+from freecad_conformal.errors import PlanError
+
+ROLES = ("external_perimeter", "perimeter", "infill", "solid_infill")
+SEAMS = ("aligned", "nearest", "sharpest")
+
+#: Mitre limit of the perimeter offsets: keeps 90° corners sharp (ratio √2) while a very
+#: acute corner is bevelled instead of spiking out.
+MITRE_LIMIT = 2.0
+
+#: Angles tried for the fewest-turns infill direction (every 15° over a half turn).
+CANDIDATE_ANGLES = tuple(math.radians(a) for a in range(0, 180, 15))
+
+#: Loops shorter than this many bead widths are dust left by offsetting thin features.
+MIN_LOOP_WIDTHS = 2.0
+
+#: Connectors between zigzag lines may lie this far (as a fraction of the bead width) outside
+#: the infill area: they run along its boundary, where rounding puts them either side.
+CONNECTOR_SLACK = 0.05
+
+
+@dataclass
+class Path2D:
+    """A polyline in layer coordinates; `closed` loops repeat their first point at the end."""
+
+    points: np.ndarray
+    role: str
+    closed: bool = False
+
+    @property
+    def length(self) -> float:
+        return float(np.linalg.norm(np.diff(self.points, axis=0), axis=1).sum())
+
+    def reversed(self) -> "Path2D":
+        return Path2D(self.points[::-1].copy(), self.role, self.closed)
+
+
+@dataclass
+class FillSettings:
+    """Bead width (mm), perimeter count, sparse density 0..1, infill angle (rad, None: fewest
+    turns), 90° alternation on odd layers, and seam placement."""
+
+    bead_width: float = 0.4
+    perimeters: int = 2
+    density: float = 0.2
+    angle: float | None = None
+    alternate: bool = True
+    seam: str = "aligned"
+
+    def validate(self) -> None:
+        if not (isinstance(self.bead_width, (int, float)) and math.isfinite(self.bead_width)
+                and self.bead_width > 0):
+            raise PlanError(f"bead width must be a positive number of mm, got {self.bead_width!r}")
+        if not (isinstance(self.perimeters, int) and self.perimeters >= 0):
+            raise PlanError(f"perimeter count must be a whole number >= 0, got {self.perimeters!r}")
+        if not (math.isfinite(self.density) and 0.0 <= self.density <= 1.0):
+            raise PlanError(f"infill density must be a fraction 0..1, got {self.density!r}")
+        if self.angle is not None and not math.isfinite(self.angle):
+            raise PlanError(f"infill angle must be finite, got {self.angle!r}")
+        if self.seam not in SEAMS:
+            raise PlanError(f"seam {self.seam!r} is not one of {', '.join(SEAMS)}")
+
+
+def polygons_of(geometry) -> list[Polygon]:
+    if geometry.is_empty:
+        return []
+    if geometry.geom_type == "Polygon":
+        return [geometry]
+    return [g for g in getattr(geometry, "geoms", []) if g.geom_type == "Polygon" and not g.is_empty]
+
+
+def perimeter_rings(island: Polygon, width: float, count: int) -> list[list[np.ndarray]]:
+    """Rings per depth (0 = external): each an (N, 2) closed polyline."""
+    depths = []
+    for k in range(count):
+        offset = island.buffer(-(k + 0.5) * width, join_style="mitre", mitre_limit=MITRE_LIMIT)
+        rings = [np.asarray(ring.coords) for poly in polygons_of(offset)
+                 for ring in [poly.exterior, *poly.interiors] if ring.length >= MIN_LOOP_WIDTHS * width]
+        if not rings:
+            break
+        depths.append(rings)
+    return depths
+
+
+def _scan_segments(area, spacing: float, angle: float) -> list[list[tuple[float, float, float]]]:
+    """Per scan line (rotated frame, lines along x), the (x0, x1, y) pieces inside `area`;
+    lines sit on a global grid so sparse lines stack from layer to layer."""
+    rotated = affinity.rotate(area, -angle, origin=(0.0, 0.0), use_radians=True)
+    minx, miny, maxx, maxy = rotated.bounds
+    first = math.floor(miny / spacing - 0.5) + 0.5
+    ys = [(first + k) * spacing for k in range(int(math.ceil((maxy - miny) / spacing)) + 2)]
+    ys = [y for y in ys if miny < y < maxy]
+    if not ys:
+        return []
+    lines = MultiLineString([[(minx - 1.0, y), (maxx + 1.0, y)] for y in ys])
+    pieces = rotated.intersection(lines)
+    by_line: dict[int, list[tuple[float, float]]] = {}
+    for piece in getattr(pieces, "geoms", [pieces]):
+        if piece.geom_type != "LineString" or piece.is_empty:
+            continue
+        (x0, y0), (x1, _) = piece.coords[0], piece.coords[-1]
+        row = int(round(y0 / spacing - first))
+        by_line.setdefault(row, []).append((min(x0, x1), max(x0, x1)))
+    return [[(x0, x1, (first + row) * spacing) for x0, x1 in sorted(by_line[row])]
+            for row in sorted(by_line)]
+
+
+def fewest_turns_angle(area, spacing: float) -> float:
+    """The candidate direction whose zigzag has the fewest line pieces (so fewest turns)."""
+    counts = [sum(len(row) for row in _scan_segments(area, spacing, a)) for a in CANDIDATE_ANGLES]
+    return CANDIDATE_ANGLES[int(np.argmin(counts))]
+
+
+def zigzag(area, spacing: float, angle: float, width: float, role: str) -> list[Path2D]:
+    """Scan lines at `spacing` along `angle` linked into zigzags by inside connectors."""
+    if area.is_empty:
+        return []
+    rows = _scan_segments(area, spacing, angle)
+    guard = area.buffer(CONNECTOR_SLACK * width)
+    shapely.prepare(guard)
+    used = [[False] * len(row) for row in rows]
+    chains: list[list[tuple[float, float]]] = []
+    for r, row in enumerate(rows):
+        for s in range(len(row)):
+            if used[r][s]:
+                continue
+            chain = _follow(rows, used, r, s, guard, spacing)
+            chains.append(chain)
+    cos, sin = math.cos(angle), math.sin(angle)
+    paths = []
+    for chain in chains:
+        xy = np.asarray(chain)
+        world = np.column_stack((xy[:, 0] * cos - xy[:, 1] * sin, xy[:, 0] * sin + xy[:, 1] * cos))
+        paths.append(Path2D(world, role))
+    return paths
+
+
+def _follow(rows, used, r: int, s: int, guard, spacing: float) -> list[tuple[float, float]]:
+    """Walk from piece s of row r, alternating direction, onto the next row's nearest piece."""
+    x0, x1, y = rows[r][s]
+    used[r][s] = True
+    chain = [(x0, y), (x1, y)]
+    forward = True
+    while r + 1 < len(rows):
+        end_x, end_y = chain[-1]
+        best, best_gap = None, 2.0 * spacing
+        for k, (a, b, y_next) in enumerate(rows[r + 1]):
+            if used[r + 1][k] or y_next - end_y > 1.5 * spacing:
+                continue
+            near = b if forward else a
+            gap = abs(near - end_x)
+            if gap < best_gap:
+                best, best_gap = k, gap
+        if best is None:
+            break
+        a, b, y_next = rows[r + 1][best]
+        start = (b, y_next) if forward else (a, y_next)
+        if not guard.covers(LineString([chain[-1], start])):
+            break
+        used[r + 1][best] = True
+        chain += [start, (a, y_next) if forward else (b, y_next)]
+        forward = not forward
+        r += 1
+    return chain
+
+
+def _seam_index(ring: np.ndarray, seam: str, position: np.ndarray | None) -> int:
+    points = ring[:-1]
+    if seam == "nearest" and position is not None:
+        return int(np.argmin(np.linalg.norm(points - position, axis=1)))
+    if seam == "sharpest":
+        before = points - np.roll(points, 1, axis=0)
+        after = np.roll(points, -1, axis=0) - points
+        turn = np.abs(np.arctan2(before[:, 0] * after[:, 1] - before[:, 1] * after[:, 0],
+                                 np.einsum("ij,ij->i", before, after)))
+        return int(np.argmax(turn))
+    return int(np.lexsort((points[:, 0], -points[:, 1]))[0])
+
+
+def start_ring_at(ring: np.ndarray, index: int) -> np.ndarray:
+    """The closed ring re-started at vertex `index` (still closed)."""
+    points = ring[:-1]
+    rolled = np.roll(points, -index, axis=0)
+    return np.vstack((rolled, rolled[:1]))
+
+
+def _nearest(candidates: list[Path2D], position: np.ndarray, reversible: bool) -> tuple[int, bool]:
+    starts = np.array([p.points[0] for p in candidates])
+    gaps = np.linalg.norm(starts - position, axis=1)
+    if reversible:
+        ends = np.array([p.points[-1] for p in candidates])
+        back = np.linalg.norm(ends - position, axis=1)
+        k = int(np.argmin(np.minimum(gaps, back)))
+        return k, bool(back[k] < gaps[k])
+    return int(np.argmin(gaps)), False
+
+
+def fill_layer(region, settings: FillSettings, layer_index: int = 0, solid=None,
+               position: np.ndarray | None = None) -> list[Path2D]:
+    """Ordered paths of one layer: per island, perimeters (innermost first) then infill.
+
+    Args:
+        region: the layer's section (shapely Polygon/MultiPolygon, layer coordinates).
+        settings: bead width, perimeters, density, angle, seam.
+        layer_index: parity picks the alternate infill direction.
+        solid: area printed at 100 % (skins); None for none.
+        position: the nozzle's position before the layer (seams "nearest", ordering).
+    """
+    settings.validate()
+    width = settings.bead_width
+    here = np.zeros(2) if position is None else np.asarray(position, dtype=float)
+    islands = polygons_of(region)
+    ordered: list[Path2D] = []
+    while islands:
+        k = int(np.argmin([island.exterior.distance(shapely.Point(here)) for island in islands]))
+        island = islands.pop(k)
+        paths = _island_paths(island, settings, layer_index, solid, here)
+        ordered.extend(paths)
+        if paths:
+            here = paths[-1].points[-1]
+    return ordered
+
+
+def _island_paths(island: Polygon, settings: FillSettings, layer_index: int, solid,
+                  here: np.ndarray) -> list[Path2D]:
+    width = settings.bead_width
+    paths: list[Path2D] = []
+    depths = perimeter_rings(island, width, settings.perimeters)
+    for depth in reversed(range(len(depths))):
+        role = "external_perimeter" if depth == 0 else "perimeter"
+        rings = list(depths[depth])
+        while rings:
+            k = int(np.argmin([np.min(np.linalg.norm(r - here, axis=1)) for r in rings]))
+            ring = rings.pop(k)
+            ring = start_ring_at(ring, _seam_index(ring, settings.seam, here))
+            paths.append(Path2D(ring, role, closed=True))
+            here = ring[-1]
+    inner = island.buffer(-len(depths) * width, join_style="mitre", mitre_limit=MITRE_LIMIT) \
+        if depths else island
+    if inner.is_empty:
+        return paths
+    dense = inner.intersection(solid) if solid is not None and not solid.is_empty else Polygon()
+    sparse = inner.difference(dense) if not dense.is_empty else inner
+    infill: list[Path2D] = []
+    for area, spacing, role in ((dense, width, "solid_infill"),
+                                (sparse, width / settings.density if settings.density > 0 else 0.0,
+                                 "infill")):
+        if area.is_empty or spacing <= 0 or area.area < width * width:
+            continue
+        angle = settings.angle if settings.angle is not None else fewest_turns_angle(area, spacing)
+        if settings.alternate and layer_index % 2:
+            angle += math.pi / 2
+        infill += zigzag(area, spacing, angle, width, role)
+    while infill:
+        k, flip = _nearest(infill, here, reversible=True)
+        path = infill.pop(k)
+        path = path.reversed() if flip else path
+        paths.append(path)
+        here = path.points[-1]
+    return paths

@@ -1,0 +1,76 @@
+"""2D layer paths -> 3D tool poses, and the top/bottom skins of a sub-part's layers.
+
+A layer's paths live in the (u, v) frame of its middle plane; the tool tip deposits on the
+layer's top plane, reached along the top normal, which is also the tool axis (for planar
+layers that is just "(u, v) at the top height"; for 3-D layers the projection follows the
+tilt, so the bead height varies between the layer's minimum and maximum thickness).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+import shapely
+from shapely.geometry import MultiPolygon
+
+from freecad_conformal.paths.fill2d import Path2D
+from freecad_conformal.planning.layers import Layer, as_multipolygon
+
+
+@dataclass
+class Path3D:
+    """A deposition polyline: tool-tip points (N, 3), one tool axis, role and bead height."""
+
+    points: np.ndarray
+    axis: np.ndarray
+    role: str
+    subpart: int
+    layer: int
+    thickness: float
+
+    @property
+    def length(self) -> float:
+        return float(np.linalg.norm(np.diff(self.points, axis=0), axis=1).sum())
+
+
+def map_paths(layer: Layer, paths: Sequence[Path2D]) -> list[Path3D]:
+    """Map a layer's ordered 2D paths onto its top plane with the tool along the top normal."""
+    return [Path3D(points=layer.to_3d(path.points), axis=np.array(layer.top_normal, dtype=float),
+                   role=path.role, subpart=layer.subpart, layer=layer.index,
+                   thickness=layer.thickness)
+            for path in paths]
+
+
+def region_in(target: Layer, source: Layer) -> MultiPolygon:
+    """`source`'s region expressed in `target`'s layer frame (projected along target's normal)."""
+    if source.frame is target.frame or (np.allclose(source.frame.u, target.frame.u)
+                                        and np.allclose(source.frame.v, target.frame.v)):
+        return source.region
+
+    def move(uv: np.ndarray) -> np.ndarray:
+        return target.frame.to_2d(source.frame.to_3d(uv, source.section_height))
+
+    return as_multipolygon(shapely.transform(source.region, move).buffer(0))
+
+
+def skin_regions(layers: Sequence[Layer], top_layers: int, bottom_layers: int,
+                 rests_on_parent: bool) -> list[MultiPolygon]:
+    """Per layer, the area to print solid: not covered `top_layers` above or
+    `bottom_layers` below within the sub-part. A sub-part that rests on its parent has no
+    bottom skin (its base is inside the part, not on the bed)."""
+    skins = []
+    for i, layer in enumerate(layers):
+        covered = layer.region
+        for offset in [*range(1, top_layers + 1), *(-k for k in range(1, bottom_layers + 1))]:
+            j = i + offset
+            if j < 0 and rests_on_parent:
+                continue
+            if not 0 <= j < len(layers):
+                covered = MultiPolygon()
+                break
+            covered = covered.intersection(region_in(layer, layers[j]))
+            if covered.is_empty:
+                break
+        skins.append(as_multipolygon(layer.region.difference(covered)))
+    return skins
