@@ -208,16 +208,12 @@ def _subpart_summary(sub, layers: list[Layer], assembly: Assembly, width: float)
 
 
 def single_plan(shape, direction=(0.0, 0.0, 1.0)) -> BuildPlan:
-    """A plan of one sub-part (the whole solid) built along `direction`."""
+    """A plan without splits: each solid of `shape` one sub-part built along `direction`."""
     from freecad_conformal.geometry.solids import solids_of
     from freecad_conformal.planning.subparts import SubPart
 
-    solids = solids_of(shape)
-    if len(solids) != 1:
-        raise PlanError(f"a one-piece plan needs one solid, the shape has {len(solids)}")
     d = np.asarray(direction, dtype=float)
-    return BuildPlan(subparts=[SubPart(index=0, shape=solids[0], build_direction=d / np.linalg.norm(d),
-                                       volume=float(solids[0].Volume), name="whole part")],
-                     order=[0])
-
-
+    d = d / np.linalg.norm(d)
+    subparts = [SubPart(index=k, shape=solid, build_direction=d, volume=float(solid.Volume),
+                        name=f"solid {k}") for k, solid in enumerate(solids_of(shape))]
+    return BuildPlan(subparts=subparts, order=list(range(len(subparts))))

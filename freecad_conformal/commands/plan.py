@@ -1,0 +1,92 @@
+"""`plan PART --machine NAME --tool ID [--layer 0.2] -o out.gcode`: the project's main job.
+
+PART is a STEP/BREP/IGES/FCStd file or the name of a built-in sample part (bracket, jack).
+Prints the summary, writes the G-code, a PNG preview (paths coloured by sub-part) and,
+on request, the summary and the neutral toolpath.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from pathlib import Path
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("part", help="part file (STEP, BREP, IGES, FCStd) or a built-in sample name")
+    parser.add_argument("--machine", default="trunnion_ac",
+                        help="machine name or .json path (default trunnion_ac)")
+    parser.add_argument("--tool", default="fdm_0p4", help="tool id in the library (default fdm_0p4)")
+    parser.add_argument("--material", help="material of the tool's settings (default: its first)")
+    parser.add_argument("-o", "--output", required=True, help="G-code file to write")
+    parser.add_argument("--png", help="preview image (default: the output with .png)")
+    parser.add_argument("--summary", help="also write the summary to this text file")
+    parser.add_argument("--toolpath", help="also save the neutral toolpath (.npz)")
+    parser.add_argument("--dialect", help="G-code dialect (default: the machine's)")
+    layers = parser.add_argument_group("layers")
+    layers.add_argument("--layer", type=float, default=0.2, help="layer height in mm (default 0.2)")
+    layers.add_argument("--layer-mode", choices=("uniform", "adaptive", "cusp"), default="uniform")
+    layers.add_argument("--layer-min", type=float, help="minimum layer height (default 0.5 x --layer)")
+    layers.add_argument("--layer-max", type=float, help="maximum layer height (default 1.5 x --layer)")
+    layers.add_argument("--max-volume-difference", type=float, default=2.0,
+                        help="adaptive limit per layer in mm3 (default 2)")
+    layers.add_argument("--max-cusp", type=float, default=0.05, help="cusp height limit in mm")
+    layers.add_argument("--no-tilt", action="store_true", help="keep layers planar (no 3-D layers)")
+    paths = parser.add_argument_group("paths")
+    paths.add_argument("--bead-width", type=float, help="bead width in mm (default: the material's)")
+    paths.add_argument("--perimeters", type=int, default=2)
+    paths.add_argument("--infill", type=float, default=20.0, help="sparse infill in percent (default 20)")
+    paths.add_argument("--infill-angle", type=float, help="infill angle in degrees (default: fewest turns)")
+    paths.add_argument("--seam", choices=("aligned", "nearest", "sharpest"), default="aligned")
+    paths.add_argument("--solid-layers", type=int, default=3, help="top and bottom solid layers (default 3)")
+
+
+def load_part(name: str):
+    """A part file, or a built-in sample when no such file exists and the name is a sample."""
+    from freecad_conformal.geometry import samples
+    from freecad_conformal.geometry.solids import load_shape
+
+    if not Path(name).exists() and name in samples.SAMPLES:
+        return samples.SAMPLES[name](), name
+    return load_shape(name), Path(name).stem
+
+
+def options_from(args: argparse.Namespace):
+    from freecad_conformal.errors import PlanError
+    from freecad_conformal.paths.assemble import PathSettings
+    from freecad_conformal.paths.fill2d import FillSettings
+    from freecad_conformal.planning.job import PlanOptions
+    from freecad_conformal.planning.layers import LayerSettings
+
+    if not 0.0 <= args.infill <= 100.0:
+        raise PlanError(f"--infill {args.infill:g} must be a percentage 0..100")
+    angle = None if args.infill_angle is None else math.radians(args.infill_angle)
+    fill = FillSettings(bead_width=args.bead_width or 0.4, perimeters=args.perimeters,
+                        density=args.infill / 100.0, angle=angle, seam=args.seam)
+    layers = LayerSettings(mode=args.layer_mode, thickness=args.layer, min_thickness=args.layer_min,
+                           max_thickness=args.layer_max, max_volume_difference=args.max_volume_difference,
+                           max_cusp=args.max_cusp, tilt=not args.no_tilt)
+    paths = PathSettings(fill=fill, top_layers=args.solid_layers, bottom_layers=args.solid_layers)
+    return PlanOptions(machine=args.machine, tool=args.tool, material=args.material, layers=layers,
+                       paths=paths, bead_width=args.bead_width, dialect=args.dialect)
+
+
+def run(args: argparse.Namespace) -> int:
+    from freecad_conformal.planning.job import run_job, single_plan
+
+    options = options_from(args)
+    shape, name = load_part(args.part)
+    try:  # development only: decomposition (issue 5) has not landed yet
+        from freecad_conformal.planning.decompose import decompose
+        plan = decompose(shape)
+    except ImportError:
+        plan = single_plan(shape)
+    result = run_job(shape, plan, options, part=name)
+    png = args.png or str(Path(args.output).with_suffix(".png"))
+    written = result.write(args.output, png, args.summary)
+    if args.toolpath:
+        result.assembly.toolpath.save(args.toolpath)
+        written.append(Path(args.toolpath))
+    print(result.summary(), end="")
+    print("wrote " + ", ".join(str(p) for p in written), file=sys.stderr)
+    return 0

@@ -1,0 +1,109 @@
+"""2D fills: perimeters, holes, zigzag infill, fewest turns, seams, order, bad settings."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from shapely.geometry import LineString, MultiPolygon, Point, Polygon, box
+
+from freecad_conformal.errors import PlanError
+from freecad_conformal.paths.fill2d import (FillSettings, fewest_turns_angle, fill_layer,
+                                            perimeter_rings, zigzag)
+
+WIDTH = 0.4
+
+
+def _plate_with_hole() -> Polygon:
+    return box(0, 0, 40, 30).difference(Point(25, 15).buffer(5, quad_segs=64))
+
+
+def test_perimeters_are_offset_by_bead_widths():
+    depths = perimeter_rings(box(0, 0, 20, 10), WIDTH, 3)
+    assert len(depths) == 3
+    for k, rings in enumerate(depths):
+        (ring,) = rings
+        xs, ys = ring[:, 0], ring[:, 1]
+        inset = (k + 0.5) * WIDTH
+        assert xs.min() == pytest.approx(inset) and ys.max() == pytest.approx(10 - inset)
+
+
+def test_holes_get_their_own_perimeters_and_stay_empty():
+    plate = _plate_with_hole()
+    paths = fill_layer(plate, FillSettings(bead_width=WIDTH, perimeters=2, density=1.0))
+    loops = [p for p in paths if p.closed]
+    assert len(loops) == 4          # outer and hole boundary, two perimeters each
+    hole = Point(25, 15).buffer(5 - 0.5 * WIDTH + 1e-6)
+    for path in paths:
+        assert not LineString(path.points).intersects(hole.buffer(-1e-3))
+
+
+def test_solid_fill_deposits_the_area():
+    """Bead width × length of a solid layer matches the region's area (connectors add a bit)."""
+    plate = _plate_with_hole()
+    paths = fill_layer(plate, FillSettings(bead_width=WIDTH, perimeters=2, density=1.0))
+    covered = sum(p.length for p in paths) * WIDTH
+    assert covered == pytest.approx(plate.area, rel=0.03)
+
+
+def test_sparse_density_scales_infill_length():
+    square = box(0, 0, 30, 30)
+    def infill_length(density):
+        paths = fill_layer(square, FillSettings(bead_width=WIDTH, perimeters=0, density=density,
+                                                angle=0.0, alternate=False))
+        return sum(p.length for p in paths if p.role == "infill")
+    ratio = infill_length(0.2) / infill_length(0.4)
+    assert ratio == pytest.approx(0.5, rel=0.08)
+
+
+def test_fewest_turns_runs_along_the_long_side():
+    strip = box(0, 0, 50, 5)
+    assert fewest_turns_angle(strip, 2.0) == pytest.approx(0.0)
+    tall = box(0, 0, 5, 50)
+    assert fewest_turns_angle(tall, 2.0) == pytest.approx(math.pi / 2)
+
+
+def test_zigzag_connectors_stay_inside():
+    """An L-shaped area: every infill polyline lies inside it (slack of a bead fraction)."""
+    ell = box(0, 0, 30, 10).union(box(0, 0, 10, 30))
+    lines = zigzag(ell, 1.0, 0.0, WIDTH, "infill")
+    guard = ell.buffer(0.05 * WIDTH)
+    assert lines and all(guard.covers(LineString(p.points)) for p in lines)
+    assert len(lines) < 10          # linked into zigzags, not one path per scan line
+
+
+def test_solid_area_gets_dense_lines():
+    square = box(0, 0, 20, 20)
+    skin = MultiPolygon([box(0, 0, 10, 20)])
+    paths = fill_layer(square, FillSettings(bead_width=WIDTH, perimeters=1, density=0.2), solid=skin)
+    roles = {p.role for p in paths}
+    assert {"solid_infill", "infill", "external_perimeter"} <= roles
+    dense = sum(p.length for p in paths if p.role == "solid_infill") * WIDTH
+    assert dense == pytest.approx(20 * 10 - 20 * WIDTH - 10 * WIDTH, rel=0.08)
+
+
+def test_seams():
+    square = box(0, 0, 10, 10)
+    aligned = fill_layer(square, FillSettings(perimeters=1, density=0.0, seam="aligned"))
+    assert aligned[0].points[0][1] == pytest.approx(10 - 0.2)   # rearmost (largest v)
+    near = fill_layer(square, FillSettings(perimeters=1, density=0.0, seam="nearest"),
+                      position=np.array([10.0, 0.0]))
+    np.testing.assert_allclose(near[0].points[0], [9.8, 0.2])
+    assert np.allclose(near[0].points[0], near[0].points[-1])    # loops close
+
+
+def test_islands_in_nearest_order_and_external_perimeter_last():
+    islands = MultiPolygon([box(0, 0, 5, 5), box(100, 0, 105, 5), box(20, 0, 25, 5)])
+    paths = fill_layer(islands, FillSettings(perimeters=2, density=0.2))
+    xs = [p.points[:, 0].mean() for p in paths if p.role == "external_perimeter"]
+    assert xs == sorted(xs)
+    first_island = [p.role for p in paths if p.points[:, 0].max() < 6]
+    assert first_island.index("perimeter") < first_island.index("external_perimeter")
+
+
+@pytest.mark.parametrize("field, value", [("bead_width", 0.0), ("bead_width", -1.0),
+                                          ("perimeters", -1), ("density", 1.5), ("seam", "left")])
+def test_bad_settings_are_refused(field, value):
+    settings = FillSettings(**{field: value})
+    with pytest.raises(PlanError, match=field.split("_")[0].rstrip("s")):
+        fill_layer(box(0, 0, 10, 10), settings)
