@@ -25,6 +25,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "tools": ("tools", "tool library: list, show, check, import, export, choose"),
     "stream": ("stream", "send G-code to a machine over a serial port (Marlin or grbl), resumably"),
     "mandrel": ("mandrel", "build around a rotating mandrel: unrolled cylindrical layers to G-code"),
+    "plan": ("plan", "the main job: support-free multi-axis build plan and 5-axis G-code for a part"),
 }
 
 
