@@ -1,7 +1,11 @@
-"""Workbench set-up: toolbars and menus built from the registered commands."""
+"""Workbench set-up: toolbars and menus built from the registered commands, the preference
+page and the translations folder."""
 from __future__ import annotations
 
 import FreeCAD
+import FreeCADGui
+
+from freecad_conformal import RESOURCES
 
 #: Command ids shown in the toolbar and menu, in order. Commands register themselves in
 #: freecad_conformal.gui.commands.
@@ -10,12 +14,18 @@ TOOLBAR_COMMANDS: list[str] = []
 
 def initialize(workbench) -> None:
     from freecad_conformal.gui import commands
+    from freecad_conformal.gui.preferences import PreferencesPage
 
     names = commands.register_all()
     TOOLBAR_COMMANDS[:] = names
     if names:
         workbench.appendToolbar("Conformal", names)
         workbench.appendMenu("&Conformal", names)
+    FreeCADGui.addPreferencePage(PreferencesPage, "Conformal")
+    translations = RESOURCES / "translations"
+    if translations.is_dir():
+        FreeCADGui.addLanguagePath(str(translations))
+        FreeCADGui.updateLocale()
     FreeCAD.Console.PrintLog("Conformal workbench initialised\n")
 
 

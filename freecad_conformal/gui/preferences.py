@@ -1,0 +1,85 @@
+"""Conformal preferences: default machine, tool library location, tolerances.
+
+Stored in FreeCAD's parameters under PARAM_PATH; `PreferencesPage` is the page FreeCAD shows
+under Edit > Preferences > Conformal. Readers return the default when nothing is stored.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import FreeCAD
+
+from freecad_conformal import RESOURCES, tolerances
+from freecad_conformal.gui.qt import QtWidgets, translate
+from freecad_conformal.gui.widgets import quantity_field, quantity_value, set_quantity
+
+PARAM_PATH = "User parameter:BaseApp/Preferences/Mod/Conformal"
+DEFAULT_MACHINE = "trunnion_ac"
+
+
+def _params():
+    return FreeCAD.ParamGet(PARAM_PATH)
+
+
+def machine_names() -> list[str]:
+    """Machines shipped in resources/machines (file names without .json)."""
+    return sorted(p.stem for p in (RESOURCES / "machines").glob("*.json"))
+
+
+def default_machine() -> str:
+    return _params().GetString("DefaultMachine", DEFAULT_MACHINE)
+
+
+def tool_library_dir() -> Path | None:
+    """The user tool folder chosen here, or None for the library's own default."""
+    text = _params().GetString("ToolLibraryDir", "")
+    return Path(text).expanduser() if text else None
+
+
+def chord_tolerance() -> float:
+    """Chord tolerance (mm) for polygons derived from exact section wires."""
+    return _params().GetFloat("ChordTolerance", tolerances.DEFAULT_CHORD_TOLERANCE)
+
+
+def layer_height() -> float:
+    """Default layer height (mm) of new section objects."""
+    return _params().GetFloat("LayerHeight", DEFAULT_LAYER_HEIGHT)
+
+
+#: New section objects start with 1 mm layers (the CLI's default spacing).
+DEFAULT_LAYER_HEIGHT = 1.0
+
+
+class PreferencesPage:
+    """The preference page (FreeCADGui.addPreferencePage(PreferencesPage, 'Conformal'))."""
+
+    def __init__(self) -> None:
+        self.form = QtWidgets.QWidget()
+        self.form.setWindowTitle(translate("Conformal", "Conformal"))
+        layout = QtWidgets.QFormLayout(self.form)
+        self.machine = QtWidgets.QComboBox()
+        self.machine.addItems(machine_names())
+        self.library_dir = QtWidgets.QLineEdit()
+        self.library_dir.setPlaceholderText(translate(
+            "Conformal", "default: <FreeCAD user data>/Conformal/tools"))
+        self.chord = quantity_field("mm", tolerances.DEFAULT_CHORD_TOLERANCE, 1e-6, 10.0)
+        self.layer = quantity_field("mm", DEFAULT_LAYER_HEIGHT, 1e-3, 100.0)
+        layout.addRow(translate("Conformal", "Default machine"), self.machine)
+        layout.addRow(translate("Conformal", "Tool library folder"), self.library_dir)
+        layout.addRow(translate("Conformal", "Chord tolerance"), self.chord)
+        layout.addRow(translate("Conformal", "Default layer height"), self.layer)
+
+    def loadSettings(self) -> None:  # noqa: N802 - FreeCAD's name
+        index = self.machine.findText(default_machine())
+        self.machine.setCurrentIndex(max(index, 0))
+        folder = tool_library_dir()
+        self.library_dir.setText(str(folder) if folder else "")
+        set_quantity(self.chord, chord_tolerance())
+        set_quantity(self.layer, layer_height())
+
+    def saveSettings(self) -> None:  # noqa: N802 - FreeCAD's name
+        params = _params()
+        params.SetString("DefaultMachine", self.machine.currentText())
+        params.SetString("ToolLibraryDir", self.library_dir.text().strip())
+        params.SetFloat("ChordTolerance", quantity_value(self.chord))
+        params.SetFloat("LayerHeight", quantity_value(self.layer))
