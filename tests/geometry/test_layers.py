@@ -1,0 +1,152 @@
+"""Layers per sub-part: uniform, adaptive (volume difference), cusp, 3-D tilted, refusals."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from freecad_conformal.errors import PlanError
+from freecad_conformal.geometry import samples
+from freecad_conformal.planning.layers import (LayerSettings, check_thickness, plan_layers,
+                                               thickness_report, volume_difference)
+from freecad_conformal.planning.subparts import SubPart
+
+
+def _sub(shape, direction=(0, 0, 1)):
+    return SubPart(index=0, shape=shape, build_direction=np.array(direction, dtype=float))
+
+
+@pytest.fixture(scope="module")
+def ring(App, Part):
+    """A square bar (10 × 10 mm) bent through 90° about the Y axis: rises from the bed and
+    ends pointing along −X. Its centroidal axis bends steadily, radius 25 mm."""
+    V = App.Vector
+    face = Part.Face(Part.makePolygon([V(20, -5, 0), V(30, -5, 0), V(30, 5, 0), V(20, 5, 0), V(20, -5, 0)]))
+    return face.revolve(V(0, 0, 0), V(0, -1, 0), 90)
+
+
+@pytest.fixture(scope="module")
+def pyramid_on_box(App, Part):
+    """A 20 mm cube under a 10 mm high square frustum: vertical walls, then 45° walls."""
+    V = App.Vector
+    cube = Part.makeBox(20, 20, 10)
+    top = Part.makeLoft([Part.makePolygon([V(0, 0, 10), V(20, 0, 10), V(20, 20, 10), V(0, 20, 10), V(0, 0, 10)]),
+                         Part.makePolygon([V(10, 10, 20) + V(-0.5, -0.5, 0), V(10.5, 9.5, 20), V(10.5, 10.5, 20),
+                                           V(9.5, 10.5, 20), V(9.5, 9.5, 20)])], True)
+    return cube.fuse(top).removeSplitter()
+
+
+def test_uniform_layers_integrate_the_volume():
+    bracket = samples.overhang_bracket()
+    layers = plan_layers(_sub(bracket), LayerSettings(thickness=0.5))
+    assert len(layers) == 100
+    assert thickness_report(layers) == pytest.approx((0.5, 0.5))
+    volume = sum(layer.area * layer.thickness for layer in layers)
+    assert volume == pytest.approx(bracket.Volume, rel=1e-3)
+    np.testing.assert_allclose(layers[0].top_point, [0, 0, 0.5])
+    assert not any(layer.tilted for layer in layers)
+
+
+def test_layers_along_another_direction():
+    jack = samples.jack()
+    layers = plan_layers(_sub(jack, (1, 0, 0)), LayerSettings(thickness=1.0, tilt=False))
+    assert len(layers) == 62
+    np.testing.assert_allclose(layers[0].top_normal, [1, 0, 0])
+    assert layers[0].top_point @ np.array([1, 0, 0]) == pytest.approx(-31 + 1.0)
+
+
+@pytest.mark.slow
+def test_adaptive_is_thick_on_vertical_walls_and_thin_on_slopes(pyramid_on_box):
+    settings = LayerSettings(mode="adaptive", thickness=0.2, min_thickness=0.1, max_thickness=0.4,
+                             max_volume_difference=1.0)
+    layers = plan_layers(_sub(pyramid_on_box), settings)
+    low = [l for l in layers if l.top_point[2] < 9.5]
+    high = [l for l in layers if 11 < l.top_point[2] < 19]
+    assert all(l.thickness == pytest.approx(0.4) for l in low)
+    assert max(l.thickness for l in high) < 0.4
+    assert min(l.thickness for l in layers) >= 0.1 - 1e-9
+    assert layers[-1].top_point[2] == pytest.approx(20.0, abs=1e-6)
+
+
+def test_volume_difference_formula(App, Part):
+    """Δ·area(A_low △ A_up)/2 for a 45° wall step: sections of a frustum 1 mm apart."""
+    from freecad_conformal.geometry.sections import PlanarSlicer
+
+    cone = Part.makeCone(10, 5, 5)            # radius falls 1 mm per mm
+    slicer = PlanarSlicer(cone)
+    low, up = slicer.sections([1.0, 2.0])
+    expected = 0.5 * 1.0 * math.pi * (9 ** 2 - 8 ** 2)
+    assert volume_difference(low, up, 1.0) == pytest.approx(expected, rel=1e-3)
+
+
+def test_cusp_mode_thins_layers_on_slopes(pyramid_on_box):
+    settings = LayerSettings(mode="cusp", thickness=0.2, min_thickness=0.1, max_thickness=0.4,
+                             max_cusp=0.1)
+    layers = plan_layers(_sub(pyramid_on_box), settings)
+    below = [l.thickness for l in layers if l.top_point[2] < 9.5]
+    slope = [l.thickness for l in layers if 11 < l.top_point[2] < 19]
+    assert below and min(below) == pytest.approx(0.4)
+    # cusp = Δ·|n·d| = Δ·cos 45° <= 0.1 -> Δ <= 0.141, from the 0.4 trial shrunk by quarters
+    assert max(slope) <= 0.1 / math.cos(math.pi / 4) + 1e-9
+
+
+def test_tilted_layers_follow_a_bent_bar(ring):
+    settings = LayerSettings(thickness=0.5, min_thickness=0.25, max_thickness=0.75)
+    layers = plan_layers(_sub(ring), settings)
+    tilted = [l for l in layers if l.tilted]
+    assert len(tilted) > 0.8 * len(layers)
+    # the last planes face along the bar's end (−X)
+    assert layers[-1].top_normal @ np.array([-1.0, 0, 0]) > math.cos(math.radians(5))
+    check_thickness(layers, settings)
+    thin, thick = thickness_report(layers)
+    assert 0.25 <= thin < thick <= 0.75
+    # inner radius 20, outer 30: a wedge slab is about 20/30 as thick inside as outside
+    middle = layers[len(layers) // 2]
+    assert middle.thickness_min / middle.thickness_max == pytest.approx(20 / 30, abs=0.08)
+    volume = sum(l.area * l.thickness for l in layers)
+    assert volume == pytest.approx(ring.Volume, rel=0.02)
+
+
+def test_tight_bounds_keep_tilted_layers_inside_them(ring):
+    """Bisection towards the lower plane trades tilt for thickness: every slab stays within
+    [ΔL_min, ΔL_max] even where the bar bends faster than the bounds allow to follow."""
+    settings = LayerSettings(thickness=1.0, min_thickness=0.95, max_thickness=1.05)
+    layers = plan_layers(_sub(ring), settings)
+    check_thickness(layers, settings)
+    assert any(layer.tilted for layer in layers)
+
+
+def test_tilted_layers_outside_bounds_are_refused_by_name(ring):
+    layers = plan_layers(_sub(ring), LayerSettings(thickness=1.0, min_thickness=0.5, max_thickness=1.5))
+    with pytest.raises(PlanError, match=r"layer \d+ of sub-part 0 is 0\.\d+ to 1\.\d+ mm thick, "
+                                        r"outside \[0.9, 1.1\] mm"):
+        check_thickness(layers, LayerSettings(thickness=1.0, min_thickness=0.9, max_thickness=1.1))
+
+
+def test_straight_parts_get_no_tilt():
+    layers = plan_layers(_sub(samples.overhang_bracket()), LayerSettings(thickness=1.0))
+    assert not any(layer.tilted for layer in layers)
+
+
+def test_check_thickness_names_the_layer():
+    layers = plan_layers(_sub(samples.jack()), LayerSettings(thickness=1.0, tilt=False))
+    with pytest.raises(PlanError, match=r"layer 0 of sub-part 0 is 1.0000 to 1.0000 mm thick, outside \[0.2, 0.6\]"):
+        check_thickness(layers, LayerSettings(thickness=0.4, min_thickness=0.2, max_thickness=0.6))
+
+
+@pytest.mark.parametrize("settings, message", [
+    (LayerSettings(thickness=0.0), "layer height must be a positive"),
+    (LayerSettings(thickness=-0.2), "layer height must be a positive"),
+    (LayerSettings(thickness=float("nan")), "layer height must be a positive"),
+    (LayerSettings(thickness=0.2, min_thickness=0.3, max_thickness=0.25), "exceeds the maximum"),
+    (LayerSettings(mode="spiral"), "layer mode 'spiral'"),
+])
+def test_bad_layer_settings(settings, message):
+    with pytest.raises(PlanError, match=message):
+        plan_layers(_sub(samples.jack()), settings)
+
+
+def test_layer_larger_than_the_part_is_refused():
+    with pytest.raises(PlanError, match="larger than the part"):
+        LayerSettings(thickness=80.0).validate(part_size=62.0)
