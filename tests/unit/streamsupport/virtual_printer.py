@@ -21,6 +21,7 @@ import select
 import shutil
 import tempfile
 import threading
+import time
 import tty
 from dataclasses import dataclass, field
 
@@ -147,6 +148,13 @@ class PtyPrinter:
         self.hang_up()
         for thread in self._threads:
             thread.join(timeout=2)
+        # Let the printer finish its queued moves: closing mid-move makes its buffer thread
+        # fail on the queue that close() removes.
+        deadline = time.monotonic() + 2
+        while self.printer.buffered is not None and self.printer.buffered.unfinished_tasks:
+            if time.monotonic() > deadline:
+                break
+            time.sleep(0.01)
         self.printer.close()
 
     def _to_printer(self, master: int, closed: threading.Event) -> None:
