@@ -5,7 +5,9 @@ Leaving a sub-part the tool retracts along its axis until it is outside the *saf
 while the tool axis turns to the next sub-part's direction, and approaches the next first
 layer along the new axis. The whole move (tool tip, and the tool body as a line along the
 axis) is then measured against the built sub-parts with OCC's exact distance: a move that
-comes closer than the tool's envelope allows is a PlanError naming the sub-parts.
+comes closer than the tool's envelope allows is a PlanError naming the sub-parts. The
+tip must keep half the envelope's tip diameter; the body is the capsule inscribed in the
+envelope's cylinder (it misses only the cylinder's base rim).
 """
 from __future__ import annotations
 
@@ -110,12 +112,15 @@ def check_clearance(points: np.ndarray, axes: np.ndarray, built: Sequence, envel
     if tip_gap < need_tip - CHECK_SLACK:
         raise PlanError(f"{what}: the tool tip passes {tip_gap:.3f} mm from built {names} "
                         f"(needs {need_tip:.3f} mm)")
-    base = envelope.tip_length
-    body = [Part.LineSegment(V(*(p + base * a)), V(*(p + (base + envelope.body_length) * a))).toShape()
+    # The body is measured as the capsule inscribed in its cylinder: a segment along the axis
+    # from one body radius above the cylinder's base, every point of it needing one radius.
+    need_body = 0.5 * envelope.body_diameter
+    base = envelope.tip_length + min(need_body, 0.5 * envelope.body_length)
+    top = envelope.tip_length + envelope.body_length - min(need_body, 0.5 * envelope.body_length)
+    body = [Part.LineSegment(V(*(p + base * a)), V(*(p + max(top, base + 1e-3) * a))).toShape()
             for p, a in zip(points[1:-1], axes[1:-1])]
     if body:
         body_gap = Part.makeCompound(body).distToShape(target)[0]
-        need_body = 0.5 * envelope.body_diameter
         if body_gap < need_body - CHECK_SLACK:
             raise PlanError(f"{what}: the tool body passes {body_gap:.3f} mm from built {names} "
                             f"(needs {need_body:.3f} mm)")
