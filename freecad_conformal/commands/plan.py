@@ -72,10 +72,11 @@ def options_from(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace) -> int:
-    from freecad_conformal.planning.job import run_job, single_plan
+    from freecad_conformal.planning.job import check_options, run_job, single_plan
 
     options = options_from(args)
     shape, name = load_part(args.part)
+    check_options(shape, options)
     try:  # development only: decomposition (issue 5) has not landed yet
         from freecad_conformal.planning.decompose import decompose
         plan = decompose(shape)

@@ -161,6 +161,22 @@ def _settings(options: PlanOptions, tool, material) -> tuple[float, PathSettings
     return float(width), paths
 
 
+def check_options(shape, options: PlanOptions, library=None):
+    """Validate everything that does not need the decomposition (run it first: it is quick).
+
+    Returns (tool, material name, bead width, path settings, machine).
+    """
+    size = _part_size(shape)
+    options.layers.validate(part_size=size)
+    tool, material_name, material = resolve_tool(options.tool, options.material, library)
+    width, path_settings = _settings(options, tool, material)
+    path_settings.fill.validate()
+    path_settings.feeds.validate()
+    if width > size:
+        raise PlanError(f"bead width {width:g} mm is larger than the part ({size:.3f} mm)")
+    return tool, material_name, width, path_settings, load_machine(options.machine)
+
+
 def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
             library=None, progress=None) -> JobResult:
     """Plan layers and paths for every sub-part, build the toolpath and post it.
@@ -168,14 +184,7 @@ def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
     Raises ConformalError subclasses (PlanError, ProcessError, KinematicsError, PostError)
     with messages that name the parameter or sub-part at fault.
     """
-    size = _part_size(shape)
-    options.layers.validate(part_size=size)
-    tool, material_name, material = resolve_tool(options.tool, options.material, library)
-    width, path_settings = _settings(options, tool, material)
-    path_settings.fill.validate()
-    if width > size:
-        raise PlanError(f"bead width {width:g} mm is larger than the part ({size:.3f} mm)")
-    machine = load_machine(options.machine)
+    tool, material_name, width, path_settings, machine = check_options(shape, options, library)
     check_reach(machine, plan)
     layers: dict[int, list[Layer]] = {}
     for sub in plan.ordered():

@@ -1,0 +1,66 @@
+"""The plan command end to end, and bad input that must leave no output."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from freecad_conformal.cli import main
+from freecad_conformal.errors import PlanError
+from freecad_conformal.geometry import samples
+from freecad_conformal.planning.job import PlanOptions, run_job, single_plan
+from freecad_conformal.planning.subparts import BuildPlan, SubPart
+
+
+def test_plan_command_writes_gcode_preview_and_summary(tmp_path, capsys):
+    out = tmp_path / "jack.ngc"
+    summary = tmp_path / "jack.txt"
+    code = main(["plan", "jack", "--machine", "trunnion_ac", "--tool", "fdm_0p4", "--layer", "0.4",
+                 "-o", str(out), "--summary", str(summary), "--toolpath", str(tmp_path / "jack.npz")])
+    assert code == 0
+    printed = capsys.readouterr().out
+    for word in ("sub-part", "layers:", "material:", "estimated time:", "support:"):
+        assert word in printed
+    text = out.read_text()
+    assert "(machine: Table-table A/C trunnion [trunnion_ac])" in text
+    assert text.count("M64 P0") == text.count("M65 P0") > 100
+    assert (tmp_path / "jack.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert summary.read_text() == printed
+    assert (tmp_path / "jack.npz").stat().st_size > 0
+
+
+def test_summary_figures_agree_with_the_toolpath():
+    shape = samples.jack()
+    result = run_job(shape, single_plan(shape), PlanOptions(), part="jack")
+    summary = result.assembly.toolpath.summary()
+    assert result.material_volume == pytest.approx(summary.material_volume, rel=1e-9)
+    assert result.deposit_length == pytest.approx(summary.length_by_kind["deposit"], rel=1e-9)
+    # trapezoids with jerk-limited corners are slower than one trapezoid per polyline
+    assert result.time_s > summary.time_s * 0.9
+    # 2 perimeters of 0.4 mm, 20 % infill, 3 solid layers: well under the solid volume
+    assert 0.3 * shape.Volume < result.material_volume < 0.8 * shape.Volume
+
+
+@pytest.mark.parametrize("arguments, message", [
+    (["--layer", "0"], "layer height must be a positive"),
+    (["--layer", "-0.2"], "layer height must be a positive"),
+    (["--layer", "100"], "larger than the part"),
+    (["--bead-width", "-0.4"], "bead width must be a positive"),
+    (["--bead-width", "100"], "bead width 100 mm is larger than the part"),
+    (["--tool", "no_such_tool"], "no tool 'no_such_tool' in the library"),
+    (["--tool", "endmill_6mm"], "is a end_mill"),
+    (["--machine", "no_such_machine"], "unknown machine 'no_such_machine'"),
+])
+def test_bad_input_writes_nothing(tmp_path, capsys, arguments, message):
+    out = tmp_path / "x.ngc"
+    code = main(["plan", "jack", "-o", str(out), *arguments])
+    assert code == 1
+    assert message in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_machine_that_cannot_reach_a_direction_is_refused(tmp_path):
+    shape = samples.jack()
+    plan = BuildPlan([SubPart(0, shape, np.array([1.0, 0.0, 0.0]))], order=[0])
+    with pytest.raises(PlanError, match=r"machine 'Plain 3-axis' cannot point the tool along "
+                                        r"sub-part 0's build direction \[1.0, 0.0, 0.0\]"):
+        run_job(shape, plan, PlanOptions(machine="three_axis"), part="jack")
