@@ -147,6 +147,8 @@ class Streamer:
 
     @property
     def paused(self) -> bool:
+        """Whether to hold; the worker thread asks, so it also records each change of status
+        (pause time excluded from the rate, state saved, progress reported)."""
         paused = self._pause_requested.is_set() and not self._abort_requested.is_set()
         if paused != self._was_paused:
             self._was_paused = paused
