@@ -39,3 +39,69 @@ def jack(cube: float = 12.0, arm_length: float = 25.0, arm_width: float = 8.0):
 
 
 SAMPLES = {"bracket": overhang_bracket, "jack": jack}
+
+
+def l_block(column: float = 10.0, height: float = 40.0, arm: float = 30.0,
+            thickness: float = 10.0, depth: float = 20.0):
+    """An upside-down L: a column on the bed and an arm overhanging sideways (+X) at its top.
+
+    Built upright the arm's underside needs support; split at the column's side it builds
+    horizontally (+X) from the column.
+    """
+    App, Part = import_freecad()
+    V = App.Vector
+    stem = Part.makeBox(column, depth, height)
+    bar = Part.makeBox(arm, depth, thickness, V(column, 0, height - thickness))
+    return stem.fuse(bar).removeSplitter().Solids[0]
+
+
+def t_block(stem: float = 10.0, height: float = 40.0, arm: float = 25.0,
+            thickness: float = 10.0, depth: float = 20.0):
+    """A T: a stem on the bed centred on x = 0 with arms of length `arm` in +X and −X."""
+    App, Part = import_freecad()
+    V = App.Vector
+    half = stem / 2
+    column = Part.makeBox(stem, depth, height, V(-half, 0, 0))
+    bar = Part.makeBox(stem + 2 * arm, depth, thickness, V(-half - arm, 0, height - thickness))
+    return column.fuse(bar).removeSplitter().Solids[0]
+
+
+def inclined_rod(tilt_deg: float = 30.0, radius: float = 5.0, length: float = 40.0,
+                 base: float = 40.0, base_height: float = 8.0):
+    """A round rod tilted `tilt_deg` from +Z towards +X, standing on a square base plate."""
+    import math
+
+    App, Part = import_freecad()
+    V = App.Vector
+    plate = Part.makeBox(base, base, base_height, V(-base / 2, -base / 2, 0))
+    tilt = math.radians(tilt_deg)
+    axis = V(math.sin(tilt), 0, math.cos(tilt))
+    # Start the rod a little inside the plate so the fused solid has no gap under its rim.
+    start = V(0, 0, base_height - radius * math.sin(tilt) - 0.5)
+    rod = Part.makeCylinder(radius, length, start, axis)
+    return plate.fuse(rod).removeSplitter().Solids[0]
+
+
+def hinge(width: float = 60.0, wall: float = 10.0, height: float = 40.0,
+          knuckle: float = 15.0, reach: float = 20.0, thickness: float = 10.0,
+          lug_drop: float = 15.0, lug_depth: float = 10.0):
+    """A hinge-like part (METHODS section 3): a wall on the bed, two knuckles reaching out
+    in +Y at its top, and a lug hanging down (−Z) under each knuckle's end.
+
+    Support-free plan: the wall first (+Z), the knuckles after turning the part 90° about X
+    (build direction +Y), the lugs after turning it 180° about Y (build direction −Z).
+    """
+    App, Part = import_freecad()
+    V = App.Vector
+    body = Part.makeBox(width, wall, height)
+    top = height - thickness
+    pieces = []
+    for x in (0.0, width - knuckle):
+        pieces.append(Part.makeBox(knuckle, reach, thickness, V(x, wall, top)))
+        pieces.append(Part.makeBox(knuckle, lug_depth, lug_drop,
+                                   V(x, wall + reach - lug_depth, top - lug_drop)))
+    return body.fuse(pieces).removeSplitter().Solids[0]
+
+
+SAMPLES.update({"l_block": l_block, "t_block": t_block, "inclined_rod": inclined_rod,
+                "hinge": hinge})

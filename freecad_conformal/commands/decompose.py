@@ -1,0 +1,35 @@
+"""`decompose PART [--json plan.json] [--step-dir DIR]`: support-free sub-parts and their order."""
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("part", help="STEP, BREP, IGES or FCStd file, or sample:NAME (built-in)")
+    parser.add_argument("--overhang", type=float, default=45.0,
+                        help="allowed overhang from the build direction in degrees (default 45)")
+    parser.add_argument("--method", choices=("true-direction", "published"),
+                        default="true-direction",
+                        help="centroidal axis: follow inclined members, or nearest ±X/±Y/±Z")
+    parser.add_argument("--tool", default="fdm_0p4",
+                        help="tool id whose envelope is checked for collisions (default fdm_0p4)")
+    parser.add_argument("--no-collision", action="store_true",
+                        help="skip the tool collision check when ordering")
+    parser.add_argument("--json", metavar="FILE", help="write the plan (with the axis) as JSON")
+    parser.add_argument("--step-dir", metavar="DIR", help="write one STEP file per sub-part here")
+
+
+def run(args: argparse.Namespace) -> int:
+    from freecad_conformal.planning.decompose import decompose
+    from freecad_conformal.planning.plan_export import load_part, plan_table, write_plan
+
+    shape = load_part(args.part)
+    plan = decompose(shape, overhang_angle=math.radians(args.overhang), tool=args.tool,
+                     method=args.method, check_collisions=not args.no_collision)
+    sys.stdout.write(plan_table(plan))
+    written = write_plan(plan, json_path=args.json, step_dir=args.step_dir)
+    for path in written:
+        print(f"wrote {path}")
+    return 0

@@ -1,0 +1,54 @@
+"""Area-jump split planes (METHODS section 4): the fallback when no splitting face qualifies.
+
+Sections every `d` mm along ±X, ±Y, ±Z; where the exact section area jumps,
+∂ = (S(i+1) − S(i)) / d > 1 (the published rule, on raw areas), a cut between the two
+sections is proposed. The cut is restricted, as for splitting faces, to the interior regions
+of the plane's section; the decomposition keeps it only if it saves overhang.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from freecad_conformal.geometry.sections import PlanarSlicer, extent_along
+from freecad_conformal.geometry.splitting_faces import SplitCandidate, interior_regions
+
+#: Sections per axis when `d` is not given (the jump test only needs to see the steps).
+DEFAULT_SLICES = 40
+
+#: The published threshold on ∂ (mm² per mm).
+JUMP_THRESHOLD = 1.0
+
+AXES = tuple(np.array(v, dtype=float) for v in np.vstack([np.eye(3), -np.eye(3)]))
+
+
+def area_jumps(shape, direction: np.ndarray, d: float | None = None) -> list[tuple[float, float]]:
+    """(height between the two sections, ∂) for each jump with ∂ > 1 along `direction`."""
+    low, high = extent_along(shape, direction)
+    step = d if d is not None else (high - low) / DEFAULT_SLICES
+    if step <= 0:
+        return []
+    heights = np.arange(low + step / 2, high, step)
+    if len(heights) < 2:
+        return []
+    areas = np.array([s.area for s in PlanarSlicer(shape, direction).sections(heights)])
+    rates = np.diff(areas) / step
+    return [(float(heights[i] + step / 2), float(rates[i]))
+            for i in np.nonzero(rates > JUMP_THRESHOLD)[0]]
+
+
+def area_jump_candidates(shape, build_direction: np.ndarray, d: float | None = None,
+                         limit: int = 12) -> list[SplitCandidate]:
+    """Interior regions on the planes of the largest area jumps along ±X, ±Y, ±Z (the
+    build direction itself excluded: a cut across it changes nothing)."""
+    jumps = []
+    for axis in AXES:
+        if abs(float(axis @ build_direction)) > 1 - 1e-9:
+            continue
+        jumps.extend((rate, height, axis) for height, rate in area_jumps(shape, axis, d))
+    jumps.sort(key=lambda item: -item[0])
+    candidates: list[SplitCandidate] = []
+    for rate, height, axis in jumps[:limit]:
+        point = axis * height
+        for region in interior_regions(shape, point, axis):
+            candidates.append(SplitCandidate(point, axis, region, "area-jump"))
+    return candidates

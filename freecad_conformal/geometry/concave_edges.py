@@ -1,0 +1,127 @@
+"""Concave edges of a solid: where two faces meet at an inner angle over 180°.
+
+The angle is measured inside the material from OCC's outward normals at points along the
+edge: with n1, n2 the normals of the two faces and b1 the direction that leaves the edge
+into face 1 (tangent to it, perpendicular to the edge), the edge is concave when b1·n2 > 0
+(face 2 turns towards face 1's side of the material), convex when b1·n2 < 0, smooth when
+the normals agree.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from freecad_conformal.freecad_env import import_freecad
+
+#: Faces meeting with normals closer than this (rad) are tangent (fillet runs, seams): 0.5°
+#: is above the normal noise of B-spline fits and below any deliberate corner.
+SMOOTH_ANGLE = math.radians(0.5)
+
+#: Fractions along the edge where normals are read: three points, ends avoided (vertices
+#: are where other faces join and normals are ill defined).
+SAMPLE_FRACTIONS = (0.25, 0.5, 0.75)
+
+#: Step (mm, relative to the edge length) taken off the edge to tell which side a face lies.
+PROBE_FRACTION = 1e-3
+
+
+@dataclass(frozen=True)
+class EdgeAngle:
+    """One edge shared by two faces (indices into solid.Faces) and its inner angle (rad)."""
+
+    edge_index: int
+    faces: tuple[int, int]
+    inner_angle: float
+    edge: object
+
+    @property
+    def concave(self) -> bool:
+        return self.inner_angle > math.pi + SMOOTH_ANGLE
+
+    def to_dict(self) -> dict:
+        return {"edge": f"Edge{self.edge_index + 1}",
+                "faces": [f"Face{i + 1}" for i in self.faces],
+                "inner_angle_deg": math.degrees(self.inner_angle), "concave": self.concave}
+
+
+def _vec(v) -> np.ndarray:
+    return np.array([v.x, v.y, v.z])
+
+
+def _normal_at(face, point) -> np.ndarray:
+    u, v = face.Surface.parameter(point)
+    return _vec(face.normalAt(u, v))
+
+
+def _into_face(face, point: np.ndarray, tangent: np.ndarray, normal: np.ndarray,
+               probe: float) -> np.ndarray:
+    """Unit direction leaving the edge point into `face`, tangent to it."""
+    App, Part = import_freecad()
+    side = np.cross(normal, tangent)
+    side /= np.linalg.norm(side)
+    surface = face.Surface
+    ahead = face.isPartOfDomain(*surface.parameter(App.Vector(*(point + probe * side))))
+    behind = face.isPartOfDomain(*surface.parameter(App.Vector(*(point - probe * side))))
+    if ahead != behind:
+        return side if ahead else -side
+    # Both or neither in the domain (a probe across a seam or a pinched corner): ask the
+    # exact distance instead, slower but unambiguous.
+    inside = face.distToShape(Part.Vertex(App.Vector(*(point + probe * side))))[0]
+    outside = face.distToShape(Part.Vertex(App.Vector(*(point - probe * side))))[0]
+    return side if inside <= outside else -side
+
+
+def edge_angles(solid) -> list[EdgeAngle]:
+    """Inner angle of every edge shared by exactly two faces of `solid` (seams skipped)."""
+    App, Part = import_freecad()
+    faces = list(solid.Faces)
+    edges = list(solid.Edges)
+    face_ids = {face.hashCode(): [] for face in faces}
+    for face_index, face in enumerate(faces):
+        face_ids.setdefault(face.hashCode(), []).append(face_index)
+    owners: dict[int, list[int]] = {}
+    for edge_index, edge in enumerate(edges):
+        found = []
+        for ancestor in solid.ancestorsOfType(edge, Part.Face):
+            for face_index in face_ids.get(ancestor.hashCode(), []):
+                if faces[face_index].isSame(ancestor) and face_index not in found:
+                    found.append(face_index)
+        owners[edge_index] = found
+    result = []
+    for edge_index, pair in sorted(owners.items()):
+        if len(pair) != 2:
+            continue
+        edge = edges[edge_index]
+        if edge.Length <= 0 or edge.isSeam(faces[pair[0]]):
+            continue
+        angle = _inner_angle(App, edge, faces[pair[0]], faces[pair[1]])
+        result.append(EdgeAngle(edge_index, (pair[0], pair[1]), angle, edge))
+    return result
+
+
+def _inner_angle(App, edge, face1, face2) -> float:
+    first, last = edge.ParameterRange
+    probe = max(PROBE_FRACTION * edge.Length, 1e-5)
+    samples = []
+    for fraction in SAMPLE_FRACTIONS:
+        t = first + fraction * (last - first)
+        point = edge.valueAt(t)
+        samples.append((_vec(point), _vec(edge.tangentAt(t)), _normal_at(face1, point),
+                        _normal_at(face2, point)))
+    # Which side of the edge face 1 lies on is found once, in the middle: n1 × t turns
+    # continuously along the edge, so the same sign holds at every sample.
+    p, t, n1, _ = samples[len(samples) // 2]
+    sign = 1.0 if _into_face(face1, p, t, n1, probe) @ np.cross(n1, t) > 0 else -1.0
+    angles = []
+    for p, t, n1, n2 in samples:
+        b1 = sign * np.cross(n1, t)
+        turn = math.acos(float(np.clip(n1 @ n2, -1.0, 1.0)))
+        angles.append(math.pi + turn if b1 @ n2 > 0 else math.pi - turn)
+    return float(np.median(angles))
+
+
+def concave_edges(solid) -> list[EdgeAngle]:
+    """The concave edges of `solid` (inner angle over 180° + SMOOTH_ANGLE)."""
+    return [e for e in edge_angles(solid) if e.concave]

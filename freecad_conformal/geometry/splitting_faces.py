@@ -1,0 +1,123 @@
+"""Planar splitting faces: where a solid can be cut into sub-parts, and the exact cut.
+
+A candidate plane carries a planar face of the part that has a concave edge on its boundary
+(METHODS section 3, criterion 2). The cut is not the whole plane: only the region of the
+plane's section that lies inside the material and touches that concave edge, so a plane
+through a column's side does not also slice an unrelated base beside it.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from freecad_conformal.errors import GeometryError
+from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.concave_edges import EdgeAngle
+
+#: A point this far (mm) off a section face on either side tells inside from boundary:
+#: 1 µm is far above OCC's confusion and below any feature worth building.
+SIDE_PROBE = 1e-3
+
+#: A region touches an edge when closer than this (mm).
+TOUCH_TOLERANCE = 1e-5
+
+#: Pieces smaller than this fraction of the solid's volume are slivers of a Boolean.
+SLIVER_FRACTION = 1e-9
+
+
+@dataclass
+class SplitCandidate:
+    """One planar region to cut along; `normal` is the plane's normal (unit), `rule` tells
+    which rule proposed it ("concave-face" or "area-jump")."""
+
+    point: np.ndarray
+    normal: np.ndarray
+    region: object
+    rule: str
+    face_index: int | None = None
+
+    @property
+    def level(self) -> float:
+        return float(self.point @ self.normal)
+
+
+def _vec(v) -> np.ndarray:
+    return np.array([v.x, v.y, v.z])
+
+
+def plane_through(point: np.ndarray, normal: np.ndarray, box):
+    """A square planar face through `point` normal to `normal`, covering `box` with margin."""
+    App, Part = import_freecad()
+    half = box.DiagonalLength + 1.0
+    centre = _vec(box.Center)
+    centre = centre - ((centre - point) @ normal) * normal
+    plane = Part.Plane(App.Vector(*centre), App.Vector(*normal))
+    return plane.toShape(-half, half, -half, half)
+
+
+def _inner_point(face) -> np.ndarray:
+    """A point inside the face: its centre of mass when inside, else a triangle centre."""
+    App, _ = import_freecad()
+    com = face.CenterOfMass
+    if face.isInside(com, 1e-7, True):
+        return _vec(com)
+    points, triangles = face.tessellate(0.1)
+    a, b, c = (np.array(tuple(points[i])) for i in triangles[0])
+    return (a + b + c) / 3.0
+
+
+def interior_regions(solid, point: np.ndarray, normal: np.ndarray) -> list:
+    """Faces of the plane's section that lie inside the material (not on the boundary)."""
+    App, _ = import_freecad()
+    regions = []
+    for face in solid.common(plane_through(point, normal, solid.BoundBox)).Faces:
+        if face.Area <= 1e-9:
+            continue
+        probe = _inner_point(face)
+        above = solid.isInside(App.Vector(*(probe + SIDE_PROBE * normal)), 1e-9, False)
+        below = solid.isInside(App.Vector(*(probe - SIDE_PROBE * normal)), 1e-9, False)
+        if above and below:
+            regions.append(face)
+    return regions
+
+
+def face_candidates(solid, concave: list[EdgeAngle]) -> list[SplitCandidate]:
+    """Regions on the planes of planar faces that carry a concave edge (criterion 2)."""
+    from freecad_conformal.planning.support import plane_normal
+
+    faces = list(solid.Faces)
+    edges_of: dict[int, list[EdgeAngle]] = {}
+    for edge in concave:
+        for index in edge.faces:
+            edges_of.setdefault(index, []).append(edge)
+    candidates: list[SplitCandidate] = []
+    seen: list[tuple[np.ndarray, float, float]] = []
+    for index, edge_list in sorted(edges_of.items()):
+        normal = plane_normal(faces[index])
+        if normal is None:
+            continue
+        point = _vec(faces[index].Vertexes[0].Point)
+        for region in interior_regions(solid, point, normal):
+            if not any(region.distToShape(e.edge)[0] < TOUCH_TOLERANCE for e in edge_list):
+                continue
+            key = (normal, float(point @ normal), float(region.Area))
+            if any(abs(abs(n @ normal) - 1) < 1e-9 and abs(abs(level) - abs(key[1])) < 1e-6
+                   and abs(area - key[2]) < 1e-6 for n, level, area in seen):
+                continue
+            seen.append(key)
+            candidates.append(SplitCandidate(point, normal, region, "concave-face", index))
+    return candidates
+
+
+def split_solid(solid, regions: list) -> list:
+    """The solid cut by the planar regions (exact Boolean), as a list of solids."""
+    if not regions:
+        return [solid]
+    try:
+        result, _ = solid.generalFuse(list(regions))
+    except Exception as exc:  # OCC Boolean failures surface as plain exceptions
+        raise GeometryError(f"splitting a solid of volume {solid.Volume:.6g} mm³ failed: {exc}") from exc
+    minimum = SLIVER_FRACTION * solid.Volume
+    pieces = [piece for piece in result.Solids if piece.Volume > minimum]
+    return pieces or [solid]

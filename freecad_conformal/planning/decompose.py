@@ -1,0 +1,265 @@
+"""Decomposition of a solid into support-free sub-parts (METHODS sections 3 and 4).
+
+Each piece starts with the overhang it has in its build direction. While some remains, the
+candidate cuts are tried exactly (a Boolean split along one planar region): regions on the
+planes of faces with concave edges, checked against the centroidal axis' break links
+(section 3), then the area-jump planes of section 4. The cut that leaves the least total
+overhang wins, the piece beyond it becomes a child built away from its parent along the
+plane's normal, and both halves are refined again. A cut that saves nothing is not made,
+so a part that is already support-free stays whole.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+
+from freecad_conformal.errors import GeometryError, PlanError
+from freecad_conformal.geometry.concave_edges import concave_edges
+from freecad_conformal.geometry.solids import solids_of
+from freecad_conformal.geometry.splitting_faces import SplitCandidate, face_candidates, split_solid
+from freecad_conformal.planning.rotation import rotation_to
+from freecad_conformal.planning.subparts import BuildPlan, SubPart
+from freecad_conformal.planning.support import (DEFAULT_OVERHANG_ANGLE, check_angle,
+                                                lowest_level, overhang_area, overhang_report)
+
+METHODS = ("true-direction", "published")
+
+#: Machine build axis: every sub-part is turned so its build direction points along it.
+BUILD_AXIS = np.array([0.0, 0.0, 1.0])
+
+#: A cut must save at least this much overhang (mm², and this fraction of what remains) to
+#: be worth a new sub-part: below it the split only adds a rotation and a seam.
+MIN_SAVING = 1e-3
+MIN_SAVING_FRACTION = 1e-4
+
+#: Two directions within this angle (rad) are the same build direction.
+SAME_DIRECTION = math.radians(1.0)
+
+#: A piece reaches its base level when its lowest point is within this (mm) of it.
+LEVEL_TOLERANCE = 1e-4
+
+#: More sub-parts than this is taken as a runaway split and stops the refinement.
+DEFAULT_MAX_SUBPARTS = 24
+
+
+@dataclass
+class _Piece:
+    shape: object
+    direction: np.ndarray
+    base_faces: list = field(default_factory=list)
+    solid_index: int = 0
+    rule: str = "root"
+    overhang: float = 0.0
+
+
+def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: str = "fdm_0p4",
+              method: str = "true-direction",
+              root_direction: Sequence[float] = (0.0, 0.0, 1.0),
+              max_subparts: int = DEFAULT_MAX_SUBPARTS, check_collisions: bool = True,
+              axis_step: float | None = None) -> BuildPlan:
+    """Split `shape` into sub-parts that build without support, and order them.
+
+    Args:
+        shape: a solid or a compound of solids, placed as it sits on the bed (+Z up).
+        overhang_angle: allowed overhang from the build direction (rad, default 45°).
+        tool: id of the tool in the library whose envelope is checked for collisions.
+        method: "true-direction" (the axis follows inclined members) or "published"
+            (the axis turns to the nearest of ±X, ±Y, ±Z as in METHODS section 3).
+        root_direction: build direction of each solid's first sub-part.
+        max_subparts: stop splitting beyond this many sub-parts (a note says so).
+        check_collisions: order brothers so the tool envelope clears what is built.
+        axis_step: step of the centroidal axis (mm); default from the part's size.
+    Raises:
+        GeometryError: the shape is not a valid solid.
+        PlanError: bad parameters, or no collision-free order exists.
+    """
+    check_angle(overhang_angle)
+    if method not in METHODS:
+        raise PlanError(f"decomposition method must be one of {', '.join(METHODS)}, got {method!r}")
+    if max_subparts < 1:
+        raise PlanError(f"max_subparts must be at least 1, got {max_subparts}")
+    root = np.asarray(root_direction, dtype=float)
+    if root.shape != (3,) or not np.all(np.isfinite(root)) or np.linalg.norm(root) < 1e-12:
+        raise PlanError(f"root direction must be a non-zero 3-vector, got {list(root_direction)!r}")
+    root = root / np.linalg.norm(root)
+    solids = solids_of(shape, "part")
+    notes: list[str] = []
+    pieces: list[_Piece] = []
+    parents: list[int | None] = []
+    axes = []
+    from freecad_conformal.geometry.centroidal_axis import centroidal_axis
+
+    for solid_index, solid in enumerate(solids):
+        axis = centroidal_axis(solid, method=method, step=axis_step, start_direction=root)
+        axes.append(axis)
+        start = _Piece(solid, root, [], solid_index, "root")
+        refined = _refine(start, overhang_angle, axis, budget=max_subparts - len(pieces), notes=notes)
+        first = len(pieces)
+        pieces.extend(refined)
+        parents.extend(_parents_of(refined, first))
+    subparts = [_subpart(i, p, parents[i], overhang_angle) for i, p in enumerate(pieces)]
+    from freecad_conformal.planning.build_order import build_order
+
+    order = build_order(subparts, tool=tool if check_collisions else None, notes=notes)
+    single = _best_single(solids, overhang_angle)
+    return BuildPlan(subparts=subparts, order=order, support_area_single_direction=single[1],
+                     notes=notes, overhang_angle=overhang_angle, method=method,
+                     single_direction=single[0], axes=axes)
+
+
+def _best_single(solids: list, angle: float) -> tuple[np.ndarray, float]:
+    from freecad_conformal.planning.support import best_single_direction
+    from freecad_conformal.freecad_env import import_freecad
+
+    _, Part = import_freecad()
+    whole = solids[0] if len(solids) == 1 else Part.makeCompound(solids)
+    return best_single_direction(whole, angle)
+
+
+def _subpart(index: int, piece: _Piece, parent: int | None, angle: float) -> SubPart:
+    axis, rotation = rotation_to(piece.direction, BUILD_AXIS)
+    report = overhang_report(piece.shape, piece.direction, angle, piece.base_faces,
+                             on_bed=parent is None)
+    base = piece.base_faces[0] if piece.base_faces else _bed_face(piece.shape, piece.direction)
+    return SubPart(index=index, shape=piece.shape, build_direction=piece.direction,
+                   base_face=base, parent=parent, volume=float(piece.shape.Volume),
+                   rotation_axis=axis, rotation_angle=rotation, overhang_area=report.area,
+                   name=f"P{index + 1}", rule=piece.rule, solid_index=piece.solid_index,
+                   overhang_faces=[f"Face{i + 1}" for i, _ in report.faces])
+
+
+def _bed_face(shape, d: np.ndarray):
+    """The largest planar face on the lowest plane facing −d (the face on the bed), if any."""
+    from freecad_conformal.planning.support import plane_normal
+
+    low = lowest_level(shape, d)
+    best = None
+    for face in shape.Faces:
+        normal = plane_normal(face)
+        if normal is None or normal @ d > -1 + 1e-9:
+            continue
+        if abs(float(np.array(tuple(face.Vertexes[0].Point)) @ d) - low) > LEVEL_TOLERANCE:
+            continue
+        if best is None or face.Area > best.Area:
+            best = face
+    return best
+
+
+def _overhang(piece: _Piece, angle: float) -> float:
+    return overhang_area(piece.shape, piece.direction, angle, piece.base_faces,
+                         on_bed=piece.rule == "root")
+
+
+def _refine(piece: _Piece, angle: float, axis, budget: int, notes: list[str]) -> list[_Piece]:
+    """The piece split (recursively) until no cut saves overhang; at most `budget` pieces."""
+    piece.overhang = _overhang(piece, angle)
+    if piece.overhang <= MIN_SAVING or budget <= 1:
+        if budget <= 1 and piece.overhang > MIN_SAVING:
+            notes.append(f"stopped splitting at the sub-part limit with {piece.overhang:.3f} mm² "
+                         "of overhang left")
+        return [piece]
+    best = None
+    for candidate in _candidates(piece, axis):
+        trial = _try_cut(piece, candidate, angle)
+        if trial is not None and (best is None or trial[0] < best[0] - MIN_SAVING):
+            best = trial
+    needed = max(MIN_SAVING, MIN_SAVING_FRACTION * piece.overhang)
+    if best is None or best[0] > piece.overhang - needed:
+        return [piece]
+    _, keeper, children = best
+    result = _refine(keeper, angle, axis, budget - len(children), notes)
+    for child in children:
+        result.extend(_refine(child, angle, axis, max(budget - len(result), 1), notes))
+    return result
+
+
+def _candidates(piece: _Piece, axis) -> list[SplitCandidate]:
+    """Cuts to try: concave-face regions (those meeting the axis criteria first), then
+    area-jump planes when no face region qualifies."""
+    from freecad_conformal.geometry.area_jumps import area_jump_candidates
+
+    candidates = face_candidates(piece.shape, concave_edges(piece.shape))
+    for candidate in candidates:
+        if axis.supports_split(candidate.normal, _boundary_points(candidate.region)):
+            candidate.rule = "axis-face"
+    ranked = sorted(candidates, key=lambda c: 0 if c.rule == "axis-face" else 1)
+    return ranked + area_jump_candidates(piece.shape, piece.direction)
+
+
+def _boundary_points(face) -> np.ndarray:
+    """Points of a face's outer boundary (vertices and a few points along curved edges)."""
+    return np.array([tuple(p) for p in face.OuterWire.discretize(Number=32)])
+
+
+def _try_cut(piece: _Piece, candidate: SplitCandidate, angle: float):
+    """(total overhang after the cut, kept piece, children) or None when the cut is no use."""
+    pieces = split_solid(piece.shape, [candidate.region])
+    if len(pieces) < 2:
+        return None
+    d = piece.direction
+    low = lowest_level(piece.shape, d)
+    on_base = [p for p in pieces if lowest_level(p, d) <= low + LEVEL_TOLERANCE
+               and _holds_base(p, piece)]
+    if len(on_base) != 1:
+        return None
+    keeper_shape = on_base[0]
+    keeper = _Piece(keeper_shape, d, piece.base_faces, piece.solid_index, piece.rule)
+    total = _overhang(keeper, angle)
+    children = []
+    for shape in pieces:
+        if shape is keeper_shape:
+            continue
+        side = (np.array(tuple(shape.CenterOfMass)) - candidate.point) @ candidate.normal
+        direction = candidate.normal if side > 0 else -candidate.normal
+        if math.acos(float(np.clip(direction @ d, -1, 1))) < SAME_DIRECTION:
+            return None
+        child = _Piece(shape, direction, [candidate.region], piece.solid_index, candidate.rule)
+        total += _overhang(child, angle)
+        children.append(child)
+    return total, keeper, children
+
+
+def _holds_base(shape, piece: _Piece) -> bool:
+    """Whether `shape` carries the piece's base faces (always true for a root on the bed)."""
+    if not piece.base_faces:
+        return True
+    return any(shape.distToShape(face)[0] < LEVEL_TOLERANCE and _touch_area(shape, face) > 0
+               for face in piece.base_faces)
+
+
+def _touch_area(shape, region) -> float:
+    """Area shared between `region` (a planar face) and the faces of `shape` in its plane."""
+    from freecad_conformal.planning.support import plane_normal
+
+    normal = plane_normal(region)
+    level = float(np.array(tuple(region.Vertexes[0].Point)) @ normal)
+    area = 0.0
+    for face in shape.Faces:
+        n = plane_normal(face)
+        if n is None or abs(abs(n @ normal) - 1) > 1e-9:
+            continue
+        if abs(float(np.array(tuple(face.Vertexes[0].Point)) @ normal) - level) > LEVEL_TOLERANCE:
+            continue
+        if face.BoundBox.intersect(region.BoundBox):
+            area += float(face.common(region).Area)
+    return area
+
+
+def _parents_of(pieces: list[_Piece], offset: int) -> list[int | None]:
+    """Parent of each piece: the other piece sharing most of its base faces (a cut made
+    early may end up resting on a piece split off later)."""
+    parents: list[int | None] = []
+    for index, piece in enumerate(pieces):
+        if not piece.base_faces:
+            parents.append(None)
+            continue
+        shares = [(sum(_touch_area(other.shape, f) for f in piece.base_faces), j)
+                  for j, other in enumerate(pieces) if j != index]
+        area, j = max(shares) if shares else (0.0, None)
+        if j is None or area <= 0:
+            raise GeometryError(f"sub-part {offset + index + 1} rests on no other sub-part")
+        parents.append(offset + j)
+    return parents
