@@ -31,6 +31,10 @@ ARC_STEP = math.radians(5.0)
 #: leaves or lands on a layer); the check ignores the first and last millimetre along the axis.
 CONTACT_LENGTH = 1.0
 
+#: The build plate's normal in the part frame: table-tilting machines reach it at zero
+#: angles, so a turn of the tool axis through it never leaves their reach.
+UP = np.array([0.0, 0.0, 1.0])
+
 #: Slack (mm) on the clearance checks: OCC distances are exact to far better than this.
 CHECK_SLACK = 1e-6
 
@@ -73,6 +77,17 @@ def slerp_directions(a: np.ndarray, b: np.ndarray, count: int, fallback: np.ndar
     return out / np.linalg.norm(out, axis=1)[:, None]
 
 
+def turn_axis(a: np.ndarray, b: np.ndarray, count: int) -> np.ndarray:
+    """Tool axes from a to b: the shortest turn, unless it would dip lower (towards −Z) than
+    either end, where tilting machines run out of reach; then the turn goes through +Z."""
+    direct = slerp_directions(a, b, count, UP)
+    if direct[:, 2].min() >= min(a[2], b[2]) - 1e-9:
+        return direct
+    first = slerp_directions(a, UP, count // 2 + 1, b)
+    second = slerp_directions(UP, b, count - count // 2, a)
+    return np.vstack((first, second[1:])) if count > 2 else np.vstack((a, b))
+
+
 def transition(end: np.ndarray, end_axis: np.ndarray, start: np.ndarray, start_axis: np.ndarray,
                centre: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
     """Points and tool axes from `end` (excluded) to `start` (included) over the safe sphere."""
@@ -86,7 +101,7 @@ def transition(end: np.ndarray, end_axis: np.ndarray, start: np.ndarray, start_a
     directions = slerp_directions(d1, d2, count, end_axis + start_axis)
     radii = np.linspace(r1, r2, count)
     arc = centre + directions * radii[:, None]
-    axes = slerp_directions(end_axis, start_axis, count, d1 + d2)
+    axes = turn_axis(end_axis, start_axis, count)
     points = np.vstack((arc, start[None]))
     return points, np.vstack((axes, start_axis[None]))
 
