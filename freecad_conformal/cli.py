@@ -19,12 +19,14 @@ from freecad_conformal.errors import ConformalError
 COMMANDS: dict[str, tuple[str, str]] = {
     "demo": ("demo", "the main job on a built-in sample part, written to out/"),
     "sections": ("sections", "exact planar or cylindrical sections of a solid"),
+    "decompose": ("decompose", "split a part into support-free sub-parts and order them"),
     "post": ("post", "post-process a toolpath into G-code for a machine"),
     "verify": ("verify", "replay G-code through kinematics against the toolpath"),
     "doe": ("doe", "design of experiments: run sheets, effects, models, optimum"),
     "tools": ("tools", "tool library: list, show, check, import, export, choose"),
     "stream": ("stream", "send G-code to a machine over a serial port (Marlin or grbl), resumably"),
     "mandrel": ("mandrel", "build around a rotating mandrel: unrolled cylindrical layers to G-code"),
+    "feature": ("feature", "conformal features on a face: rods, shells, patterns, channels"),
     "plan": ("plan", "the main job: support-free multi-axis build plan and 5-axis G-code for a part"),
 }
 
