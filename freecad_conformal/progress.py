@@ -38,7 +38,7 @@ class Progress:
         eta = elapsed * (1 - fraction) / fraction if fraction > 0 else 0.0
         self.stream.write(
             f"\r{self.label} [{'#' * filled}{'.' * (width - filled)}] "
-            f"{self.done}/{self.total} {elapsed:5.1f}s eta {eta:5.1f}s"
+            f"{self.done}/{self.total} {100 * fraction:5.1f}% {elapsed:5.1f}s eta {eta:5.1f}s"
         )
         self.stream.flush()
 
