@@ -1,4 +1,8 @@
-"""`demo --out DIR`: the main job on the built-in sample part (the README's first command)."""
+"""`demo --out DIR`: the main job on the built-in sample part (the README's first command).
+
+Writes the sample as STEP, its section report, and the plan: G-code for the default
+machine and tool, a PNG preview coloured by sub-part and the plan summary.
+"""
 from __future__ import annotations
 
 import argparse
@@ -7,14 +11,20 @@ from pathlib import Path
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", default="out", help="output folder (default out/)")
-    parser.add_argument("--sample", default="bracket", help="built-in sample part (bracket, jack)")
-    parser.add_argument("--layer", type=float, default=1.0, help="layer spacing in mm")
+    parser.add_argument("--sample", default="bracket", help="built-in sample part (bracket, jack, ...)")
+    parser.add_argument("--layer", type=float, default=1.0, help="section report spacing in mm")
+    parser.add_argument("--plan-layer", type=float, default=0.2, help="plan layer height in mm")
+    parser.add_argument("--machine", default="trunnion_ac", help="machine of the plan")
+    parser.add_argument("--tool", default="fdm_0p4", help="tool of the plan")
 
 
 def run(args: argparse.Namespace) -> int:
+    from freecad_conformal.commands.plan import plan_part
     from freecad_conformal.errors import ConformalError
     from freecad_conformal.geometry import samples
     from freecad_conformal.geometry.report import section_report
+    from freecad_conformal.planning.job import PlanOptions
+    from freecad_conformal.planning.layers import LayerSettings
 
     if args.sample not in samples.SAMPLES:
         raise ConformalError(f"unknown sample {args.sample!r}; choose from {', '.join(samples.SAMPLES)}")
@@ -29,5 +39,12 @@ def run(args: argparse.Namespace) -> int:
     table = report.table()
     (out / f"{args.sample}_sections.txt").write_text(table, encoding="utf-8")
     print(table, end="")
-    print(f"wrote {step_path}, {json_path} and {out / (args.sample + '_sections.txt')}")
+    options = PlanOptions(machine=args.machine, tool=args.tool,
+                          layers=LayerSettings(thickness=args.plan_layer))
+    result, written = plan_part(shape, args.sample, options, out / f"{args.sample}.ngc",
+                                out / f"{args.sample}_plan.png", out / f"{args.sample}_plan.txt")
+    print()
+    print(result.summary(), end="")
+    files = [step_path, json_path, out / f"{args.sample}_sections.txt", *written]
+    print("wrote " + ", ".join(str(f) for f in files))
     return 0

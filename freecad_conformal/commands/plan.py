@@ -71,23 +71,31 @@ def options_from(args: argparse.Namespace):
                        paths=paths, bead_width=args.bead_width, dialect=args.dialect)
 
 
-def run(args: argparse.Namespace) -> int:
+def plan_part(shape, name: str, options, output: str | Path, png: str | Path | None = None,
+              summary: str | Path | None = None, toolpath: str | Path | None = None):
+    """Decompose, plan and write (G-code, PNG, summary, toolpath); returns (result, written)."""
     from freecad_conformal.planning.job import check_options, run_job, single_plan
 
-    options = options_from(args)
-    shape, name = load_part(args.part)
     check_options(shape, options)
-    try:  # development only: decomposition (issue 5) has not landed yet
+    try:  # development only: decomposition (issue 5) has not been committed yet
         from freecad_conformal.planning.decompose import decompose
         plan = decompose(shape)
     except ImportError:
         plan = single_plan(shape)
     result = run_job(shape, plan, options, part=name)
-    png = args.png or str(Path(args.output).with_suffix(".png"))
-    written = result.write(args.output, png, args.summary)
-    if args.toolpath:
-        result.assembly.toolpath.save(args.toolpath)
-        written.append(Path(args.toolpath))
+    png = png or Path(output).with_suffix(".png")
+    written = result.write(output, png, summary)
+    if toolpath:
+        result.assembly.toolpath.save(toolpath)
+        written.append(Path(toolpath))
+    return result, written
+
+
+def run(args: argparse.Namespace) -> int:
+    options = options_from(args)
+    shape, name = load_part(args.part)
+    result, written = plan_part(shape, name, options, args.output, args.png, args.summary,
+                                args.toolpath)
     print(result.summary(), end="")
     print("wrote " + ", ".join(str(p) for p in written), file=sys.stderr)
     return 0
