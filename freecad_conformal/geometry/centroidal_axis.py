@@ -6,8 +6,7 @@ is compared with the loop below it (the upper one projected onto the lower plane
                                    = ∅        → continuity, the branch goes on;
                                    = ΔA1..ΔAn → a piece whose centre lies much farther from
                                                 the lower loop than the step is a turn.
-A turn starts a new branch along the nearest of ±X, ±Y, ±Z to C→G ("published"), or along
-C→G itself ("true-direction"), restarting beyond the lower boundary's extreme projection
+A turn starts a new branch along the nearest of ±X, ±Y, ±Z to C→G, restarting beyond the lower boundary's extreme projection
 T on the new direction (S = C + (T − C·P + ε)·P); the region it explains is cut from the
 body the father goes on with (B = B − Bs), so every region is searched once. Separate
 loops start separate branches (brothers). In "true-direction" mode a branch whose links
@@ -225,11 +224,10 @@ class _Search:
     # -- turns and bends --------------------------------------------------------------------
     def _turn(self, body, P, height, track: _Track, centre: np.ndarray, lower: Polygon):
         """Search the turned member as a new branch; return the body the father goes on with."""
-        vector = centre - track.centroid
-        new_direction = nearest_axis(vector) if self.method == "published" else vector / np.linalg.norm(vector)
-        if self.method == "true-direction" and abs(float(new_direction @ P)) < math.sin(DRIFT_ANGLE):
-            new_direction = new_direction - (new_direction @ P) * P
-            new_direction /= np.linalg.norm(new_direction)
+        # A turn is a sudden change (a member leaving sideways): both methods take the
+        # nearest axis, whose planes square the member; gradual inclination is followed
+        # by the drift test instead (true-direction mode).
+        new_direction = nearest_axis(centre - track.centroid)
         frame_points = _polygon_points_3d(lower, track, P)
         T = float(np.max(frame_points @ new_direction))
         restart = T + RESTART_EPSILON

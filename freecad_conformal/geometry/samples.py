@@ -83,7 +83,7 @@ def inclined_rod(tilt_deg: float = 30.0, radius: float = 5.0, length: float = 40
 
 
 def hinge(width: float = 60.0, wall: float = 10.0, height: float = 40.0,
-          knuckle: float = 15.0, reach: float = 20.0, thickness: float = 10.0,
+          knuckle: float = 15.0, reach: float = 40.0, thickness: float = 10.0,
           lug_drop: float = 15.0, lug_depth: float = 10.0):
     """A hinge-like part (METHODS section 3): a wall on the bed, two knuckles reaching out
     in +Y at its top, and a lug hanging down (−Z) under each knuckle's end.

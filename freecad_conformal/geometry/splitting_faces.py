@@ -92,7 +92,7 @@ def face_candidates(solid, concave: list[EdgeAngle]) -> list[SplitCandidate]:
         for index in edge.faces:
             edges_of.setdefault(index, []).append(edge)
     candidates: list[SplitCandidate] = []
-    seen: list[tuple[np.ndarray, float, float]] = []
+    seen: list[np.ndarray] = []
     for index, edge_list in sorted(edges_of.items()):
         normal = plane_normal(faces[index])
         if normal is None:
@@ -101,9 +101,9 @@ def face_candidates(solid, concave: list[EdgeAngle]) -> list[SplitCandidate]:
         for region in interior_regions(solid, point, normal):
             if not any(region.distToShape(e.edge)[0] < TOUCH_TOLERANCE for e in edge_list):
                 continue
-            key = (normal, float(point @ normal), float(region.Area))
-            if any(abs(abs(n @ normal) - 1) < 1e-9 and abs(abs(level) - abs(key[1])) < 1e-6
-                   and abs(area - key[2]) < 1e-6 for n, level, area in seen):
+            # Two faces on one plane find the same region: keep it once (same centre, area).
+            key = np.append(_vec(region.CenterOfMass), region.Area)
+            if any(np.allclose(key, other, atol=1e-6) for other in seen):
                 continue
             seen.append(key)
             candidates.append(SplitCandidate(point, normal, region, "concave-face", index))

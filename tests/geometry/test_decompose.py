@@ -36,3 +36,44 @@ def test_t_builds_the_stem_then_arms_in_plus_and_minus_x():
     assert all(s.parent == root.index for s in plan.ordered()[1:])
     assert sum(s.volume for s in plan.subparts) == pytest.approx(samples.t_block().Volume)
     assert plan.support_area == pytest.approx(0.0, abs=1e-6)
+
+
+def test_hinge_gives_five_subparts_in_the_published_turns():
+    plan = decompose(samples.hinge())
+    ordered = plan.ordered()
+    assert len(ordered) == 5
+    assert directions(plan)[0] == (0, 0, 1)
+    assert directions(plan)[1:3] == [(0, 1, 0), (0, 1, 0)]
+    assert directions(plan)[3:] == [(0, 0, -1), (0, 0, -1)]
+    for sub in ordered[1:3]:      # turned 90° about X
+        np.testing.assert_allclose(sub.rotation_axis, [1, 0, 0], atol=1e-12)
+        assert math.degrees(sub.rotation_angle) == pytest.approx(90.0)
+    for sub in ordered[3:]:       # turned 180° about Y, each on its knuckle
+        np.testing.assert_allclose(sub.rotation_axis, [0, 1, 0], atol=1e-12)
+        assert math.degrees(sub.rotation_angle) == pytest.approx(180.0)
+        assert plan.subparts[sub.parent].build_direction[1] == pytest.approx(1.0)
+    assert plan.support_area == pytest.approx(0.0, abs=1e-6)
+
+
+def test_inclined_rod_needs_no_split_when_followed_in_its_direction():
+    plan = decompose(samples.inclined_rod(tilt_deg=30.0))
+    assert len(plan.subparts) == 1
+    axis = plan.axes[0]
+    tilt = np.array([math.sin(math.radians(30)), 0, math.cos(math.radians(30))])
+    assert any(abs(float(b.direction @ tilt)) > math.cos(math.radians(2)) for b in axis.branches)
+
+
+def test_published_axis_turns_only_along_the_axes():
+    plan = decompose(samples.l_block(), method="published")
+    assert len(plan.subparts) == 2
+    for branch in plan.axes[0].branches:
+        assert np.count_nonzero(np.abs(branch.direction) > 1e-9) == 1
+
+
+def test_plan_json_names_every_subpart_and_the_saving():
+    plan = decompose(samples.l_block(), check_collisions=False)
+    data = plan.to_dict()
+    assert data["format"] == "conformal.plan/1"
+    assert [s["name"] for s in data["subparts"]] == ["P1", "P2"]
+    assert data["support_area_saved"] == pytest.approx(plan.support_area_saved)
+    assert data["axes"][0]["format"] == "conformal.axis/1"
