@@ -30,6 +30,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from freecad_conformal.errors import ConformalError  # noqa: E402
 from freecad_conformal.geometry import samples  # noqa: E402
 from freecad_conformal.geometry.solids import load_shape  # noqa: E402
 from freecad_conformal.paths.assemble import Feeds, PathSettings  # noqa: E402
@@ -128,7 +129,11 @@ def main(names: list[str]) -> int:
             with_support = [prusa_slice(stl, o, True, work) for o in ORIENTATIONS]
             best = min(with_support, key=lambda s: s.volume_cm3)
             bare = prusa_slice(stl, best.orientation, False, work)
-            result, our_time, wall = ours(shape, name)
+            try:
+                result, our_time, wall = ours(shape, name)
+            except ConformalError as exc:
+                print(f"{name}: no plan for {PlanOptions().machine}: {exc}", flush=True)
+                continue
             rows.append((name, best, bare, result, our_time, wall))
             print(f"{name}: {len(result.subparts)} sub-parts, planned in {wall:.1f} s", flush=True)
     print()

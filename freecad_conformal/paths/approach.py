@@ -98,7 +98,7 @@ def transition(end: np.ndarray, end_axis: np.ndarray, start: np.ndarray, start_a
     d1, d2 = (lifted - centre) / r1, (above - centre) / r2
     turn = math.acos(float(np.clip(d1 @ d2, -1.0, 1.0)))
     count = max(2, int(math.ceil(turn / ARC_STEP)) + 1)
-    directions = slerp_directions(d1, d2, count, end_axis + start_axis)
+    directions = turn_axis(d1, d2, count)          # over the top, like the tool axis
     radii = np.linspace(r1, r2, count)
     arc = centre + directions * radii[:, None]
     axes = turn_axis(end_axis, start_axis, count)

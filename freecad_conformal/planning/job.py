@@ -18,6 +18,7 @@ from freecad_conformal.paths.assemble import Assembly, PathSettings, assemble
 from freecad_conformal.paths.timing import DEFAULT_JERK, estimate_time
 from freecad_conformal.planning.layers import Layer, LayerSettings, check_thickness, plan_layers
 from freecad_conformal.planning.subparts import BuildPlan
+from freecad_conformal.post.branches import choose_rotary
 from freecad_conformal.post.kinematics import rotary_candidates
 from freecad_conformal.post.machine import Machine, load_machine
 from freecad_conformal.post.program import PostResult, post_toolpath
@@ -131,12 +132,15 @@ def resolve_tool(tool_id: str, material: str | None, library=None):
 
 
 def check_reach(machine: Machine, plan: BuildPlan) -> None:
-    """Every sub-part's build direction must be a tool axis the machine can take."""
+    """Every sub-part's build direction must be a tool axis the machine can take, within
+    its axis limits."""
     for sub in plan.ordered():
         axis = np.asarray(sub.build_direction, dtype=float).reshape(1, 3)
         axis = axis / np.linalg.norm(axis)
         try:
-            rotary_candidates(machine, axis, lambda _i: f"sub-part {sub.index}")
+            locate = lambda _i: f"sub-part {sub.index}"  # noqa: E731
+            choose_rotary(machine, rotary_candidates(machine, axis, locate),
+                          machine.home_joints()[3:], locate)
         except KinematicsError as exc:
             raise PlanError(f"machine {machine.name!r} cannot point the tool along sub-part "
                             f"{sub.index}'s build direction {np.round(axis[0], 4).tolist()}: {exc}") from exc
