@@ -64,13 +64,28 @@ def artifact(params: dict, name: str) -> str:
     return os.path.join(folder, name)
 
 
-def report_view_text() -> str:
-    """Everything the report view shows (errors of document objects land there)."""
+def _report_view():
     window = FreeCADGui.getMainWindow()
     for edit in window.findChildren(QtGui.QTextEdit):
         if edit.objectName() == "Report view" or "Report" in (edit.parent().objectName() or ""):
-            return edit.toPlainText()
-    return ""
+            return edit
+    return None
+
+
+def report_view_text() -> str:
+    """Everything the report view shows (errors of document objects land there); messages
+    arrive through the event loop, so let it run first."""
+    settle()
+    edit = _report_view()
+    return edit.toPlainText() if edit is not None else ""
+
+
+def clear_report_view() -> None:
+    """Empty the report view (before a screenshot, once its text has been checked)."""
+    settle()
+    edit = _report_view()
+    if edit is not None:
+        edit.clear()
 
 
 def version() -> list:

@@ -1,0 +1,93 @@
+"""What the toolpath view draws, as plain arrays (numpy only, no Coin): one indexed line set
+with one colour per move, travel moves dimmed or left out, and optional tool-axis ticks.
+
+Move j goes from point j to point j + 1 and belongs to the segment of point j + 1 (the
+neutral toolpath's rule: a point is reached from the previous one as its segment says).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+
+COLOUR_BY = ("SubPart", "Tool", "Kind")
+#: Travel moves are drawn in this light grey whatever the colouring ("dimmed").
+TRAVEL_COLOUR = (0.78, 0.78, 0.80)
+#: Colours of deposit, cure and cut moves when colouring by kind (travel is dimmed).
+KIND_COLOURS = {"deposit": (0.93, 0.45, 0.10), "cure": (0.55, 0.25, 0.85),
+                "cut": (0.85, 0.10, 0.15)}
+#: Distinct colours for sub-parts and tools (cycled); readable on white and on FreeCAD's
+#: blue gradient.
+PALETTE = np.array([(0.12, 0.47, 0.71), (0.93, 0.45, 0.10), (0.17, 0.63, 0.17),
+                    (0.84, 0.15, 0.16), (0.58, 0.40, 0.74), (0.55, 0.34, 0.29),
+                    (0.89, 0.47, 0.76), (0.09, 0.75, 0.81), (0.74, 0.74, 0.13)])
+
+
+@dataclass
+class LineSetData:
+    """Coordinates, coordIndex (polylines separated by -1) and one colour per drawn move."""
+
+    points: np.ndarray          # (n, 3) float32
+    coord_index: np.ndarray     # (m,) int32
+    part_colours: np.ndarray    # (moves drawn, 3) float32
+    moves: int
+
+
+def segment_colours(toolpath, colour_by: str, segment_subparts: Sequence[int]) -> np.ndarray:
+    """(segments, 3) colours by sub-part, tool id or kind."""
+    from freecad_conformal.toolpath import KINDS
+
+    if colour_by == "Kind":
+        table = np.array([KIND_COLOURS.get(name, TRAVEL_COLOUR) for name in KINDS])
+        return table[np.asarray(toolpath.kind, dtype=int)]
+    if colour_by == "Tool":
+        keys = np.asarray(toolpath.tool, dtype=int)
+    elif colour_by == "SubPart":
+        keys = np.asarray(segment_subparts, dtype=int)
+        if len(keys) != toolpath.segment_count:
+            keys = np.zeros(toolpath.segment_count, dtype=int)
+    else:
+        raise ValueError(f"colour by must be one of {', '.join(COLOUR_BY)}, got {colour_by!r}")
+    return PALETTE[keys % len(PALETTE)]
+
+
+def line_set(toolpath, colour_by: str = "SubPart", segment_subparts: Sequence[int] = (),
+             show_travel: bool = True) -> LineSetData:
+    """The whole toolpath as one line set; runs of hidden moves split the polylines."""
+    from freecad_conformal.toolpath import KINDS
+
+    points = np.asarray(toolpath.points, dtype=np.float32)
+    segment_of_move = np.asarray(toolpath.segment_index[1:], dtype=int)
+    travel = np.asarray(toolpath.kind, dtype=int)[segment_of_move] == KINDS.index("travel")
+    colours = segment_colours(toolpath, colour_by, segment_subparts)[segment_of_move]
+    colours[travel] = TRAVEL_COLOUR
+    keep = np.ones(len(segment_of_move), dtype=bool) if show_travel else ~travel
+    return LineSetData(points, _polyline_index(keep), colours[keep].astype(np.float32),
+                       int(keep.sum()))
+
+
+def _polyline_index(keep: np.ndarray) -> np.ndarray:
+    """coordIndex for the kept moves: each run of kept moves a..b is vertices a..b+1, -1."""
+    if not keep.any():
+        return np.empty(0, dtype=np.int32)
+    edges = np.diff(np.concatenate(([0], keep.astype(np.int8), [0])))
+    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)   # moves [s, e)
+    lengths = ends - starts + 2                      # vertices s..e plus the -1
+    index = np.full(int(lengths.sum()), -1, dtype=np.int32)
+    offsets = np.concatenate(([0], np.cumsum(lengths)[:-1]))
+    # vertex k of run r is starts[r] + k, placed at offsets[r] + k
+    run_of = np.repeat(np.arange(len(starts)), lengths - 1)
+    position = np.arange(int((lengths - 1).sum())) - np.repeat(np.cumsum(lengths - 1) - (lengths - 1),
+                                                              lengths - 1)
+    index[offsets[run_of] + position] = starts[run_of] + position
+    return index
+
+
+def axis_ticks(toolpath, every: int, length: float) -> np.ndarray:
+    """(2k, 3) start/end points of tool-axis ticks at every `every`-th pose."""
+    if every < 1 or length <= 0:
+        return np.empty((0, 3), dtype=np.float32)
+    tips = np.asarray(toolpath.points[::every], dtype=float)
+    ends = tips + length * np.asarray(toolpath.axes[::every], dtype=float)
+    return np.stack((tips, ends), axis=1).reshape(-1, 3).astype(np.float32)

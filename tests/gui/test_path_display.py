@@ -1,0 +1,54 @@
+"""The toolpath view's arrays (no FreeCAD): per-move colours, hidden travel, axis ticks,
+and the sub-part of every segment of a planned job."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from freecad_conformal.gui.path_display import (
+    KIND_COLOURS, PALETTE, TRAVEL_COLOUR, _polyline_index, axis_ticks, line_set)
+from freecad_conformal.toolpath import ToolpathBuilder
+
+
+def small_toolpath():
+    builder = ToolpathBuilder()
+    builder.add_segment([[0, 0, 0], [1, 0, 0]], kind="travel", feed=3000)          # points 0-1
+    builder.add_segment([[2, 0, 0], [3, 0, 0], [4, 0, 0]], kind="deposit", feed=600, tool=1)
+    builder.add_segment([[4, 1, 0]], kind="travel", feed=3000)                       # point 5
+    builder.add_segment([[5, 1, 0], [6, 1, 0]], kind="cure", feed=60, tool=2)        # 6-7
+    return builder.build()
+
+
+def test_polyline_index_splits_at_hidden_moves():
+    keep = np.array([True, True, False, False, True, False, True])
+    assert _polyline_index(keep).tolist() == [0, 1, 2, -1, 4, 5, -1, 6, 7, -1]
+    assert _polyline_index(np.zeros(3, bool)).size == 0
+
+
+def test_moves_take_the_colour_of_the_segment_they_enter():
+    data = line_set(small_toolpath(), "Kind", show_travel=True)
+    travel, deposit, cure = TRAVEL_COLOUR, KIND_COLOURS["deposit"], KIND_COLOURS["cure"]
+    # moves into points 1..7: travel, deposit x3, travel, cure x2
+    expected = [travel, deposit, deposit, deposit, travel, cure, cure]
+    np.testing.assert_allclose(data.part_colours, np.array(expected), atol=1e-6)
+    assert data.coord_index.tolist() == list(range(8)) + [-1]
+
+
+def test_hidden_travel_and_colour_by_subpart():
+    data = line_set(small_toolpath(), "SubPart", segment_subparts=[0, 0, 1, 1],
+                    show_travel=False)
+    assert data.moves == 5
+    assert data.coord_index.tolist() == [1, 2, 3, 4, -1, 5, 6, 7, -1]
+    np.testing.assert_allclose(data.part_colours[-1], PALETTE[1], atol=1e-6)
+
+
+def test_axis_ticks_start_at_the_tip_along_the_axis():
+    ticks = axis_ticks(small_toolpath(), every=3, length=2.0)
+    assert ticks.shape == (6, 3)
+    np.testing.assert_allclose(ticks[1] - ticks[0], [0, 0, 2.0])
+    assert axis_ticks(small_toolpath(), every=0, length=2.0).shape == (0, 3)
+
+
+def test_unknown_colouring_is_an_error():
+    with pytest.raises(ValueError, match="colour by"):
+        line_set(small_toolpath(), "Feed")
