@@ -50,7 +50,7 @@ case "${1:-}" in
     exec "$venv/bin/python" -m freecad_conformal demo --out out "$@"
     ;;
   test)
-    need_debs freecad python3-venv xvfb xauth linuxcnc-uspace python3-wxgtk4.0 python3-dbus
+    need_debs freecad python3-venv xvfb xauth linuxcnc-uspace python3-wxgtk4.0 python3-dbus fonts-dejavu-core
     need_venv requirements.txt requirements-test.txt
     shift
     exec "$venv/bin/python" -m pytest -q -p no:cacheprovider "$@"

@@ -51,7 +51,7 @@ def zigzag(region, spacing: float, angle: float = 0.0, inset: float | None = Non
            what: str = "region") -> list[np.ndarray]:
     """Boustrophedon fill of `region` (shapely polygon(s)) with lines at `angle` (rad),
     `spacing` apart. The line count across each polygon is its width / spacing rounded (so
-    beads of width `spacing` fill it, within half a bead), centred; line ends stay `inset`
+    beads of width `spacing` fill it, within half a bead; none under half a bead), centred; line ends stay `inset`
     (default spacing/2) inside the boundary. Raises PlanError if nothing fits.
     """
     if not spacing > 0:
@@ -70,7 +70,9 @@ def _zigzag_polygon(polygon: Polygon, spacing: float, angle: float, inset: float
     origin = polygon.centroid
     turned = affinity.rotate(polygon, -angle, origin=origin, use_radians=True)
     x0, y0, x1, y1 = turned.bounds
-    count = max(int(round((y1 - y0) / spacing)), 1)
+    count = int(round((y1 - y0) / spacing))
+    if count == 0:
+        return []             # thinner than half a bead: no line belongs there
     margin = 0.5 * ((y1 - y0) - (count - 1) * spacing)
     # the outer rows sit `margin` from the extremes: shrink no further or they vanish
     inner = turned.buffer(-min(inset, EDGE_FRACTION * margin)) if inset > 0 else turned

@@ -155,38 +155,40 @@ def _segment_distance(points: np.ndarray, start: np.ndarray, end: np.ndarray) ->
     return np.linalg.norm(points - (start + np.outer(t, chord)), axis=1)
 
 
-def collisions(layout: RodLayout, tool: Tool, order: np.ndarray | None = None) -> list[tuple[int, int, float]]:
+def collisions(layout: RodLayout, tool: Tool, order: np.ndarray | None = None,
+               limit: int | None = None) -> list[tuple[int, int, float]]:
     """(rod being built, rod already built, overlap mm) for every contact of the tool's
-    envelope with an earlier rod, building in `order` (default: layout order)."""
+    envelope with an earlier rod, building in `order` (default: layout order); stops after
+    `limit` contacts when given."""
     order = np.arange(len(layout.bases)) if order is None else np.asarray(order)
     env = tool.envelope
     heights = np.arange(0.0, env.tip_length + env.body_length + ENVELOPE_STEP, ENVELOPE_STEP)
     radii = np.array([env.radius_at(h) for h in heights])
-    built: list[int] = []
     found = []
     reach = env.tip_length + env.body_length + layout.length + env.body_diameter + layout.diameter
-    for j in order.tolist():
+    for position, j in enumerate(order.tolist()):
+        built = order[:position]
+        near = built[np.linalg.norm(layout.bases[built] - layout.bases[j], axis=1) <= reach]
         samples = layout.bases[j] + np.outer(heights, layout.axes[j])
-        for k in built:
-            if np.linalg.norm(layout.bases[k] - layout.bases[j]) > reach:
-                continue
+        for k in near.tolist():
             distance = _segment_distance(samples, layout.bases[k],
                                          layout.bases[k] + layout.length * layout.axes[k])
             overlap = float(np.max(radii + layout.diameter / 2.0 - distance))
             if overlap > 0.0:
                 found.append((j, k, overlap))
-        built.append(j)
+                if limit is not None and len(found) >= limit:
+                    return found
     return found
 
 
 def check_layout(layout: RodLayout, tool: Tool, what: str = "rods") -> None:
     """PlanError naming the first pair of colliding rods (and rule (i) for comparison)."""
-    hits = collisions(layout, tool)
+    hits = collisions(layout, tool, limit=1)
     if hits:
         j, k, overlap = hits[0]
         raise PlanError(f"{what}: the {tool.id} envelope building rod {j} (ring "
                         f"{layout.ring_of[j]}) hits rod {k} (ring {layout.ring_of[k]}) by "
-                        f"{overlap:.3f} mm: {len(hits)} collisions; space the rods further "
+                        f"{overlap:.3f} mm; space the rods further "
                         f"apart (d {layout.spacing:g} mm) or shorten them (l {layout.length:g} mm)")
 
 
