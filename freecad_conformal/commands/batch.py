@@ -1,0 +1,79 @@
+"""`batch INPUTS... --machine NAME --tool ID -o DIR`: plan and post many parts.
+
+INPUTS are STEP, BREP, IGES or FCStd files, folders or globs (quote globs to let Conformal
+expand them, `**` included); every solid body of an FCStd is its own part (`file#Label`).
+Writes DIR/<part>.gcode per part and DIR/batch-report.csv/.json (part, status, sub-parts,
+layers, material, time, G-code bytes, error). Exit code 1 when any part failed.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+
+#: Stands in for plan's required PART and -o when reading plan's defaults.
+_PLACEHOLDER = "batch-placeholder"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("inputs", nargs="+", metavar="INPUT",
+                        help="part files, folders or globs (STEP, BREP, IGES, FCStd)")
+    parser.add_argument("-o", "--output-dir", dest="out_dir", required=True,
+                        help="folder for the G-code files and the report")
+    parser.add_argument("--machine", default="trunnion_ac",
+                        help="machine name or .json path (default trunnion_ac)")
+    parser.add_argument("--tool", default="fdm_0p4", help="tool id in the library (default fdm_0p4)")
+    parser.add_argument("--material", help="material of the tool's settings (default: its first)")
+    parser.add_argument("--dialect", help="G-code dialect (default: the machine's)")
+    parser.add_argument("--suffix", default=".gcode", help="G-code file suffix (default .gcode)")
+    run = parser.add_argument_group("where the parts run")
+    run.add_argument("--workers", type=int, default=1,
+                     help="parallel processes on this machine (default 1; 0 plans in this process)")
+    run.add_argument("--dask", metavar="ADDRESS",
+                     help="send the parts to this Dask scheduler (e.g. tcp://host:8786) instead")
+    run.add_argument("--start-method", choices=("spawn", "fork", "forkserver"), default="spawn",
+                     help="how local workers start (default spawn; the FreeCADCmd macro uses fork)")
+    layers = parser.add_argument_group("layers (as in the plan command)")
+    layers.add_argument("--layer", type=float, default=0.2, help="layer height in mm (default 0.2)")
+    layers.add_argument("--layer-mode", choices=("uniform", "adaptive", "cusp"), default="uniform")
+    layers.add_argument("--layer-min", type=float, help="minimum layer height (default 0.5 x --layer)")
+    layers.add_argument("--layer-max", type=float, help="maximum layer height (default 1.5 x --layer)")
+    layers.add_argument("--no-tilt", action="store_true", help="keep layers planar (no 3-D layers)")
+    paths = parser.add_argument_group("paths (as in the plan command)")
+    paths.add_argument("--bead-width", type=float, help="bead width in mm (default: the material's)")
+    paths.add_argument("--perimeters", type=int, default=2)
+    paths.add_argument("--infill", type=float, default=20.0, help="sparse infill in percent (default 20)")
+    paths.add_argument("--infill-angle", type=float, help="infill angle in degrees (default: fewest turns)")
+    paths.add_argument("--seam", choices=("aligned", "nearest", "sharpest"), default="aligned")
+    paths.add_argument("--solid-layers", type=int, default=3, help="top and bottom solid layers (default 3)")
+
+
+def plan_options(args: argparse.Namespace):
+    """PlanOptions from the batch arguments, with the plan command's defaults for the
+    settings batch does not expose (so both commands plan a part the same way)."""
+    from freecad_conformal.commands import plan
+
+    plan_parser = argparse.ArgumentParser(add_help=False)
+    plan.add_arguments(plan_parser)
+    merged = plan_parser.parse_args([_PLACEHOLDER, "-o", _PLACEHOLDER])
+    for key, value in vars(args).items():
+        if hasattr(merged, key):
+            setattr(merged, key, value)
+    return plan.options_from(merged)
+
+
+def run(args: argparse.Namespace) -> int:
+    from freecad_conformal.batch.report import table
+    from freecad_conformal.batch.run import run_batch
+    from freecad_conformal.errors import ConformalError
+    from freecad_conformal.progress import Progress
+
+    if args.workers < 0:
+        raise ConformalError(f"--workers must be 0 or more, got {args.workers}")
+    options = plan_options(args)
+    result = run_batch(args.inputs, options, args.out_dir, workers=args.workers, dask=args.dask,
+                       start_method=args.start_method, suffix=args.suffix,
+                       make_progress=lambda total: Progress(total, label="batch"))
+    print(table(result.rows), end="")
+    written = sum(row["gcode"] is not None for row in result.rows)
+    print(f"wrote {written} G-code files and {result.csv_path}, {result.json_path}", file=sys.stderr)
+    return 1 if result.failed else 0
