@@ -28,6 +28,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "mandrel": ("mandrel", "build around a rotating mandrel: unrolled cylindrical layers to G-code"),
     "feature": ("feature", "conformal features on a face: rods, shells, patterns, channels"),
     "plan": ("plan", "the main job: support-free multi-axis build plan and 5-axis G-code for a part"),
+    "batch": ("batch", "plan and post many parts (files, globs, FCStd bodies) on local or Dask workers"),
 }
 
 
