@@ -1,0 +1,1 @@
+"""Conformal feature generators on faces: rods, shells, patterns, channels (METHODS section 1)."""
