@@ -74,14 +74,11 @@ def options_from(args: argparse.Namespace):
 def plan_part(shape, name: str, options, output: str | Path, png: str | Path | None = None,
               summary: str | Path | None = None, toolpath: str | Path | None = None):
     """Decompose, plan and write (G-code, PNG, summary, toolpath); returns (result, written)."""
-    from freecad_conformal.planning.job import check_options, run_job, single_plan
+    from freecad_conformal.planning.decompose import decompose
+    from freecad_conformal.planning.job import check_options, run_job
 
     check_options(shape, options)
-    try:  # development only: decomposition (issue 5) has not been committed yet
-        from freecad_conformal.planning.decompose import decompose
-        plan = decompose(shape)
-    except ImportError:
-        plan = single_plan(shape)
+    plan = decompose(shape, tool=options.tool)
     result = run_job(shape, plan, options, part=name)
     png = png or Path(output).with_suffix(".png")
     written = result.write(output, png, summary)
