@@ -26,14 +26,15 @@ class Body:
     label: str
 
 
-def _workbench_modules_importable(App) -> None:
+def make_workbench_types_loadable() -> None:
     """Put FreeCAD's Mod folders on sys.path, as FreeCAD's own start-up does.
 
     Opening a document loads the module of each object type (PartDesign::Body needs the
     `PartDesign` package from Mod/). From a plain Python those folders are not on sys.path,
     and FreeCAD then drops the objects silently: a document of PartDesign bodies would look
-    empty.
+    empty. Documents made from Python need it too (doc.addObject("PartDesign::Body")).
     """
+    App, _Part = import_freecad()
     for root in (App.getResourceDir(), App.getHomePath()):
         folder = os.path.join(root, "Mod")
         if os.path.isdir(folder) and folder not in sys.path:
@@ -47,7 +48,7 @@ def open_document(path: str | os.PathLike) -> Iterator[object]:
     file = Path(path)
     if not file.is_file():
         raise GeometryError(f"FreeCAD document not found: {file}")
-    _workbench_modules_importable(App)
+    make_workbench_types_loadable()
     try:
         doc = App.openDocument(str(file), True)
     except Exception as exc:  # FreeCAD raises plain Exceptions (bad zip, bad XML)

@@ -49,7 +49,7 @@ def _outcomes(jobs, options, workers: int, dask: str | None, start_method: str, 
 
 
 def run_batch(inputs: Sequence[str], options, out_dir: str | Path, *, workers: int = 1,
-              dask: str | None = None, start_method: str = "spawn", suffix: str = ".gcode",
+              dask: str | None = None, start_method: str | None = None, suffix: str = ".gcode",
               make_progress=None, task=run_part) -> BatchResult:
     """Plan and post every part of `inputs`; write the G-code files and the report in `out_dir`.
 
@@ -58,7 +58,8 @@ def run_batch(inputs: Sequence[str], options, out_dir: str | Path, *, workers: i
         options: planning.job.PlanOptions for every part.
         workers: local processes (0: in this process); ignored when `dask` is given.
         dask: address of a Dask scheduler to send the parts to.
-        start_method: how local workers start ("spawn", "fork", "forkserver").
+        start_method: how local workers start ("spawn", "fork", "forkserver"; None:
+            runners.default_start_method()).
         suffix: G-code file suffix.
         make_progress: total -> a progress.Progress (update, close), or None for none.
         task: the per-part function (tests replace it to simulate crashes).
@@ -87,7 +88,7 @@ def run_batch(inputs: Sequence[str], options, out_dir: str | Path, *, workers: i
             progress.close()
     ordered = [rows[index] for index in sorted(rows)]
     settings = {"inputs": list(inputs), "runner": f"dask {dask}" if dask else
-                ("in-process" if workers == 0 else f"{workers} local {start_method} workers"),
+                ("in-process" if workers == 0 else f"{workers} local workers"),
                 "options": dataclasses.asdict(options)}
     csv_path, json_path = out / f"{REPORT_STEM}.csv", out / f"{REPORT_STEM}.json"
     write_report(ordered, csv_path, json_path, settings)

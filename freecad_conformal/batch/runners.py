@@ -7,6 +7,8 @@ one part: a task that raises, or a worker that dies, becomes that part's failed 
 from __future__ import annotations
 
 import multiprocessing
+import os
+import sys
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any, Callable, Iterator, Sequence
@@ -23,6 +25,14 @@ Outcomes = Iterator[tuple[PartJob, dict]]
 #: inherited; the only choice on Windows and the default on macOS); "fork" starts at once
 #: and is the one that works inside FreeCADCmd, whose executable cannot be re-run as Python.
 START_METHODS = ("spawn", "fork", "forkserver")
+
+def default_start_method() -> str:
+    """"spawn", except inside FreeCAD (FreeCADCmd, the GUI's console), whose executable
+    cannot be started as a Python worker: there "fork" where the system has it."""
+    name = os.path.basename(sys.executable or "").lower()
+    inside_freecad = not name.startswith("python")
+    return "fork" if inside_freecad and "fork" in multiprocessing.get_all_start_methods() else "spawn"
+
 
 #: Seconds to wait for a Dask scheduler before saying it cannot be reached.
 DASK_CONNECT_TIMEOUT = 10.0
@@ -49,7 +59,7 @@ def run_inline(jobs: Sequence[PartJob], options, task: Task = run_part) -> Outco
         yield job, _call(task, job, options)
 
 
-def run_local(jobs: Sequence[PartJob], options, workers: int, start_method: str = "spawn",
+def run_local(jobs: Sequence[PartJob], options, workers: int, start_method: str | None = None,
               task: Task = run_part) -> Outcomes:
     """The parts on `workers` processes of this machine.
 
@@ -59,6 +69,7 @@ def run_local(jobs: Sequence[PartJob], options, workers: int, start_method: str 
     """
     if workers < 1:
         raise ConformalError(f"--workers must be at least 1 for a process pool, got {workers}")
+    start_method = start_method or default_start_method()
     if start_method not in START_METHODS:
         raise ConformalError(f"start method {start_method!r} is not one of {', '.join(START_METHODS)}")
     context = multiprocessing.get_context(start_method)

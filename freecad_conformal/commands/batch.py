@@ -30,8 +30,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                      help="parallel processes on this machine (default 1; 0 plans in this process)")
     run.add_argument("--dask", metavar="ADDRESS",
                      help="send the parts to this Dask scheduler (e.g. tcp://host:8786) instead")
-    run.add_argument("--start-method", choices=("spawn", "fork", "forkserver"), default="spawn",
-                     help="how local workers start (default spawn; the FreeCADCmd macro uses fork)")
+    run.add_argument("--start-method", choices=("spawn", "fork", "forkserver"),
+                     help="how local workers start (default spawn; fork inside FreeCAD)")
     layers = parser.add_argument_group("layers (as in the plan command)")
     layers.add_argument("--layer", type=float, default=0.2, help="layer height in mm (default 0.2)")
     layers.add_argument("--layer-mode", choices=("uniform", "adaptive", "cusp"), default="uniform")
