@@ -21,30 +21,50 @@ JUMP_THRESHOLD = 1.0
 AXES = tuple(np.array(v, dtype=float) for v in np.vstack([np.eye(3), -np.eye(3)]))
 
 
-def area_jumps(shape, direction: np.ndarray, d: float | None = None) -> list[tuple[float, float]]:
-    """(height between the two sections, ∂) for each jump with ∂ > 1 along `direction`."""
-    low, high = extent_along(shape, direction)
+def _area_profile(shape, axis: np.ndarray, d: float | None) -> tuple[np.ndarray, np.ndarray, float]:
+    """Exact section areas along `axis` (one batch of sections): heights, areas, step."""
+    low, high = extent_along(shape, axis)
     step = d if d is not None else (high - low) / DEFAULT_SLICES
     if step <= 0:
-        return []
+        return np.zeros(0), np.zeros(0), 0.0
     heights = np.arange(low + step / 2, high, step)
     if len(heights) < 2:
+        return heights, np.zeros(len(heights)), step
+    areas = np.array([s.area for s in PlanarSlicer(shape, axis).sections(list(heights))])
+    return heights, areas, step
+
+
+def _jumps(heights: np.ndarray, areas: np.ndarray, step: float) -> list[tuple[float, float]]:
+    if len(heights) < 2:
         return []
-    areas = np.array([s.area for s in PlanarSlicer(shape, direction).sections(heights)])
     rates = np.diff(areas) / step
     return [(float(heights[i] + step / 2), float(rates[i]))
             for i in np.nonzero(rates > JUMP_THRESHOLD)[0]]
 
 
+def area_jumps(shape, direction: np.ndarray, d: float | None = None) -> list[tuple[float, float]]:
+    """(height between the two sections, ∂) for each jump with ∂ > 1 along `direction`."""
+    heights, areas, step = _area_profile(shape, np.asarray(direction, dtype=float), d)
+    return _jumps(heights, areas, step)
+
+
 def area_jump_candidates(shape, build_direction: np.ndarray, d: float | None = None,
                          limit: int = 12) -> list[SplitCandidate]:
     """Interior regions on the planes of the largest area jumps along ±X, ±Y, ±Z (the
-    build direction itself excluded: a cut across it changes nothing)."""
+    build direction itself excluded: a cut across it changes nothing).
+
+    One batch of sections per axis serves both signs: along −X the same areas are read in
+    the opposite order, at negated heights.
+    """
     jumps = []
-    for axis in AXES:
-        if abs(float(axis @ build_direction)) > 1 - 1e-9:
+    for axis in AXES[:3]:
+        plus = abs(float(axis @ build_direction)) <= 1 - 1e-9
+        if not plus:
             continue
-        jumps.extend((rate, height, axis) for height, rate in area_jumps(shape, axis, d))
+        heights, areas, step = _area_profile(shape, axis, d)
+        jumps.extend((rate, height, axis) for height, rate in _jumps(heights, areas, step))
+        jumps.extend((rate, -height, -axis)
+                     for height, rate in _jumps(-heights[::-1], areas[::-1], step))
     jumps.sort(key=lambda item: -item[0])
     candidates: list[SplitCandidate] = []
     for rate, height, axis in jumps[:limit]:

@@ -24,13 +24,16 @@ DEFAULT_STANDOFF = 0.2
 SPACING_FRACTION = 0.1
 MIN_SPACING = 1.0
 
+#: Obstacle × tool point pairs tested in one numpy block (bounds the memory to ~100 MB).
+PAIRS_PER_BLOCK = 2_000_000
+
 #: Triangulation deflection (mm) used to sample surfaces; curved faces are followed to 0.05 mm.
 SAMPLE_DEFLECTION = 0.05
 
 
 def surface_points(shape, spacing: float = MIN_SPACING) -> np.ndarray:
     """Points (N, 3) spread over the shape's surface no farther than ~`spacing` apart."""
-    points, triangles = shape.tessellate(SAMPLE_DEFLECTION)
+    points, triangles = shape.tessellate(SAMPLE_DEFLECTION, True)
     if not triangles:
         return np.array([tuple(v.Point) for v in shape.Vertexes], dtype=float).reshape(-1, 3)
     pts = np.array([tuple(p) for p in points])
@@ -49,33 +52,93 @@ def surface_points(shape, spacing: float = MIN_SPACING) -> np.ndarray:
         grid = (wa[None, :, None] * a[chosen][:, None, :] + wb[None, :, None] * b[chosen][:, None, :]
                 + wc[None, :, None] * c[chosen][:, None, :])
         samples.append(grid.reshape(-1, 3))
-    return np.unique(np.round(np.vstack(samples), 9), axis=0)
+    points = np.vstack(samples)
+    # Triangles share edges, so their grids repeat points: keep one point per cell of a
+    # quarter spacing (a 1-D key sorts far faster than unique rows).
+    keys = np.floor((points - points.min(axis=0)) / (spacing / 4)).astype(np.int64)
+    span = keys.max(axis=0) + 1
+    flat = (keys[:, 0] * span[1] + keys[:, 1]) * span[2] + keys[:, 2]
+    return points[np.unique(flat, return_index=True)[1]]
+
+
+def _perpendicular_frame(d: np.ndarray) -> np.ndarray:
+    """Two unit vectors (2, 3) perpendicular to `d` and to each other."""
+    helper = np.eye(3)[int(np.argmin(np.abs(d)))]
+    u = np.cross(d, helper)
+    u /= np.linalg.norm(u)
+    return np.vstack([u, np.cross(d, u)])
+
+
+def _cells(uv: np.ndarray, size: float) -> dict[tuple[int, int], np.ndarray]:
+    """Indices of the points in each square cell of side `size` of the plane ⊥ the axis."""
+    keys = np.floor(uv / size).astype(np.int64)
+    order = np.lexsort((keys[:, 1], keys[:, 0]))
+    keys = keys[order]
+    starts = np.nonzero(np.any(np.diff(keys, axis=0) != 0, axis=1))[0] + 1
+    groups = np.split(order, starts)
+    return {(int(keys[s, 0]), int(keys[s, 1])): g
+            for s, g in zip(np.concatenate([[0], starts]), groups) if len(g)}
 
 
 def envelope_hits(tool_points: np.ndarray, axis: np.ndarray, envelope: Envelope,
-                  obstacle: np.ndarray, chunk: int = 2048) -> np.ndarray:
-    """Mask over `obstacle` points lying inside the envelope placed at any tool point."""
+                  obstacle: np.ndarray, first_only: bool = False) -> np.ndarray:
+    """Mask over `obstacle` points lying inside the envelope placed at any tool point.
+
+    Points are binned in the plane ⊥ the axis in cells as wide as the envelope's largest
+    radius, so an obstacle point is only tested against tool points in its own and the eight
+    neighbouring cells (the envelope cannot reach farther); `first_only` stops at the first
+    hit (the caller only asks whether there is one).
+    """
     d = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
-    length = envelope.tip_length + envelope.body_length
     hit = np.zeros(len(obstacle), dtype=bool)
     if len(obstacle) == 0 or len(tool_points) == 0:
         return hit
+    length = envelope.tip_length + envelope.body_length
+    radius = envelope.body_diameter / 2
+    frame = _perpendicular_frame(d)
+    tool_s, obstacle_s = tool_points @ d, obstacle @ d
+    tool_uv, obstacle_uv = tool_points @ frame.T, obstacle @ frame.T
     # Only obstacle points within reach of some tool point can be hit (cheap box filter).
-    reach = length + envelope.body_diameter
-    low, high = tool_points.min(axis=0) - reach, tool_points.max(axis=0) + reach
-    near = np.all((obstacle >= low) & (obstacle <= high), axis=1)
+    near = ((obstacle_s >= tool_s.min()) & (obstacle_s <= tool_s.max() + length)
+            & np.all(obstacle_uv >= tool_uv.min(axis=0) - radius, axis=1)
+            & np.all(obstacle_uv <= tool_uv.max(axis=0) + radius, axis=1))
+    if not near.any():
+        return hit
     candidates = np.nonzero(near)[0]
-    for start in range(0, len(candidates), chunk):
-        index = candidates[start:start + chunk]
-        rel = obstacle[index][None, :, :] - tool_points[:, None, :]
-        s = rel @ d
-        radial = np.linalg.norm(rel - s[..., None] * d, axis=2)
-        tip = (envelope.tip_diameter + (envelope.body_diameter - envelope.tip_diameter)
-               * np.clip(s / envelope.tip_length, 0, 1) if envelope.tip_length > 0
-               else np.full_like(s, envelope.body_diameter)) / 2
-        inside = (s >= 0) & (s <= length) & (radial < tip)
-        hit[index] |= inside.any(axis=0)
+    tool_cells = _cells(tool_uv, radius)
+    for (i, j), local in _cells(obstacle_uv[candidates], radius).items():
+        index = candidates[local]
+        tools = [tool_cells[(i + a, j + b)] for a in (-1, 0, 1) for b in (-1, 0, 1)
+                 if (i + a, j + b) in tool_cells]
+        if not tools:
+            continue
+        near_tools = np.concatenate(tools)
+        low, high = obstacle_s[index].min() - length, obstacle_s[index].max()
+        near_tools = near_tools[(tool_s[near_tools] >= low) & (tool_s[near_tools] <= high)]
+        if len(near_tools) == 0:
+            continue
+        rows = max(1, PAIRS_PER_BLOCK // len(near_tools))
+        for start in range(0, len(index), rows):
+            block = index[start:start + rows]
+            hit[block] |= _inside(obstacle_s[block], obstacle_uv[block], tool_s[near_tools],
+                                  tool_uv[near_tools], envelope)
+            if first_only and hit.any():
+                return hit
     return hit
+
+
+def _inside(obstacle_s, obstacle_uv, tool_s, tool_uv, envelope: Envelope) -> np.ndarray:
+    """Mask over obstacle points inside the envelope at any of the tool points."""
+    s = obstacle_s[:, None] - tool_s[None, :]
+    gap = obstacle_uv[:, None, :] - tool_uv[None, :, :]
+    radial2 = np.einsum("ijk,ijk->ij", gap, gap)
+    if envelope.tip_length > 0:
+        r = (envelope.tip_diameter + (envelope.body_diameter - envelope.tip_diameter)
+             * np.clip(s / envelope.tip_length, 0, 1)) / 2
+    else:
+        r = np.full_like(s, envelope.body_diameter / 2)
+    inside = (s >= 0) & (s <= envelope.tip_length + envelope.body_length) & (radial2 < r * r)
+    return inside.any(axis=1)
 
 
 class CollisionChecker:
@@ -103,5 +166,5 @@ class CollisionChecker:
             d = self.directions[index]
             tool_points = self.points[index] + self.standoff * d
             self._cache[key] = bool(envelope_hits(tool_points, d, self.envelope,
-                                                  self.points[other]).any())
+                                                  self.points[other], first_only=True).any())
         return self._cache[key]

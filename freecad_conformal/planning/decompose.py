@@ -161,12 +161,14 @@ def _refine(piece: _Piece, angle: float, axis, budget: int, notes: list[str]) ->
             notes.append(f"stopped splitting at the sub-part limit with {piece.overhang:.3f} mm² "
                          "of overhang left")
         return [piece]
-    best = None
-    for candidate in _candidates(piece, axis):
-        trial = _try_cut(piece, candidate, angle)
-        if trial is not None and (best is None or trial[0] < best[0] - MIN_SAVING):
-            best = trial
     needed = max(MIN_SAVING, MIN_SAVING_FRACTION * piece.overhang)
+    best = _best_cut(piece, _face_candidates(piece, axis), angle)
+    if best is None or best[0] > piece.overhang - needed:
+        # Section 4's area-jump rule only where no splitting face helps: its sections along
+        # three axes cost more than everything else here.
+        from freecad_conformal.geometry.area_jumps import area_jump_candidates
+
+        best = _best_cut(piece, area_jump_candidates(piece.shape, piece.direction), angle)
     if best is None or best[0] > piece.overhang - needed:
         return [piece]
     _, keeper, children = best
@@ -176,17 +178,23 @@ def _refine(piece: _Piece, angle: float, axis, budget: int, notes: list[str]) ->
     return result
 
 
-def _candidates(piece: _Piece, axis) -> list[SplitCandidate]:
-    """Cuts to try: concave-face regions (those meeting the axis criteria first), then
-    area-jump planes when no face region qualifies."""
-    from freecad_conformal.geometry.area_jumps import area_jump_candidates
+def _best_cut(piece: _Piece, candidates: list[SplitCandidate], angle: float):
+    """The candidate cut leaving the least total overhang: (total, keeper, children)."""
+    best = None
+    for candidate in candidates:
+        trial = _try_cut(piece, candidate, angle)
+        if trial is not None and (best is None or trial[0] < best[0] - MIN_SAVING):
+            best = trial
+    return best
 
+
+def _face_candidates(piece: _Piece, axis) -> list[SplitCandidate]:
+    """Concave-face regions, those meeting the axis criteria first (METHODS section 3)."""
     candidates = face_candidates(piece.shape, concave_edges(piece.shape))
     for candidate in candidates:
         if axis.supports_split(candidate.normal, _boundary_points(candidate.region)):
             candidate.rule = "axis-face"
-    ranked = sorted(candidates, key=lambda c: 0 if c.rule == "axis-face" else 1)
-    return ranked + area_jump_candidates(piece.shape, piece.direction)
+    return sorted(candidates, key=lambda c: 0 if c.rule == "axis-face" else 1)
 
 
 def _boundary_points(face) -> np.ndarray:

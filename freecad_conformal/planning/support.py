@@ -76,12 +76,17 @@ def lowest_level(shape, d: np.ndarray) -> float:
     return float(min(np.array(tuple(v.Point)) @ d for v in shape.Vertexes))
 
 
-def _curved_overhang(face, d: np.ndarray, threshold: float) -> float:
+def face_triangles(face) -> tuple[np.ndarray, np.ndarray]:
+    """Unit normals (N, 3), oriented as OCC's face normal, and areas (N,) of a fine
+    triangulation of a curved face; areas are scaled so they sum to the exact Face.Area
+    (the chord error then does not bias a total)."""
     box = face.BoundBox
     deflection = max(RELATIVE_DEFLECTION * box.DiagonalLength, 1e-3)
-    points, triangles = face.tessellate(deflection)
+    # Forced: OCC keeps a finer mesh from earlier calls otherwise, and the area would
+    # depend on what else tessellated the face before.
+    points, triangles = face.tessellate(deflection, True)
     if not triangles:
-        return 0.0
+        return np.zeros((0, 3)), np.zeros(0)
     pts = np.array([tuple(p) for p in points])
     tri = np.asarray(triangles, dtype=int)
     a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
@@ -89,7 +94,7 @@ def _curved_overhang(face, d: np.ndarray, threshold: float) -> float:
     areas = 0.5 * np.linalg.norm(cross, axis=1)
     keep = areas > 0
     if not np.any(keep):
-        return 0.0
+        return np.zeros((0, 3)), np.zeros(0)
     normals = cross[keep] / (2.0 * areas[keep, None])
     areas = areas[keep]
     # Orient the triangulation as OCC's face normal at the largest triangle's centre.
@@ -100,9 +105,12 @@ def _curved_overhang(face, d: np.ndarray, threshold: float) -> float:
     n = face.normalAt(u, v)
     if normals[k] @ np.array([n.x, n.y, n.z]) < 0:
         normals = -normals
-    total = float(areas.sum())
-    over = float(areas[normals @ d < -threshold].sum())
-    return over * float(face.Area) / total if total > 0 else 0.0
+    return normals, areas * (float(face.Area) / float(areas.sum()))
+
+
+def _curved_overhang(face, d: np.ndarray, threshold: float) -> float:
+    normals, areas = face_triangles(face)
+    return float(areas[normals @ d < -threshold].sum()) if len(areas) else 0.0
 
 
 def overhang_report(shape, direction: Sequence[float], angle: float = DEFAULT_OVERHANG_ANGLE,
