@@ -17,6 +17,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="tool id whose envelope is checked for collisions (default fdm_0p4)")
     parser.add_argument("--no-collision", action="store_true",
                         help="skip the tool collision check when ordering")
+    parser.add_argument("--root", default="auto",
+                        help="build direction of the first sub-part: 'auto' (+Z unless turning "
+                             "the part whole leaves less overhang) or x,y,z (default auto)")
     parser.add_argument("--json", metavar="FILE", help="write the plan (with the axis) as JSON")
     parser.add_argument("--step-dir", metavar="DIR", help="write one STEP file per sub-part here")
 
@@ -27,9 +30,25 @@ def run(args: argparse.Namespace) -> int:
 
     shape = load_part(args.part)
     plan = decompose(shape, overhang_angle=math.radians(args.overhang), tool=args.tool,
-                     method=args.method, check_collisions=not args.no_collision)
+                     method=args.method, check_collisions=not args.no_collision,
+                     root_direction=_root(args.root))
     sys.stdout.write(plan_table(plan))
     written = write_plan(plan, json_path=args.json, step_dir=args.step_dir)
     for path in written:
         print(f"wrote {path}")
     return 0
+
+
+def _root(text: str):
+    """'auto' or a direction written x,y,z."""
+    from freecad_conformal.errors import PlanError
+
+    if text == "auto":
+        return text
+    try:
+        values = [float(part) for part in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != 3:
+        raise PlanError(f"--root must be 'auto' or x,y,z, got {text!r}")
+    return values

@@ -12,6 +12,11 @@ import numpy as np
 #: Criterion 1 of METHODS section 3: a splitting face's normal within 10° of the link.
 SPLIT_NORMAL_ANGLE = math.radians(10.0)
 
+#: A section area growing or shrinking by more than this factor between two steps is a
+#: sudden change (a cap on a column, a flange): the centroid may stay in line, so the
+#: turn test cannot see it (the published method's blind spot).
+BLIND_SPOT_RATIO = 1.5
+
 
 @dataclass
 class AxisNode:
@@ -81,6 +86,15 @@ class AxisGraph:
     def link_vector(self, link: AxisLink) -> np.ndarray:
         return self.nodes[link.end].point - self.nodes[link.start].point
 
+    def link_direction(self, link: AxisLink) -> np.ndarray | None:
+        """Unit direction of a link; for a turn, the direction of the member it leads into."""
+        if link.kind == "turn":
+            vector = self.branches[self.nodes[link.end].branch].direction
+        else:
+            vector = self.link_vector(link)
+        length = float(np.linalg.norm(vector))
+        return vector / length if length > 0 else None
+
     def break_links(self) -> list[AxisLink]:
         return [link for link in self.links if link.is_break]
 
@@ -100,11 +114,9 @@ class AxisGraph:
         """
         n = np.asarray(normal, dtype=float)
         for link in self.break_links():
-            vector = self.link_vector(link)
-            length = float(np.linalg.norm(vector))
-            if length <= 0:
+            direction = self.link_direction(link)
+            if direction is None:
                 continue
-            direction = vector / length
             if math.acos(min(1.0, abs(float(n @ direction)))) > SPLIT_NORMAL_ANGLE:
                 continue
             start = float(self.nodes[link.start].point @ direction)
@@ -114,6 +126,24 @@ class AxisGraph:
             if any(low <= p <= high for p in (projections.min(), projections.max())):
                 return True
         return False
+
+    def blind_spots(self, ratio: float = BLIND_SPOT_RATIO) -> list[AxisLink]:
+        """Links along one branch where the section area jumps by more than `ratio` while
+        the centroid moves sideways by less than one step: a sudden change of shape the
+        centroidal axis does not show (flagged for the area-jump rule, METHODS section 4)."""
+        flagged = []
+        for link in self.links:
+            a, b = self.nodes[link.start], self.nodes[link.end]
+            if link.kind != "continue" or a.branch != b.branch or min(a.area, b.area) <= 0:
+                continue
+            if max(a.area, b.area) / min(a.area, b.area) <= ratio:
+                continue
+            d = self.branches[a.branch].direction
+            shift = self.link_vector(link)
+            sideways = float(np.linalg.norm(shift - (shift @ d) * d))
+            if sideways < self.step:
+                flagged.append(link)
+        return flagged
 
     def to_dict(self) -> dict:
         return {
@@ -126,5 +156,12 @@ class AxisGraph:
                           "father": b.parent, "children": self.children(b.id),
                           "brothers": self.brothers(b.id), "nodes": list(b.nodes),
                           "hanging": b.hanging} for b in self.branches],
+            "blind_spots": [{"start": l.start, "end": l.end,
+                             "area_ratio": _ratio(self.nodes[l.start].area, self.nodes[l.end].area)}
+                            for l in self.blind_spots()],
             "notes": list(self.notes),
         }
+
+
+def _ratio(a: float, b: float) -> float:
+    return float(max(a, b) / min(a, b))

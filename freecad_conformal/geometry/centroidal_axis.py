@@ -155,18 +155,26 @@ class _Search:
         return _Track(branch, polygon, centroid, node)
 
     def _link(self, start: int, end: int, kind: str) -> None:
-        """Add a link; it is a break when it turns sharply from the link that led to start."""
-        vector = self.graph.nodes[end].point - self.graph.nodes[start].point
-        before = [l for l in self.graph.links if l.end == start]
-        is_break = False
-        if before and np.linalg.norm(vector) > 0:
-            prev = self.graph.link_vector(before[-1])
-            if np.linalg.norm(prev) > 0:
-                cos = float(vector @ prev / (np.linalg.norm(vector) * np.linalg.norm(prev)))
-                is_break = math.acos(max(-1.0, min(1.0, cos))) > self.break_angle
+        """Add a link. Only a turn (a member leaving sideways) can be a break: it is one when
+        the child's direction leaves the father's own last link (or its branch direction) by
+        more than the break angle. Continue, join and bend links are not: their sideways steps are the
+        mixed section where a member leaves, merges, or a branch is re-searched."""
         from freecad_conformal.geometry.axis_graph import AxisLink
 
-        self.graph.links.append(AxisLink(start, end, kind, is_break))
+        graph = self.graph
+        is_break = False
+        if kind == "turn":
+            # The direction the turn leads into: the child branch's (the link itself only
+            # reaches the first centroid of the member, half-way round the corner).
+            vector = graph.branches[graph.nodes[end].branch].direction
+            branch = graph.nodes[start].branch
+            before = [l for l in graph.links
+                      if l.end == start and graph.nodes[l.start].branch == branch]
+            reference = graph.link_vector(before[-1]) if before else graph.branches[branch].direction
+            if np.linalg.norm(vector) > 0 and np.linalg.norm(reference) > 0:
+                cos = float(vector @ reference / (np.linalg.norm(vector) * np.linalg.norm(reference)))
+                is_break = math.acos(max(-1.0, min(1.0, cos))) > self.break_angle
+        graph.links.append(AxisLink(start, end, kind, is_break))
 
     def _advance(self, tracks: list[_Track], regions: list, P: np.ndarray):
         """Match upper regions to the tracks below; return new tracks, turns and drift."""

@@ -22,10 +22,15 @@ from freecad_conformal.geometry.solids import solids_of
 from freecad_conformal.geometry.splitting_faces import SplitCandidate, face_candidates, split_solid
 from freecad_conformal.planning.rotation import rotation_to
 from freecad_conformal.planning.subparts import BuildPlan, SubPart
-from freecad_conformal.planning.support import (DEFAULT_OVERHANG_ANGLE, check_angle,
-                                                lowest_level, overhang_area, overhang_report)
+from freecad_conformal.planning.support import (DEFAULT_OVERHANG_ANGLE, best_single_direction,
+                                                check_angle, lowest_level, overhang_area,
+                                                overhang_report)
 
 METHODS = ("true-direction", "published")
+
+#: `root_direction` value that lets each solid's root be built along the best of ±X, ±Y, ±Z
+#: when that leaves less overhang than the part as placed (+Z).
+AUTO_ROOT = "auto"
 
 #: Machine build axis: every sub-part is turned so its build direction points along it.
 BUILD_AXIS = np.array([0.0, 0.0, 1.0])
@@ -34,6 +39,11 @@ BUILD_AXIS = np.array([0.0, 0.0, 1.0])
 #: be worth a new sub-part: below it the split only adds a rotation and a seam.
 MIN_SAVING = 1e-3
 MIN_SAVING_FRACTION = 1e-4
+
+#: Candidate cuts split exactly per refinement step, best estimated saving first: the
+#: estimate ranks well enough that the winner is among the first few, and each exact split
+#: is a Boolean plus an overhang evaluation of every piece.
+MAX_EXACT_CUTS = 3
 
 #: Two directions within this angle (rad) are the same build direction.
 SAME_DIRECTION = math.radians(1.0)
@@ -57,7 +67,7 @@ class _Piece:
 
 def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: str = "fdm_0p4",
               method: str = "true-direction",
-              root_direction: Sequence[float] = (0.0, 0.0, 1.0),
+              root_direction: Sequence[float] | str = (0.0, 0.0, 1.0),
               max_subparts: int = DEFAULT_MAX_SUBPARTS, check_collisions: bool = True,
               axis_step: float | None = None) -> BuildPlan:
     """Split `shape` into sub-parts that build without support, and order them.
@@ -68,7 +78,9 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
         tool: id of the tool in the library whose envelope is checked for collisions.
         method: "true-direction" (the axis follows inclined members) or "published"
             (the axis turns to the nearest of ±X, ±Y, ±Z as in METHODS section 3).
-        root_direction: build direction of each solid's first sub-part.
+        root_direction: build direction of each solid's first sub-part, or "auto": +Z
+            unless building the solid's root along its best single axis direction leaves
+            less overhang after the split (a note says so).
         max_subparts: stop splitting beyond this many sub-parts (a note says so).
         check_collisions: order brothers so the tool envelope clears what is built.
         axis_step: step of the centroidal axis (mm); default from the part's size.
@@ -81,7 +93,10 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
         raise PlanError(f"decomposition method must be one of {', '.join(METHODS)}, got {method!r}")
     if max_subparts < 1:
         raise PlanError(f"max_subparts must be at least 1, got {max_subparts}")
-    root = np.asarray(root_direction, dtype=float)
+    auto = isinstance(root_direction, str)
+    if auto and root_direction != AUTO_ROOT:
+        raise PlanError(f"root direction must be a 3-vector or {AUTO_ROOT!r}, got {root_direction!r}")
+    root = np.array([0.0, 0.0, 1.0]) if auto else np.asarray(root_direction, dtype=float)
     if root.shape != (3,) or not np.all(np.isfinite(root)) or np.linalg.norm(root) < 1e-12:
         raise PlanError(f"root direction must be a non-zero 3-vector, got {list(root_direction)!r}")
     root = root / np.linalg.norm(root)
@@ -90,13 +105,24 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
     pieces: list[_Piece] = []
     parents: list[int | None] = []
     axes = []
-    from freecad_conformal.geometry.centroidal_axis import centroidal_axis
-
     for solid_index, solid in enumerate(solids):
-        axis = centroidal_axis(solid, method=method, step=axis_step, start_direction=root)
+        budget = max_subparts - len(pieces)
+        axis, refined = _plan_solid(solid, solid_index, root, overhang_angle, method,
+                                    axis_step, budget, notes)
+        if auto:
+            direction, area = best_single_direction(solid, overhang_angle)
+            if _total(refined) > area + MIN_SAVING and _angle(direction, root) > SAME_DIRECTION:
+                # The part as placed keeps more overhang than turning it whole would: plan
+                # from that direction and keep whichever leaves less.
+                trial_notes: list[str] = []
+                other = _plan_solid(solid, solid_index, direction, overhang_angle, method,
+                                    axis_step, budget, trial_notes)
+                if _total(other[1]) < _total(refined) - MIN_SAVING:
+                    axis, refined = other
+                    notes.extend(trial_notes)
+                    notes.append(f"solid {solid_index + 1}: root built along "
+                                 f"{_text(direction)} (less overhang than as placed)")
         axes.append(axis)
-        start = _Piece(solid, root, [], solid_index, "root")
-        refined = _refine(start, overhang_angle, axis, budget=max_subparts - len(pieces), notes=notes)
         first = len(pieces)
         pieces.extend(refined)
         parents.extend(_parents_of(refined, first))
@@ -108,6 +134,28 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
     return BuildPlan(subparts=subparts, order=order, support_area_single_direction=single[1],
                      notes=notes, overhang_angle=overhang_angle, method=method,
                      single_direction=single[0], axes=axes)
+
+
+def _plan_solid(solid, solid_index: int, root: np.ndarray, angle: float, method: str,
+                axis_step: float | None, budget: int, notes: list[str]):
+    """The centroidal axis of one solid from `root` and its refined pieces."""
+    from freecad_conformal.geometry.centroidal_axis import centroidal_axis
+
+    axis = centroidal_axis(solid, method=method, step=axis_step, start_direction=root)
+    start = _Piece(solid, root, [], solid_index, "root")
+    return axis, _refine(start, angle, axis, budget=budget, notes=notes)
+
+
+def _total(pieces: list[_Piece]) -> float:
+    return float(sum(p.overhang for p in pieces))
+
+
+def _angle(a: np.ndarray, b: np.ndarray) -> float:
+    return math.acos(float(np.clip(np.asarray(a) @ np.asarray(b), -1.0, 1.0)))
+
+
+def _text(vector) -> str:
+    return "(" + ", ".join(f"{float(c):+.3g}" for c in vector) + ")"
 
 
 def _best_single(solids: list, angle: float) -> tuple[np.ndarray, float]:
@@ -179,13 +227,54 @@ def _refine(piece: _Piece, angle: float, axis, budget: int, notes: list[str]) ->
 
 
 def _best_cut(piece: _Piece, candidates: list[SplitCandidate], angle: float):
-    """The candidate cut leaving the least total overhang: (total, keeper, children)."""
+    """The candidate cut leaving the least total overhang: (total, keeper, children).
+
+    Candidates are ranked first by the overhang they could save (read from the piece's
+    overhanging faces, no Boolean) and only the best few are split exactly.
+    """
+    needed = max(MIN_SAVING, MIN_SAVING_FRACTION * piece.overhang)
+    estimate = _SavingEstimate(piece, angle)
+    ranked = sorted(((estimate.saving(c), i, c) for i, c in enumerate(candidates)),
+                    key=lambda item: (-item[0], item[1]))
     best = None
-    for candidate in candidates:
+    for _, _, candidate in [r for r in ranked if r[0] > needed][:MAX_EXACT_CUTS]:
         trial = _try_cut(piece, candidate, angle)
         if trial is not None and (best is None or trial[0] < best[0] - MIN_SAVING):
             best = trial
     return best
+
+
+class _SavingEstimate:
+    """How much overhang a cut could save: the piece's overhanging faces on one side of the
+    plane, re-read in the direction that side would be built in (the plane's normal away
+    from the other side). An estimate for ranking: the exact split decides."""
+
+    def __init__(self, piece: _Piece, angle: float) -> None:
+        from freecad_conformal.planning.support import face_mesh, plane_normal, overhang_report
+
+        self.threshold = math.sin(angle)
+        report = overhang_report(piece.shape, piece.direction, angle, piece.base_faces,
+                                 on_bed=piece.rule == "root")
+        faces = piece.shape.Faces
+        self.faces = []
+        for index, area in report.faces:
+            face = faces[index]
+            normal = plane_normal(face)
+            shape = normal if normal is not None else face_mesh(face)
+            self.faces.append((np.array(tuple(face.CenterOfMass)), area, shape))
+
+    def _overhang(self, shape, area: float, d: np.ndarray) -> float:
+        if isinstance(shape, np.ndarray):
+            return area if shape @ d < -self.threshold else 0.0
+        return min(area, shape.overhang(d, self.threshold))
+
+    def saving(self, candidate: SplitCandidate) -> float:
+        n = candidate.normal
+        sides = {1.0: 0.0, -1.0: 0.0}
+        for centre, area, shape in self.faces:
+            side = 1.0 if (centre - candidate.point) @ n > 0 else -1.0
+            sides[side] += area - self._overhang(shape, area, side * n)
+        return max(sides.values())
 
 
 def _face_candidates(piece: _Piece, axis) -> list[SplitCandidate]:

@@ -23,7 +23,7 @@ DEFAULT_OVERHANG_ANGLE = math.radians(45.0)
 
 #: Triangulation deflection relative to the face's bounding-box diagonal for curved faces:
 #: 0.2 % keeps the normal error of a triangle under ~2° on the real parts' fillets and cones.
-RELATIVE_DEFLECTION = 2e-3
+RELATIVE_DEFLECTION = 1e-2
 
 #: A planar face counts as lying on a plane (bed, split face) within this distance (mm):
 #: far above OCC's 1e-7 confusion, far below any layer height.
@@ -76,41 +76,68 @@ def lowest_level(shape, d: np.ndarray) -> float:
     return float(min(np.array(tuple(v.Point)) @ d for v in shape.Vertexes))
 
 
-def face_triangles(face) -> tuple[np.ndarray, np.ndarray]:
-    """Unit normals (N, 3), oriented as OCC's face normal, and areas (N,) of a fine
-    triangulation of a curved face; areas are scaled so they sum to the exact Face.Area
-    (the chord error then does not bias a total)."""
+@dataclass
+class FaceMesh:
+    """A curved face's triangulation with exact normals at the nodes: node normals (M, 3)
+    from OCC, triangles (N, 3) into them, and triangle areas (N,) scaled so they sum to the
+    exact Face.Area (the chord error then does not bias a total)."""
+
+    normals: np.ndarray
+    triangles: np.ndarray
+    areas: np.ndarray
+
+    def overhang(self, d: np.ndarray, threshold: float) -> float:
+        """Area where n·d < −threshold. n·d is taken linear over each triangle between the
+        exact node values and the triangle clipped where it crosses the limit, so the cap
+        boundary is found to second order instead of to a whole triangle."""
+        if not len(self.areas):
+            return 0.0
+        g = (self.normals @ d + threshold)[self.triangles]
+        g.sort(axis=1)
+        g0, g1, g2 = g[:, 0], g[:, 1], g[:, 2]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            one_below = np.where((g0 < 0) & (g1 >= 0), g0 * g0 / ((g0 - g1) * (g0 - g2)), 0.0)
+            two_below = np.where((g1 < 0) & (g2 >= 0), 1 - g2 * g2 / ((g2 - g0) * (g2 - g1)), 0.0)
+        fraction = np.where(g2 < 0, 1.0, np.nan_to_num(one_below) + np.nan_to_num(two_below))
+        return float(self.areas @ fraction)
+
+
+def face_mesh(face) -> FaceMesh:
+    """The triangulation of a curved face with OCC's exact normals at its nodes."""
     box = face.BoundBox
     deflection = max(RELATIVE_DEFLECTION * box.DiagonalLength, 1e-3)
     # Forced: OCC keeps a finer mesh from earlier calls otherwise, and the area would
     # depend on what else tessellated the face before.
     points, triangles = face.tessellate(deflection, True)
     if not triangles:
-        return np.zeros((0, 3)), np.zeros(0)
+        return FaceMesh(np.zeros((0, 3)), np.zeros((0, 3), dtype=int), np.zeros(0))
     pts = np.array([tuple(p) for p in points])
     tri = np.asarray(triangles, dtype=int)
     a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
     cross = np.cross(b - a, c - a)
     areas = 0.5 * np.linalg.norm(cross, axis=1)
     keep = areas > 0
-    if not np.any(keep):
-        return np.zeros((0, 3)), np.zeros(0)
-    normals = cross[keep] / (2.0 * areas[keep, None])
-    areas = areas[keep]
-    # Orient the triangulation as OCC's face normal at the largest triangle's centre.
-    k = int(np.argmax(areas))
-    centre = (a[keep][k] + b[keep][k] + c[keep][k]) / 3.0
-    App, _ = import_freecad()
-    u, v = face.Surface.parameter(App.Vector(*centre))
-    n = face.normalAt(u, v)
-    if normals[k] @ np.array([n.x, n.y, n.z]) < 0:
-        normals = -normals
-    return normals, areas * (float(face.Area) / float(areas.sum()))
+    tri, cross, areas = tri[keep], cross[keep], areas[keep]
+    if not len(areas):
+        return FaceMesh(np.zeros((0, 3)), np.zeros((0, 3), dtype=int), np.zeros(0))
+    flat = cross / (2.0 * areas[:, None])
+    normals = np.array([tuple(face.normalAt(*face.Surface.parameter(p))) for p in points])
+    length = np.linalg.norm(normals, axis=1)
+    # Poles of spheres and cone apexes have no normal: those nodes take the mean of the
+    # flat normals of their triangles (oriented as OCC's below).
+    bad = length < 1e-9
+    normals[~bad] /= length[~bad, None]
+    if bad.any():
+        sign = np.sign(np.einsum("ij,ij->i", flat, normals[tri].sum(axis=1)))
+        oriented = flat * np.where(sign == 0, 1.0, sign)[:, None]
+        for node in np.nonzero(bad)[0]:
+            mean = oriented[np.any(tri == node, axis=1)].sum(axis=0)
+            normals[node] = mean / max(np.linalg.norm(mean), 1e-12)
+    return FaceMesh(normals, tri, areas * (float(face.Area) / float(areas.sum())))
 
 
 def _curved_overhang(face, d: np.ndarray, threshold: float) -> float:
-    normals, areas = face_triangles(face)
-    return float(areas[normals @ d < -threshold].sum()) if len(areas) else 0.0
+    return face_mesh(face).overhang(d, threshold)
 
 
 def overhang_report(shape, direction: Sequence[float], angle: float = DEFAULT_OVERHANG_ANGLE,
