@@ -43,11 +43,15 @@ def make_workbench_types_loadable() -> None:
 
 @contextmanager
 def open_document(path: str | os.PathLike) -> Iterator[object]:
-    """The document at `path`, opened hidden and always closed afterwards."""
+    """The document at `path`, opened hidden and closed afterwards (unless it was open)."""
     App, _Part = import_freecad()
     file = Path(path)
     if not file.is_file():
         raise GeometryError(f"FreeCAD document not found: {file}")
+    already_open = _open_document_of(App, file)
+    if already_open is not None:
+        yield already_open
+        return
     make_workbench_types_loadable()
     try:
         doc = App.openDocument(str(file), True)
@@ -57,6 +61,16 @@ def open_document(path: str | os.PathLike) -> Iterator[object]:
         yield doc
     finally:
         App.closeDocument(doc.Name)
+
+
+def _open_document_of(App, file: Path):
+    """The document already open from `file` (in the GUI), or None. It is read as it is in
+    memory and left open: closing it would throw away the user's unsaved work."""
+    for doc in App.listDocuments().values():
+        name = getattr(doc, "FileName", "")
+        if name and os.path.exists(name) and os.path.samefile(name, file):
+            return doc
+    return None
 
 
 def _is_solid_body(obj) -> bool:

@@ -74,7 +74,8 @@ def run_local(jobs: Sequence[PartJob], options, workers: int, start_method: str 
         raise ConformalError(f"start method {start_method!r} is not one of {', '.join(START_METHODS)}")
     context = multiprocessing.get_context(start_method)
     unfinished = {job.index: job for job in jobs}
-    with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=context)
+    try:
         futures = {pool.submit(task, job, options): job for job in jobs}
         for future in as_completed(futures):
             job = futures[future]
@@ -86,6 +87,9 @@ def run_local(jobs: Sequence[PartJob], options, workers: int, start_method: str 
                 outcome = _failed(job, f"task error ({type(exc).__name__}): {exc}")
             del unfinished[job.index]
             yield job, outcome
+    finally:
+        # On Ctrl-C (or a consumer that stops early) the queued parts are dropped, not run.
+        pool.shutdown(wait=True, cancel_futures=True)
     for job in unfinished.values():
         yield job, _run_alone(job, options, context, task)
 

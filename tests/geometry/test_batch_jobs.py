@@ -93,3 +93,13 @@ def test_inputs_that_cannot_be_parts_are_failed_rows_in_place(parts, tmp_path):
     assert reasons[3].startswith("no part file (") and "matches" in reasons[3]
     assert reasons[4] == f"part file not found: {tmp_path / 'nothing-here'}"
     assert expansion.total == 5
+
+
+def test_a_document_the_user_has_open_is_read_and_left_open(App, parts):
+    doc = App.openDocument(str(parts["two"]))
+    try:
+        assert [b.label for b in solid_bodies(parts["two"])] == ["Left", "Right"]
+        assert body_shape(parts["two"], "Right").Volume == pytest.approx(8 * 6 * 3, rel=1e-9)
+        assert doc.Name in App.listDocuments()
+    finally:
+        App.closeDocument(doc.Name)
