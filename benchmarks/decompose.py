@@ -5,7 +5,11 @@ cheapest thing the axis must do); the ratio says how much the search and the spl
 on top. The published centroidal axis took 2–3 s per example on a 2.8 GHz Pentium 4; the
 goal here is under 1 s per part for axis + decomposition.
 
-Run: .venv/bin/python benchmarks/decompose.py [--parts DIR]
+"decompose s" includes the axis (decompose computes it again) and the build order with the
+tool collision check; "support mm2" is what the plan leaves, "single mm2" the best single
+direction's.
+
+Run: .venv/bin/python benchmarks/decompose.py [--parts DIR] [--root auto|x,y,z]
 """
 from __future__ import annotations
 
@@ -17,6 +21,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
+from freecad_conformal.errors import ConformalError  # noqa: E402
 from freecad_conformal.geometry import samples  # noqa: E402
 from freecad_conformal.geometry.centroidal_axis import DEFAULT_STEPS, centroidal_axis  # noqa: E402
 from freecad_conformal.geometry.sections import planar_sections, extent_along  # noqa: E402
@@ -36,7 +41,11 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     default = os.environ.get("CONFORMAL_PARTS", Path(__file__).resolve().parents[2] / "shared" / "parts")
     parser.add_argument("--parts", default=str(default))
+    parser.add_argument("--root", default="auto",
+                        help="root build direction passed to decompose (default auto, as the CLI)")
     args = parser.parse_args()
+    if args.root != "auto":
+        args.root = [float(c) for c in args.root.split(",")]
     parts = [(name, samples.SAMPLES[name]()) for name in ("l_block", "t_block", "inclined_rod", "hinge")]
     folder = Path(args.parts)
     for name in REAL_PARTS:
@@ -44,7 +53,8 @@ def main() -> int:
             parts.append((name, load_shape(folder / name)))
         else:
             print(f"skipping {name}: not in {folder}")
-    print(f"{'part':<22}{'sections s':>11}{'axis s':>9}{'decompose s':>13}{'ratio':>8}{'sub-parts':>11}")
+    print(f"{'part':<22}{'sections s':>11}{'axis s':>9}{'decompose s':>13}{'ratio':>8}"
+          f"{'sub-parts':>11}{'support mm2':>13}{'single mm2':>13}")
     for name, shape in parts:
         import numpy as np
 
@@ -52,9 +62,14 @@ def main() -> int:
         step = (high - low) / DEFAULT_STEPS
         _, peer = timed(lambda: planar_sections(shape, heights=list(np.arange(low + step / 2, high, step))))
         _, axis_time = timed(lambda: centroidal_axis(shape))
-        plan, total = timed(lambda: decompose(shape))
+        try:
+            plan, total = timed(lambda: decompose(shape, root_direction=args.root))
+        except ConformalError as exc:
+            print(f"{name:<22}{peer:>11.3f}{axis_time:>9.3f}  error: {exc}")
+            continue
         print(f"{name:<22}{peer:>11.3f}{axis_time:>9.3f}{total:>13.3f}{total / peer:>8.1f}"
-              f"{len(plan.subparts):>11}")
+              f"{len(plan.subparts):>11}{plan.support_area:>13.1f}"
+              f"{plan.support_area_single_direction:>13.1f}")
     return 0
 
 

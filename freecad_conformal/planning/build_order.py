@@ -89,7 +89,10 @@ def _search(subparts: list[SubPart], checker) -> tuple[list[int] | None, dict[in
             tried += 1
             if tried > MAX_ORDERS_TRIED:
                 return None
-            hits = checker.hits(s.index, done)
+            # Each solid of a compound is its own tree on its own bed (decompose plans each
+            # root on the solid's lowest level), so only its own sub-parts are in the way.
+            hits = checker.hits(s.index, [i for i in done
+                                          if subparts[i].solid_index == s.solid_index])
             if hits:
                 blocked.setdefault(s.index, sorted(set(blocked.get(s.index, [])) | set(hits)))
                 continue

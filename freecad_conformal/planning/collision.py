@@ -24,6 +24,12 @@ DEFAULT_STANDOFF = 0.2
 SPACING_FRACTION = 0.1
 MIN_SPACING = 1.0
 
+#: Two build directions within this angle (rad) are one direction (concurrent layers).
+SAME_DIRECTION = math.radians(1.0)
+#: Base levels closer than this (mm) are one level; the samples include the vertices, so
+#: the lowest sample of a flat-bottomed sub-part is its base level to rounding.
+LEVEL_TOLERANCE = 1e-3
+
 #: Obstacle × tool point pairs tested in one numpy block (bounds the memory to ~100 MB).
 PAIRS_PER_BLOCK = 2_000_000
 
@@ -153,6 +159,8 @@ class CollisionChecker:
         if not (math.isfinite(step) and step > 0):
             raise ValueError(f"sample spacing must be a positive length, got {step!r}")
         self.points = [surface_points(shape, step) for shape in shapes]
+        self.levels = [float(np.min(p @ d)) if len(p) else 0.0
+                       for p, d in zip(self.points, self.directions)]
         self.standoff = standoff
         self._cache: dict[tuple[int, int], bool] = {}
 
@@ -160,8 +168,18 @@ class CollisionChecker:
         """Built sub-parts the envelope meets while sub-part `index` is deposited."""
         return [other for other in built if self._hits_one(index, other)]
 
+    def _concurrent(self, index: int, other: int) -> bool:
+        """Sub-parts built in one direction from one base level are laid layer by layer
+        together: the nozzle never sits below material of either, so they cannot collide
+        with each other."""
+        d, e = self.directions[index], self.directions[other]
+        same = float(d @ e) / (np.linalg.norm(d) * np.linalg.norm(e)) > math.cos(SAME_DIRECTION)
+        return same and abs(self.levels[index] - self.levels[other]) < LEVEL_TOLERANCE
+
     def _hits_one(self, index: int, other: int) -> bool:
         key = (index, other)
+        if self._concurrent(index, other):
+            return False
         if key not in self._cache:
             d = self.directions[index]
             tool_points = self.points[index] + self.standoff * d

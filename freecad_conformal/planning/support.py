@@ -102,8 +102,33 @@ class FaceMesh:
         return float(self.areas @ fraction)
 
 
+#: Meshes of faces already read, by face identity: a split leaves most faces of a piece
+#: untouched (same TShape), and the same pieces are evaluated several times while cuts are
+#: compared, so this saves most of the node-normal queries. Area and box are part of the key
+#: so a recycled TShape address cannot return another face's mesh.
+_MESHES: dict[tuple, "FaceMesh"] = {}
+MAX_CACHED_MESHES = 4096
+
+
+def _mesh_key(face) -> tuple:
+    box = face.BoundBox
+    return (face.hashCode(), face.Orientation, round(float(face.Area), 9),
+            tuple(round(float(x), 9) for x in (box.XMin, box.YMin, box.ZMin,
+                                                box.XMax, box.YMax, box.ZMax)))
+
+
 def face_mesh(face) -> FaceMesh:
     """The triangulation of a curved face with OCC's exact normals at its nodes."""
+    key = _mesh_key(face)
+    mesh = _MESHES.get(key)
+    if mesh is None:
+        if len(_MESHES) >= MAX_CACHED_MESHES:
+            _MESHES.clear()
+        mesh = _MESHES[key] = _build_mesh(face)
+    return mesh
+
+
+def _build_mesh(face) -> FaceMesh:
     box = face.BoundBox
     deflection = max(RELATIVE_DEFLECTION * box.DiagonalLength, 1e-3)
     # Forced: OCC keeps a finer mesh from earlier calls otherwise, and the area would
