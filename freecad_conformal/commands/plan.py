@@ -31,7 +31,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     layers.add_argument("--max-volume-difference", type=float, default=2.0,
                         help="adaptive limit per layer in mm3 (default 2)")
     layers.add_argument("--max-cusp", type=float, default=0.05, help="cusp height limit in mm")
-    layers.add_argument("--no-tilt", action="store_true", help="keep layers planar (no 3-D layers)")
+    layers.add_argument("--tilt", action="store_true",
+                        help="3-D layers: tilt the planes where a sub-part's centroidal axis bends")
     paths = parser.add_argument_group("paths")
     paths.add_argument("--bead-width", type=float, help="bead width in mm (default: the material's)")
     paths.add_argument("--perimeters", type=int, default=2)
@@ -65,7 +66,7 @@ def options_from(args: argparse.Namespace):
                         density=args.infill / 100.0, angle=angle, seam=args.seam)
     layers = LayerSettings(mode=args.layer_mode, thickness=args.layer, min_thickness=args.layer_min,
                            max_thickness=args.layer_max, max_volume_difference=args.max_volume_difference,
-                           max_cusp=args.max_cusp, tilt=not args.no_tilt)
+                           max_cusp=args.max_cusp, tilt=args.tilt)
     paths = PathSettings(fill=fill, top_layers=args.solid_layers, bottom_layers=args.solid_layers)
     return PlanOptions(machine=args.machine, tool=args.tool, material=args.material, layers=layers,
                        paths=paths, bead_width=args.bead_width, dialect=args.dialect)

@@ -40,8 +40,9 @@ BEND_AREA_RATIO = 1.25
 #: Planes closer than this angle count as parallel: bisection stops there (METHODS' ε).
 PARALLEL_ANGLE = math.radians(0.1)
 
-#: Bisections needed to go from 90° to `PARALLEL_ANGLE` (90° / 2^k < 0.1°), plus margin.
-MAX_BISECTIONS = 12
+#: Bisections needed to go from 90° to `PARALLEL_ANGLE` (90° / 2^k < 0.1°), plus the
+#: final parallel try and margin.
+MAX_BISECTIONS = 14
 
 
 def axis_bends(layers: list[Layer]) -> bool:
@@ -111,8 +112,8 @@ def tilted_layers(subpart: SubPart, slicer: PlanarSlicer, low: float, high: floa
     nominal = settings.thickness if settings.mode == "uniform" else d_max
     sections = _Sections(subpart.shape)
     normal = slicer.frame.n
-    lower = slicer.section(low + BOUNDARY_INSET)
-    plane_point = low * normal
+    lower = _first_section(slicer, low, high, nominal)
+    plane_point = lower.height * normal
     centroid = lower.centroid
     layers: list[Layer] = []
     while True:
@@ -128,6 +129,19 @@ def tilted_layers(subpart: SubPart, slicer: PlanarSlicer, low: float, high: floa
     if not layers:
         raise PlanError(f"sub-part {subpart.index}: no 3-D layer fits between {d_min:g} and {d_max:g} mm")
     return layers
+
+
+def _first_section(slicer: PlanarSlicer, low: float, high: float, step: float) -> PlanarSection:
+    """The lowest non-empty section (a part may touch its base plane only at a point or an
+    edge, where the section at the base is empty)."""
+    height = low + BOUNDARY_INSET
+    while height < high:
+        section = slicer.section(height)
+        if not section.is_empty:
+            return section
+        height += step
+    raise PlanError(f"no material found along {np.round(slicer.frame.n, 4).tolist()} "
+                    f"between {low:.3f} and {high:.3f} mm")
 
 
 def _next_plane(sections: _Sections, lower: PlanarSection, plane_point: np.ndarray,
@@ -153,9 +167,11 @@ def _next_plane(sections: _Sections, lower: PlanarSection, plane_point: np.ndarr
             if d_min - 1e-9 <= thin and thick <= d_max + 1e-9:
                 return upper, point, direction, thin, thick
             worst = (thin, thick)
-            if _angle(direction, normal) < PARALLEL_ANGLE:
+            if direction is normal:
                 break
             direction = unit(direction + normal, "bisected axis direction")
+            if _angle(direction, normal) < PARALLEL_ANGLE:
+                direction = normal      # the last try is exactly parallel: it fits any Δ in bounds
         thickness -= SHRINK * thickness
     thin, thick = worst if worst is not None else (float("nan"), float("nan"))
     raise PlanError(f"layer {index} of sub-part {subpart} would be {thin:.4f} to {thick:.4f} mm "

@@ -92,7 +92,7 @@ def test_cusp_mode_thins_layers_on_slopes(pyramid_on_box):
 
 
 def test_tilted_layers_follow_a_bent_bar(ring):
-    settings = LayerSettings(thickness=0.5, min_thickness=0.25, max_thickness=0.75)
+    settings = LayerSettings(thickness=0.5, min_thickness=0.25, max_thickness=0.75, tilt=True)
     layers = plan_layers(_sub(ring), settings)
     tilted = [l for l in layers if l.tilted]
     assert len(tilted) > 0.8 * len(layers)
@@ -111,21 +111,22 @@ def test_tilted_layers_follow_a_bent_bar(ring):
 def test_tight_bounds_keep_tilted_layers_inside_them(ring):
     """Bisection towards the lower plane trades tilt for thickness: every slab stays within
     [ΔL_min, ΔL_max] even where the bar bends faster than the bounds allow to follow."""
-    settings = LayerSettings(thickness=1.0, min_thickness=0.95, max_thickness=1.05)
+    settings = LayerSettings(thickness=1.0, min_thickness=0.95, max_thickness=1.05, tilt=True)
     layers = plan_layers(_sub(ring), settings)
     check_thickness(layers, settings)
     assert any(layer.tilted for layer in layers)
 
 
 def test_tilted_layers_outside_bounds_are_refused_by_name(ring):
-    layers = plan_layers(_sub(ring), LayerSettings(thickness=1.0, min_thickness=0.5, max_thickness=1.5))
+    layers = plan_layers(_sub(ring), LayerSettings(thickness=1.0, min_thickness=0.5, max_thickness=1.5,
+                                                   tilt=True))
     with pytest.raises(PlanError, match=r"layer \d+ of sub-part 0 is 0\.\d+ to 1\.\d+ mm thick, "
                                         r"outside \[0.9, 1.1\] mm"):
         check_thickness(layers, LayerSettings(thickness=1.0, min_thickness=0.9, max_thickness=1.1))
 
 
 def test_straight_parts_get_no_tilt():
-    layers = plan_layers(_sub(samples.overhang_bracket()), LayerSettings(thickness=1.0))
+    layers = plan_layers(_sub(samples.overhang_bracket()), LayerSettings(thickness=1.0, tilt=True))
     assert not any(layer.tilted for layer in layers)
 
 
