@@ -48,27 +48,36 @@ def area_jumps(shape, direction: np.ndarray, d: float | None = None) -> list[tup
     return _jumps(heights, areas, step)
 
 
-def area_jump_candidates(shape, build_direction: np.ndarray, d: float | None = None,
-                         limit: int = 12) -> list[SplitCandidate]:
-    """Interior regions on the planes of the largest area jumps along ±X, ±Y, ±Z (the
-    build direction itself excluded: a cut across it changes nothing).
+def area_jump_planes(shape, build_direction: np.ndarray, d: float | None = None,
+                     limit: int = 12) -> list[tuple[float, np.ndarray, np.ndarray]]:
+    """(∂, point, normal) of the planes of the largest area jumps along ±X, ±Y, ±Z (the
+    build direction itself excluded: a cut across it changes nothing), largest first.
 
     One batch of sections per axis serves both signs: along −X the same areas are read in
     the opposite order, at negated heights.
     """
     jumps = []
     for axis in AXES[:3]:
-        plus = abs(float(axis @ build_direction)) <= 1 - 1e-9
-        if not plus:
+        if abs(float(axis @ build_direction)) > 1 - 1e-9:
             continue
         heights, areas, step = _area_profile(shape, axis, d)
         jumps.extend((rate, height, axis) for height, rate in _jumps(heights, areas, step))
         jumps.extend((rate, -height, -axis)
                      for height, rate in _jumps(-heights[::-1], areas[::-1], step))
     jumps.sort(key=lambda item: -item[0])
+    return [(rate, axis * height, axis) for rate, height, axis in jumps[:limit]]
+
+
+def plane_candidates(shape, point: np.ndarray, normal: np.ndarray) -> list[SplitCandidate]:
+    """The interior regions of one area-jump plane, as cut candidates."""
+    return [SplitCandidate(point, normal, region, "area-jump")
+            for region in interior_regions(shape, point, normal)]
+
+
+def area_jump_candidates(shape, build_direction: np.ndarray, d: float | None = None,
+                         limit: int = 12) -> list[SplitCandidate]:
+    """Interior regions on the planes of the largest area jumps (see `area_jump_planes`)."""
     candidates: list[SplitCandidate] = []
-    for rate, height, axis in jumps[:limit]:
-        point = axis * height
-        for region in interior_regions(shape, point, axis):
-            candidates.append(SplitCandidate(point, axis, region, "area-jump"))
+    for _, point, axis in area_jump_planes(shape, build_direction, d, limit):
+        candidates.extend(plane_candidates(shape, point, axis))
     return candidates

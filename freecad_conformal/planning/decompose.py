@@ -214,9 +214,7 @@ def _refine(piece: _Piece, angle: float, axis, budget: int, notes: list[str]) ->
     if best is None or best[0] > piece.overhang - needed:
         # Section 4's area-jump rule only where no splitting face helps: its sections along
         # three axes cost more than everything else here.
-        from freecad_conformal.geometry.area_jumps import area_jump_candidates
-
-        best = _best_cut(piece, area_jump_candidates(piece.shape, piece.direction), angle)
+        best = _best_cut(piece, _area_jump_candidates(piece, angle, needed), angle)
     if best is None or best[0] > piece.overhang - needed:
         return [piece]
     _, keeper, children = best
@@ -275,6 +273,24 @@ class _SavingEstimate:
             side = 1.0 if (centre - candidate.point) @ n > 0 else -1.0
             sides[side] += area - self._overhang(shape, area, side * n)
         return max(sides.values())
+
+
+def _area_jump_candidates(piece: _Piece, angle: float, needed: float) -> list[SplitCandidate]:
+    """Regions of the area-jump planes whose estimated saving is worth a cut; the planes are
+    ranked before their regions are computed (a section Boolean and inside tests each)."""
+    from freecad_conformal.geometry.area_jumps import area_jump_planes, plane_candidates
+
+    estimate = _SavingEstimate(piece, angle)
+    planes = []
+    for _, point, normal in area_jump_planes(piece.shape, piece.direction):
+        saving = estimate.saving(SplitCandidate(point, normal, None, "area-jump"))
+        if saving > needed:
+            planes.append((saving, point, normal))
+    planes.sort(key=lambda item: -item[0])
+    candidates: list[SplitCandidate] = []
+    for _, point, normal in planes[:MAX_EXACT_CUTS]:
+        candidates.extend(plane_candidates(piece.shape, point, normal))
+    return candidates
 
 
 def _face_candidates(piece: _Piece, axis) -> list[SplitCandidate]:
