@@ -37,7 +37,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     layers.add_argument("--layer-mode", choices=("uniform", "adaptive", "cusp"), default="uniform")
     layers.add_argument("--layer-min", type=float, help="minimum layer height (default 0.5 x --layer)")
     layers.add_argument("--layer-max", type=float, help="maximum layer height (default 1.5 x --layer)")
-    layers.add_argument("--no-tilt", action="store_true", help="keep layers planar (no 3-D layers)")
+    layers.add_argument("--max-volume-difference", type=float, default=2.0,
+                        help="adaptive limit per layer in mm3 (default 2)")
+    layers.add_argument("--max-cusp", type=float, default=0.05, help="cusp height limit in mm")
+    layers.add_argument("--tilt", action="store_true",
+                        help="3-D layers: tilt the planes where a sub-part's centroidal axis bends")
     paths = parser.add_argument_group("paths (as in the plan command)")
     paths.add_argument("--bead-width", type=float, help="bead width in mm (default: the material's)")
     paths.add_argument("--perimeters", type=int, default=2)
@@ -47,9 +51,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     paths.add_argument("--solid-layers", type=int, default=3, help="top and bottom solid layers (default 3)")
 
 
+#: Batch arguments that are not plan settings.
+BATCH_ONLY = ("inputs", "out_dir", "suffix", "workers", "dask", "start_method")
+#: Plan arguments that name one part's files, which batch names itself.
+PLAN_PER_FILE = ("part", "output", "png", "summary", "toolpath")
+
+
 def plan_options(args: argparse.Namespace):
-    """PlanOptions from the batch arguments, with the plan command's defaults for the
-    settings batch does not expose (so both commands plan a part the same way)."""
+    """PlanOptions from the batch arguments through the plan command's own options_from,
+    so both commands plan a part the same way (tests check that batch offers every plan
+    setting with the same default)."""
     from freecad_conformal.commands import plan
 
     plan_parser = argparse.ArgumentParser(add_help=False)

@@ -106,21 +106,21 @@ def test_options_follow_the_plan_command(tmp_path):
     from freecad_conformal.commands.batch import plan_options
 
     options = plan_options(_parse(["batch", "x", "-o", str(tmp_path), "--layer", "0.5",
-                                   "--infill", "40", "--tool", "fdm_0p4", "--no-tilt"]))
-    assert options.layers.thickness == 0.5 and options.layers.tilt is False
+                                   "--infill", "40", "--tool", "fdm_0p4", "--tilt"]))
+    assert options.layers.thickness == 0.5 and options.layers.tilt is True
     assert options.paths.fill.density == pytest.approx(0.4)
-    # not exposed by batch: the plan command's default
-    assert options.layers.max_cusp == _plan_default("max_cusp")
 
 
-def _plan_default(name):
-    import argparse
+def test_batch_offers_every_plan_setting_with_the_same_default(tmp_path):
+    """When the plan command gains or renames a setting, batch must follow."""
+    from freecad_conformal.commands.batch import BATCH_ONLY, PLAN_PER_FILE
 
-    from freecad_conformal.commands import plan
-
-    parser = argparse.ArgumentParser()
-    plan.add_arguments(parser)
-    return parser.get_default(name)
+    plan_defaults = vars(_parse(["plan", "part.step", "-o", "x.gcode"]))
+    batch_defaults = vars(_parse(["batch", "part.step", "-o", str(tmp_path)]))
+    dispatch = {"command", "_run"}  # the CLI's own entries
+    shared = set(plan_defaults) - set(PLAN_PER_FILE) - dispatch
+    assert set(batch_defaults) - set(BATCH_ONLY) - dispatch == shared
+    assert {k: batch_defaults[k] for k in shared} == {k: plan_defaults[k] for k in shared}
 
 
 @pytest.mark.parametrize("arguments, message", [
