@@ -28,6 +28,8 @@ RUNNER = HERE / "gui_runner.py"
 GUI_TIMEOUT_S = 150.0
 #: Xvfb screen large enough for the main window with a docked panel.
 XVFB_SCREEN = "-screen 0 1600x1000x24"
+#: Seconds before the timeout at which FreeCAD dumps its Python stacks into the log.
+WATCHDOG_MARGIN_S = 15.0
 #: Lines of FreeCAD output quoted in a failure message.
 LOG_TAIL_LINES = 80
 
@@ -97,10 +99,26 @@ def _tail(log: str) -> str:
     return "FreeCAD log (last lines):\n" + "\n".join(lines[-LOG_TAIL_LINES:])
 
 
+#: A check that failed once in this pytest session fails at once for the other tests
+#: sharing its module fixture (pytest would otherwise rerun a failing fixture per test).
+_FAILED: dict[str, FreeCADRunError] = {}
+
+
 def run_gui_check(check_script: Path, tmp_path: Path, params: dict | None = None,
                   timeout: float = GUI_TIMEOUT_S) -> dict:
     """Run `check_script`'s main(params) in the FreeCAD GUI under Xvfb; return its dict."""
     require_freecad_gui()
+    if str(check_script) in _FAILED:
+        raise _FAILED[str(check_script)]
+    try:
+        return _run_gui_check(check_script, tmp_path, params, timeout)
+    except FreeCADRunError as exc:
+        _FAILED[str(check_script)] = exc
+        raise
+
+
+def _run_gui_check(check_script: Path, tmp_path: Path, params: dict | None,
+                   timeout: float) -> dict:
     home = make_user_home(tmp_path)
     result_path = tmp_path / "gui-result.json"
     env = freecad_environment(home)
@@ -109,9 +127,16 @@ def run_gui_check(check_script: Path, tmp_path: Path, params: dict | None = None
         "CONFORMAL_GUI_RESULT": str(result_path),
         "CONFORMAL_GUI_PARAMS": json.dumps(params or {}),
         "CONFORMAL_GUI_SUPPORT": str(HERE),
+        "CONFORMAL_GUI_WATCHDOG": str(max(timeout - WATCHDOG_MARGIN_S, 1.0)),
+        "CONFORMAL_GUI_STACKS": str(tmp_path / "gui-stacks.txt"),
     })
     command = ["xvfb-run", "-a", "-s", XVFB_SCREEN, "freecad", str(RUNNER)]
-    code, log = _run(command, env, timeout, tmp_path)
+    try:
+        code, log = _run(command, env, timeout, tmp_path)
+    except FreeCADRunError as exc:
+        stacks = tmp_path / "gui-stacks.txt"
+        text = stacks.read_text(encoding="utf-8", errors="replace") if stacks.exists() else ""
+        raise FreeCADRunError(f"{exc}\nPython stacks in FreeCAD before the timeout:\n{text}") from None
     if not result_path.exists():
         raise FreeCADRunError(f"FreeCAD exited with {code} without a result\n{_tail(log)}")
     result = json.loads(result_path.read_text(encoding="utf-8"))

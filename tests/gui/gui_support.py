@@ -35,6 +35,7 @@ def prepare_main_window() -> None:
 def grab_main_window(path: str) -> bool:
     """Screenshot of the main window as the screen shows it (QWidget.grab leaves the OpenGL
     3D view blank; a screen grab includes it)."""
+    FreeCADGui.Selection.clearSelection()
     settle()
     window = FreeCADGui.getMainWindow()
     screen = QtGui.QApplication.primaryScreen()
@@ -49,6 +50,7 @@ def grab_widget(widget, path: str) -> bool:
 
 def save_3d_view(path: str, width: int = 1000, height: int = 750, fit: bool = True) -> None:
     """Offscreen render of the active 3D view on a white background."""
+    FreeCADGui.Selection.clearSelection()    # no selection highlight in pictures
     view = FreeCADGui.ActiveDocument.ActiveView
     if fit:
         view.viewIsometric()
