@@ -191,8 +191,12 @@ def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
     tool, material_name, width, path_settings, machine = check_options(shape, options, library)
     check_reach(machine, plan)
     layers: dict[int, list[Layer]] = {}
+    notes: list[str] = []
     for sub in plan.ordered():
         layers[sub.index] = plan_layers(sub, options.layers)
+        if not layers[sub.index]:
+            notes.append(f"sub-part {sub.index} is thinner than the thinnest layer "
+                         f"({options.layers.bounds[0]:g} mm): its {sub.volume:.1f} mm3 are not built")
         check_thickness(layers[sub.index], options.layers)
         if progress is not None:
             progress(sub.index)
@@ -201,7 +205,9 @@ def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
     post = post_toolpath(assembly.toolpath, machine, options.dialect)
     seconds = estimate_time(assembly.toolpath, machine.acceleration, options.jerk,
                             max_feed=machine.max_feed, rapid_feed=machine.rapid_feed)
-    summaries = [_subpart_summary(sub, layers[sub.index], assembly, width) for sub in plan.ordered()]
+    summaries = [_subpart_summary(sub, layers[sub.index], assembly, width) for sub in plan.ordered()
+                 if layers[sub.index]]
+    plan.notes.extend(notes)
     return JobResult(part=part, plan=plan, layers=layers, assembly=assembly, post=post,
                      machine=machine, tool_id=tool.id, material_name=material_name,
                      bead_width=width, time_s=seconds, subparts=summaries)

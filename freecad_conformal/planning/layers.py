@@ -156,7 +156,8 @@ def as_multipolygon(geometry) -> MultiPolygon:
 
 
 def plan_layers(subpart: SubPart, settings: LayerSettings) -> list[Layer]:
-    """Layers of one sub-part along its build direction, in deposition order.
+    """Layers of one sub-part along its build direction, in deposition order (none for a
+    sliver thinner than ΔL_min; the job notes it).
 
     Raises:
         PlanError: bad settings, or a 3-D layer that cannot stay within [ΔL_min, ΔL_max].
@@ -171,6 +172,8 @@ def plan_layers(subpart: SubPart, settings: LayerSettings) -> list[Layer]:
         bounds = _adaptive_bounds(slicer, low, high, settings)
     else:
         bounds = _cusp_bounds(subpart.shape, slicer.frame.n, low, high, settings)
+    if high - low < settings.bounds[0]:
+        return []      # a sliver thinner than the thinnest layer: nothing a bead can build
     layers = _planar_layers(subpart.index, slicer, bounds)
     if settings.tilt and len(layers) > 2:
         from freecad_conformal.planning.tilted import axis_bends, tilted_layers
