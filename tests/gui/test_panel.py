@@ -1,7 +1,6 @@
 """The dock panel in the real FreeCAD GUI: tool library and DOE tabs, preference page."""
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import pytest
