@@ -33,7 +33,7 @@ JOB_PROPERTIES = [
     ("App::PropertyLength", "BeadWidth", GROUP, "Bead width (0: the material's)", 0.0),
     ("App::PropertyInteger", "Perimeters", GROUP, "Perimeter loops per layer", 2),
     ("App::PropertyPercent", "Infill", GROUP, "Sparse infill density", 20),
-    ("App::PropertyBool", "TiltLayers", GROUP, "Allow 3-D (tilted) layers", True),
+    ("App::PropertyBool", "TiltLayers", GROUP, "Allow 3-D (tilted) layers (plan --tilt)", False),
     ("App::PropertyBool", "Decompose", GROUP, "Split into support-free sub-parts", True),
     ("App::PropertyString", "Dialect", GROUP, "G-code dialect (empty: the machine's)", ""),
     ("App::PropertyFileIncluded", "GcodeFile", "Result", "Posted G-code kept in the document", None),
