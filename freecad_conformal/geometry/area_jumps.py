@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from freecad_conformal.errors import GeometryError
 from freecad_conformal.geometry.sections import PlanarSlicer, extent_along
 from freecad_conformal.geometry.splitting_faces import SplitCandidate, interior_regions
 
@@ -30,7 +31,13 @@ def _area_profile(shape, axis: np.ndarray, d: float | None) -> tuple[np.ndarray,
     heights = np.arange(low + step / 2, high, step)
     if len(heights) < 2:
         return heights, np.zeros(len(heights)), step
-    areas = np.array([s.area for s in PlanarSlicer(shape, axis).sections(list(heights))])
+    try:
+        slicer = PlanarSlicer(shape, axis)
+    except GeometryError:
+        # A piece left by an earlier Boolean that OCC's check rejects: it gets no area-jump
+        # planes (its splitting faces are still tried), rather than stopping the plan.
+        return np.zeros(0), np.zeros(0), 0.0
+    areas = np.array([s.area for s in slicer.sections(list(heights))])
     return heights, areas, step
 
 

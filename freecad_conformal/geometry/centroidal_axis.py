@@ -109,7 +109,14 @@ class _Search:
         heights = list(np.arange(start, top, self.step))
         if not heights:
             return
-        sections = PlanarSlicer(body, P).sections(heights)
+        try:
+            sections = PlanarSlicer(body, P).sections(heights)
+        except GeometryError as exc:
+            # Only bodies cut out by the search itself get here (the input was checked):
+            # a Boolean result OCC's check rejects ends this branch, with a note.
+            self.graph.notes.append(f"search along {np.round(P, 3).tolist()} from {start:.3f} "
+                                    f"stopped: {exc}")
+            return
         tracks: list[_Track] = []
         for index, section in enumerate(sections):
             regions = _regions(section)
