@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import importlib
+import os
 import sys
 from types import ModuleType
 
@@ -35,3 +36,18 @@ def import_freecad() -> tuple[ModuleType, ModuleType]:
         + "). Install FreeCAD (Debian: apt-get install freecad) and run with /usr/bin/python3 "
         "or the project's venv."
     )
+
+
+def make_workbench_types_loadable() -> None:
+    """Put FreeCAD's Mod folders on sys.path, as FreeCAD's own start-up does.
+
+    Opening a document loads the module of each object type (PartDesign::Body needs the
+    `PartDesign` package from Mod/). From a plain Python those folders are not on sys.path,
+    and FreeCAD then drops the objects silently: a document of PartDesign bodies would look
+    empty. Documents made from Python need it too (doc.addObject("PartDesign::Body")).
+    """
+    App, _Part = import_freecad()
+    for root in (App.getResourceDir(), App.getHomePath()):
+        folder = os.path.join(root, "Mod")
+        if os.path.isdir(folder) and folder not in sys.path:
+            sys.path.append(folder)

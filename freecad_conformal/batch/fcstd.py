@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Iterator
 
 from freecad_conformal.errors import GeometryError
-from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.freecad_env import import_freecad, make_workbench_types_loadable
 
 
 @dataclass(frozen=True)
@@ -24,21 +24,6 @@ class Body:
 
     name: str
     label: str
-
-
-def make_workbench_types_loadable() -> None:
-    """Put FreeCAD's Mod folders on sys.path, as FreeCAD's own start-up does.
-
-    Opening a document loads the module of each object type (PartDesign::Body needs the
-    `PartDesign` package from Mod/). From a plain Python those folders are not on sys.path,
-    and FreeCAD then drops the objects silently: a document of PartDesign bodies would look
-    empty. Documents made from Python need it too (doc.addObject("PartDesign::Body")).
-    """
-    App, _Part = import_freecad()
-    for root in (App.getResourceDir(), App.getHomePath()):
-        folder = os.path.join(root, "Mod")
-        if os.path.isdir(folder) and folder not in sys.path:
-            sys.path.append(folder)
 
 
 @contextmanager

@@ -5,7 +5,7 @@ import os
 from pathlib import Path
 
 from freecad_conformal.errors import GeometryError
-from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.freecad_env import import_freecad, make_workbench_types_loadable
 
 #: File suffixes `load_shape` reads, lower case.
 SHAPE_SUFFIXES = (".step", ".stp", ".brep", ".brp", ".iges", ".igs", ".fcstd")
@@ -33,6 +33,7 @@ def load_shape(path: str | os.PathLike):
 
 
 def _load_fcstd(App, Part, file: Path):
+    make_workbench_types_loadable()
     doc = App.openDocument(str(file), True)
     try:
         solids = []
