@@ -55,6 +55,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 BATCH_ONLY = ("inputs", "out_dir", "suffix", "workers", "dask", "start_method")
 #: Plan arguments that name one part's files, which batch names itself.
 PLAN_PER_FILE = ("part", "output", "png", "summary", "toolpath")
+#: Plan arguments batch does not offer: mandrel builds are planned one part at a time.
+PLAN_ONLY = ("mandrel", "mapping")
 
 
 def plan_options(args: argparse.Namespace):

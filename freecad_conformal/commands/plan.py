@@ -23,6 +23,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--summary", help="also write the summary to this text file")
     parser.add_argument("--toolpath", help="also save the neutral toolpath (.npz)")
     parser.add_argument("--dialect", help="G-code dialect (default: the machine's)")
+    mandrel = parser.add_argument_group("rotating mandrel (METHODS section 5)")
+    mandrel.add_argument("--mandrel", action="store_true",
+                         help="build around the machine's rotary mandrel in unrolled cylindrical layers "
+                              "(machine default rotary_mandrel)")
+    mandrel.add_argument("--mapping", choices=("rotary", "linear"), default="rotary",
+                         help="with --mandrel: A in degrees, or the rotation as a linear axis at R0")
     layers = parser.add_argument_group("layers")
     layers.add_argument("--layer", type=float, default=0.2, help="layer height in mm (default 0.2)")
     layers.add_argument("--layer-mode", choices=("uniform", "adaptive", "cusp"), default="uniform")
@@ -89,7 +95,22 @@ def plan_part(shape, name: str, options, output: str | Path, png: str | Path | N
     return result, written
 
 
+def run_mandrel(args: argparse.Namespace) -> int:
+    """`plan --mandrel`: the same planner as the `mandrel` command."""
+    from freecad_conformal.planning.rotary import plan_mandrel
+
+    shape, name = load_part(args.part)
+    machine = "rotary_mandrel" if args.machine == "trunnion_ac" else args.machine
+    result = plan_mandrel(shape, machine, args.tool, args.layer, args.output, mapping=args.mapping,
+                          width=args.bead_width, part=name, toolpath_out=args.toolpath)
+    print(result.report())
+    print(f"wrote {args.output}", file=sys.stderr)
+    return 0
+
+
 def run(args: argparse.Namespace) -> int:
+    if args.mandrel:
+        return run_mandrel(args)
     options = options_from(args)
     shape, name = load_part(args.part)
     result, written = plan_part(shape, name, options, args.output, args.png, args.summary,

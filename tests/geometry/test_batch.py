@@ -113,12 +113,12 @@ def test_options_follow_the_plan_command(tmp_path):
 
 def test_batch_offers_every_plan_setting_with_the_same_default(tmp_path):
     """When the plan command gains or renames a setting, batch must follow."""
-    from freecad_conformal.commands.batch import BATCH_ONLY, PLAN_PER_FILE
+    from freecad_conformal.commands.batch import BATCH_ONLY, PLAN_ONLY, PLAN_PER_FILE
 
     plan_defaults = vars(_parse(["plan", "part.step", "-o", "x.gcode"]))
     batch_defaults = vars(_parse(["batch", "part.step", "-o", str(tmp_path)]))
     dispatch = {"command", "_run"}  # the CLI's own entries
-    shared = set(plan_defaults) - set(PLAN_PER_FILE) - dispatch
+    shared = set(plan_defaults) - set(PLAN_PER_FILE) - set(PLAN_ONLY) - dispatch
     assert set(batch_defaults) - set(BATCH_ONLY) - dispatch == shared
     assert {k: batch_defaults[k] for k in shared} == {k: plan_defaults[k] for k in shared}
 

@@ -144,3 +144,21 @@ def test_mandrel_command(spring, tmp_path, capsys):
     assert out.read_text().count("\nG1 ") > 10
     assert main(["mandrel", str(part), "--machine", "three_axis", "-o", str(tmp_path / "no.gcode")]) == 1
     assert not (tmp_path / "no.gcode").exists()
+
+
+def test_plan_mandrel_option_runs_the_mandrel_planner(tmp_path, App, Part):
+    """`plan --mandrel` reaches the same planner as `mandrel`: a tube on the mandrel axis."""
+    from freecad_conformal.cli import main
+
+    from freecad_conformal.post.machine import load_machine
+
+    machine = load_machine("rotary_mandrel")
+    [axis] = machine.rotary
+    tube = Part.makeCylinder(12, 10, App.Vector(*axis.pivot), App.Vector(*axis.direction)).cut(
+        Part.makeCylinder(10, 10, App.Vector(*axis.pivot), App.Vector(*axis.direction)))
+    part = tmp_path / "tube.brep"
+    tube.exportBrep(str(part))
+    out = tmp_path / "tube.gcode"
+    assert main(["plan", str(part), "--mandrel", "--layer", "1", "-o", str(out)]) == 0
+    text = out.read_text()
+    assert " A" in text and "G1" in text
