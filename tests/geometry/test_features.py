@@ -180,6 +180,8 @@ def test_feature_command_and_bad_input(App, Part, tmp_path, capsys):
     Part.makeSphere(20, App.Vector(0, 0, 0), App.Vector(0, 0, 1), 0, 90).exportBrep(str(dome))
     tube = tmp_path / "tube.brep"
     Part.makeCylinder(15, 40, App.Vector(-20, 0, 0), App.Vector(1, 0, 0)).exportBrep(str(tube))
+    plate = tmp_path / "plate.brep"
+    Part.makeBox(30, 30, 5).exportBrep(str(plate))
     out, gcode = tmp_path / "f.npz", tmp_path / "f.ngc"
     ok = main(["feature", str(dome), "--face", "Face1", "--kind", "rods", "--spacing", "3",
                "--rod-length", "2", "-o", str(out), "--gcode", str(gcode)])
@@ -193,6 +195,7 @@ def test_feature_command_and_bad_input(App, Part, tmp_path, capsys):
         (["--face", "Face1", "--kind", "shell", "--tilt", "70"], dome, "shell on Face1: a tilt of 70"),
         (["--face", "Face1", "--kind", "rods", "--spacing", "0.8", "--rod-length", "6"], dome,
          "rods on Face1: the uv_small envelope"),
+        (["--face", "Face6", "--kind", "rods"], plate, "rods on Face6: rods need a sphere or cylinder face"),
     ]
     for extra, part, message in bad:
         target, program = tmp_path / "bad.npz", tmp_path / "bad.ngc"

@@ -21,6 +21,8 @@ def plan_rods(s, face, what: str, tool_of, feed_of) -> Toolpath:
     """Rods normal to a sphere (rings round the pole) or a cylinder (rings along the axis)."""
     tool = tool_of(s, "uv_small")
     kind = face_kind(face)
+    if kind not in ("sphere", "cylinder"):
+        raise PlanError(f"{what}: rods need a sphere or cylinder face, not a {kind}")
     surface = face.Surface
     centre, axis = np.array(tuple(surface.Center)), np.array(tuple(surface.Axis))
     low, high = tool.reachable_tilt()
@@ -33,8 +35,6 @@ def plan_rods(s, face, what: str, tool_of, feed_of) -> Toolpath:
         layout = rods.cylinder_layout(centre, axis, surface.Radius, s.spacing, s.rod_diameter,
                                       s.rod_length, v0 + s.spacing / 2, v1 - s.spacing / 2)
         layout = _reachable(layout, np.asarray(s.build_direction, dtype=float), high, what)
-    else:
-        raise PlanError(f"{what}: rods need a sphere or cylinder face, not a {kind}")
     layout = _on_face(layout, face, what)
     rods.check_layout(layout, tool, what)
     curing = rods.PointCuring()
