@@ -16,7 +16,8 @@ import numpy as np
 from freecad_conformal.errors import GeometryError
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.frames import LayerFrame
-from freecad_conformal.geometry.loops import Loop, loops_of_faces, polygons_of_loops, signed_area
+from freecad_conformal.geometry.loops import (Loop, area_and_centroid, loops_of_faces,
+                                               polygons_of_loops, signed_area)
 from freecad_conformal.geometry.solids import solids_of
 from freecad_conformal.tolerances import DEFAULT_CHORD_TOLERANCE, MIN_SECTION_AREA
 
@@ -129,9 +130,7 @@ class CylindricalSlicer:
                 # in two at the seam (one loop per island in the unrolled plane).
                 cut = self._cut(solid, radius, seam_angle=gap)
             faces.extend(cut)
-        area = float(sum(f.Area for f in faces))
-        centroid = (sum((np.array(tuple(f.CenterOfMass)) * f.Area for f in faces), np.zeros(3)) / area
-                    if faces else np.full(3, np.nan))
+        area, centroid = area_and_centroid(faces)
         return CylindricalSection(radius=float(radius), axis=self.axis, faces=faces, area=area,
                                   centroid=centroid, chord_tolerance=self.chord_tolerance)
 

@@ -59,6 +59,15 @@ class Loop:
         return data
 
 
+def area_and_centroid(faces: list) -> tuple[float, np.ndarray]:
+    """Exact total area of OCC faces and their area-weighted centroid (NaN when empty)."""
+    area = float(sum(f.Area for f in faces))
+    if not faces:
+        return area, np.full(3, np.nan)
+    moments = sum((np.array(tuple(f.CenterOfMass)) * f.Area for f in faces), np.zeros(3))
+    return area, moments / area
+
+
 def discretize_wire(wire, chord_tolerance: float) -> np.ndarray:
     """Points (N, 3) along the wire in its order, closing point dropped."""
     points = np.array([tuple(p) for p in wire.discretize(Deflection=chord_tolerance)])

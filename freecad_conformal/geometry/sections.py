@@ -19,7 +19,7 @@ import numpy as np
 from freecad_conformal.errors import GeometryError
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.frames import LayerFrame
-from freecad_conformal.geometry.loops import Loop, loops_of_faces, polygons_of_loops
+from freecad_conformal.geometry.loops import Loop, area_and_centroid, loops_of_faces, polygons_of_loops
 from freecad_conformal.geometry.solids import solids_of
 from freecad_conformal.tolerances import DEFAULT_CHORD_TOLERANCE, MIN_SECTION_AREA
 
@@ -219,12 +219,7 @@ class PlanarSlicer:
         return [_merge_touching(faces) for faces in result]
 
     def _make_section(self, height: float, faces: list) -> PlanarSection:
-        area = float(sum(f.Area for f in faces))
-        if faces:
-            moments = sum((np.array(tuple(f.CenterOfMass)) * f.Area for f in faces), np.zeros(3))
-            centroid = moments / area
-        else:
-            centroid = np.full(3, np.nan)
+        area, centroid = area_and_centroid(faces)
         return PlanarSection(height=float(height), frame=self.frame, faces=faces, area=area,
                              centroid=centroid, chord_tolerance=self.chord_tolerance)
 
