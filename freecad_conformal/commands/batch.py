@@ -10,6 +10,8 @@ from __future__ import annotations
 import argparse
 import sys
 
+from freecad_conformal.commands.plan import add_plan_settings
+
 #: Stands in for plan's required PART and -o when reading plan's defaults.
 _PLACEHOLDER = "batch-placeholder"
 
@@ -19,11 +21,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="part files, folders or globs (STEP, BREP, IGES, FCStd)")
     parser.add_argument("-o", "--output-dir", dest="out_dir", required=True,
                         help="folder for the G-code files and the report")
-    parser.add_argument("--machine", default="trunnion_ac",
-                        help="machine name or .json path (default trunnion_ac)")
-    parser.add_argument("--tool", default="fdm_0p4", help="tool id in the library (default fdm_0p4)")
-    parser.add_argument("--material", help="material of the tool's settings (default: its first)")
-    parser.add_argument("--dialect", help="G-code dialect (default: the machine's)")
     parser.add_argument("--suffix", default=".gcode", help="G-code file suffix (default .gcode)")
     run = parser.add_argument_group("where the parts run")
     run.add_argument("--workers", type=int, default=1,
@@ -32,23 +29,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                      help="send the parts to this Dask scheduler (e.g. tcp://host:8786) instead")
     run.add_argument("--start-method", choices=("spawn", "fork", "forkserver"),
                      help="how local workers start (default spawn; fork inside FreeCAD)")
-    layers = parser.add_argument_group("layers (as in the plan command)")
-    layers.add_argument("--layer", type=float, default=0.2, help="layer height in mm (default 0.2)")
-    layers.add_argument("--layer-mode", choices=("uniform", "adaptive", "cusp"), default="uniform")
-    layers.add_argument("--layer-min", type=float, help="minimum layer height (default 0.5 x --layer)")
-    layers.add_argument("--layer-max", type=float, help="maximum layer height (default 1.5 x --layer)")
-    layers.add_argument("--max-volume-difference", type=float, default=2.0,
-                        help="adaptive limit per layer in mm3 (default 2)")
-    layers.add_argument("--max-cusp", type=float, default=0.05, help="cusp height limit in mm")
-    layers.add_argument("--tilt", action="store_true",
-                        help="3-D layers: tilt the planes where a sub-part's centroidal axis bends")
-    paths = parser.add_argument_group("paths (as in the plan command)")
-    paths.add_argument("--bead-width", type=float, help="bead width in mm (default: the material's)")
-    paths.add_argument("--perimeters", type=int, default=2)
-    paths.add_argument("--infill", type=float, default=20.0, help="sparse infill in percent (default 20)")
-    paths.add_argument("--infill-angle", type=float, help="infill angle in degrees (default: fewest turns)")
-    paths.add_argument("--seam", choices=("aligned", "nearest", "sharpest"), default="aligned")
-    paths.add_argument("--solid-layers", type=int, default=3, help="top and bottom solid layers (default 3)")
+    add_plan_settings(parser)
 
 
 #: Batch arguments that are not plan settings.

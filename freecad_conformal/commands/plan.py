@@ -14,21 +14,26 @@ from pathlib import Path
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("part", help="part file (STEP, BREP, IGES, FCStd) or a built-in sample name")
-    parser.add_argument("--machine", default="trunnion_ac",
-                        help="machine name or .json path (default trunnion_ac)")
-    parser.add_argument("--tool", default="fdm_0p4", help="tool id in the library (default fdm_0p4)")
-    parser.add_argument("--material", help="material of the tool's settings (default: its first)")
     parser.add_argument("-o", "--output", required=True, help="G-code file to write")
     parser.add_argument("--png", help="preview image (default: the output with .png)")
     parser.add_argument("--summary", help="also write the summary to this text file")
     parser.add_argument("--toolpath", help="also save the neutral toolpath (.npz)")
-    parser.add_argument("--dialect", help="G-code dialect (default: the machine's)")
+    add_plan_settings(parser)
     mandrel = parser.add_argument_group("rotating mandrel (METHODS section 5)")
     mandrel.add_argument("--mandrel", action="store_true",
                          help="build around the machine's rotary mandrel in unrolled cylindrical layers "
                               "(machine default rotary_mandrel)")
     mandrel.add_argument("--mapping", choices=("rotary", "linear"), default="rotary",
                          help="with --mandrel: A in degrees, or the rotation as a linear axis at R0")
+
+
+def add_plan_settings(parser: argparse.ArgumentParser) -> None:
+    """Machine, tool, layer and path settings: shared by `plan` and `batch`."""
+    parser.add_argument("--machine", default="trunnion_ac",
+                        help="machine name or .json path (default trunnion_ac)")
+    parser.add_argument("--tool", default="fdm_0p4", help="tool id in the library (default fdm_0p4)")
+    parser.add_argument("--material", help="material of the tool's settings (default: its first)")
+    parser.add_argument("--dialect", help="G-code dialect (default: the machine's)")
     layers = parser.add_argument_group("layers")
     layers.add_argument("--layer", type=float, default=0.2, help="layer height in mm (default 0.2)")
     layers.add_argument("--layer-mode", choices=("uniform", "adaptive", "cusp"), default="uniform")
