@@ -82,8 +82,34 @@ def interior_regions(solid, point: np.ndarray, normal: np.ndarray) -> list:
     return regions
 
 
-def face_candidates(solid, concave: list[EdgeAngle]) -> list[SplitCandidate]:
-    """Regions on the planes of planar faces that carry a concave edge (criterion 2)."""
+#: Two faces lie on one plane when their normals agree to this (1 − |cos|) and their levels
+#: to ON_PLANE (mm): the region search then runs once for the plane.
+SAME_PLANE_COS = 1e-9
+ON_PLANE = 1e-6
+
+
+@dataclass
+class CandidatePlane:
+    """The plane of one or more planar faces carrying concave edges (criterion 2), before
+    its interior regions are computed (a Boolean and inside tests: done only for the planes
+    a decomposition ranks worth cutting). `faces` pairs each face index with its concave
+    edges, in face order."""
+
+    point: np.ndarray
+    normal: np.ndarray
+    faces: list[tuple[int, list[EdgeAngle]]]
+
+    @property
+    def face_index(self) -> int:
+        return self.faces[0][0]
+
+    def probe(self, rule: str = "concave-face") -> SplitCandidate:
+        """A region-less candidate on this plane, for estimates that read only the plane."""
+        return SplitCandidate(self.point, self.normal, None, rule, self.face_index)
+
+
+def candidate_planes(solid, concave: list[EdgeAngle]) -> list[CandidatePlane]:
+    """Planes of the planar faces that carry a concave edge, one per distinct plane."""
     from freecad_conformal.planning.support import plane_normal
 
     faces = list(solid.Faces)
@@ -91,23 +117,39 @@ def face_candidates(solid, concave: list[EdgeAngle]) -> list[SplitCandidate]:
     for edge in concave:
         for index in edge.faces:
             edges_of.setdefault(index, []).append(edge)
-    candidates: list[SplitCandidate] = []
-    seen: list[np.ndarray] = []
+    planes: list[CandidatePlane] = []
     for index, edge_list in sorted(edges_of.items()):
         normal = plane_normal(faces[index])
         if normal is None:
             continue
         point = _vec(faces[index].Vertexes[0].Point)
-        for region in interior_regions(solid, point, normal):
-            if not any(region.distToShape(e.edge)[0] < TOUCH_TOLERANCE for e in edge_list):
-                continue
-            # Two faces on one plane find the same region: keep it once (same centre, area).
-            key = np.append(_vec(region.CenterOfMass), region.Area)
-            if any(np.allclose(key, other, atol=1e-6) for other in seen):
-                continue
-            seen.append(key)
-            candidates.append(SplitCandidate(point, normal, region, "concave-face", index))
+        for plane in planes:
+            if (1.0 - abs(float(plane.normal @ normal)) < SAME_PLANE_COS
+                    and abs(float((point - plane.point) @ plane.normal)) < ON_PLANE):
+                plane.faces.append((index, edge_list))
+                break
+        else:
+            planes.append(CandidatePlane(point, normal, [(index, edge_list)]))
+    return planes
+
+
+def plane_regions(solid, plane: CandidatePlane) -> list[SplitCandidate]:
+    """The plane's interior regions that touch one of its faces' concave edges, each as a
+    candidate credited to the first face whose edge it touches."""
+    candidates: list[SplitCandidate] = []
+    for region in interior_regions(solid, plane.point, plane.normal):
+        for index, edge_list in plane.faces:
+            if any(region.distToShape(e.edge)[0] < TOUCH_TOLERANCE for e in edge_list):
+                candidates.append(SplitCandidate(plane.point, plane.normal, region,
+                                                 "concave-face", index))
+                break
     return candidates
+
+
+def face_candidates(solid, concave: list[EdgeAngle]) -> list[SplitCandidate]:
+    """Regions on the planes of planar faces that carry a concave edge (criterion 2)."""
+    return [candidate for plane in candidate_planes(solid, concave)
+            for candidate in plane_regions(solid, plane)]
 
 
 def split_solid(solid, regions: list) -> list:

@@ -19,11 +19,11 @@ import numpy as np
 from freecad_conformal.errors import GeometryError, PlanError
 from freecad_conformal.geometry.concave_edges import concave_edges
 from freecad_conformal.geometry.solids import solids_of
-from freecad_conformal.geometry.splitting_faces import SplitCandidate, face_candidates, split_solid
+from freecad_conformal.geometry.splitting_faces import SplitCandidate, split_solid
 from freecad_conformal.planning.rotation import rotation_to
 from freecad_conformal.planning.subparts import BuildPlan, SubPart
 from freecad_conformal.planning.support import (DEFAULT_OVERHANG_ANGLE, best_single_direction,
-                                                check_angle, lowest_level, overhang_area,
+                                                check_angle, lowest_level,
                                                 overhang_report)
 
 METHODS = ("true-direction", "published")
@@ -44,6 +44,10 @@ MIN_SAVING_FRACTION = 1e-4
 #: estimate ranks well enough that the winner is among the first few, and each exact split
 #: is a Boolean plus an overhang evaluation of every piece.
 MAX_EXACT_CUTS = 3
+
+#: Area-jump planes (largest ∂ first) whose saving is estimated: the mesh profile and the
+#: estimate are cheap, so all jumps of a piece are ranked by what they could save.
+JUMP_PLANES = 64
 
 #: Two directions within this angle (rad) are the same build direction.
 SAME_DIRECTION = math.radians(1.0)
@@ -197,24 +201,25 @@ def _bed_face(shape, d: np.ndarray):
 
 
 def _overhang(piece: _Piece, angle: float) -> float:
-    return overhang_area(piece.shape, piece.direction, angle, piece.base_faces,
-                         on_bed=piece.rule == "root")
+    return _report(piece, angle).area
 
 
 def _refine(piece: _Piece, angle: float, axis, budget: int, notes: list[str]) -> list[_Piece]:
     """The piece split (recursively) until no cut saves overhang; at most `budget` pieces."""
-    piece.overhang = _overhang(piece, angle)
+    report = _report(piece, angle)
+    piece.overhang = report.area
     if piece.overhang <= MIN_SAVING or budget <= 1:
         if budget <= 1 and piece.overhang > MIN_SAVING:
             notes.append(f"stopped splitting at the sub-part limit with {piece.overhang:.3f} mm² "
                          "of overhang left")
         return [piece]
     needed = max(MIN_SAVING, MIN_SAVING_FRACTION * piece.overhang)
-    best = _best_cut(piece, _face_candidates(piece, axis), angle)
+    estimate = _SavingEstimate(piece, angle, report)
+    best = _best_cut(piece, _face_candidates(piece, axis, estimate, needed), angle, estimate)
     if best is None or best[0] > piece.overhang - needed:
         # Section 4's area-jump rule only where no splitting face helps: its sections along
         # three axes cost more than everything else here.
-        best = _best_cut(piece, _area_jump_candidates(piece, angle, needed), angle)
+        best = _best_cut(piece, _area_jump_candidates(piece, estimate, needed), angle, estimate)
     if best is None or best[0] > piece.overhang - needed:
         return [piece]
     _, keeper, children = best
@@ -224,14 +229,19 @@ def _refine(piece: _Piece, angle: float, axis, budget: int, notes: list[str]) ->
     return result
 
 
-def _best_cut(piece: _Piece, candidates: list[SplitCandidate], angle: float):
+def _report(piece: _Piece, angle: float):
+    return overhang_report(piece.shape, piece.direction, angle, piece.base_faces,
+                           on_bed=piece.rule == "root")
+
+
+def _best_cut(piece: _Piece, candidates: list[SplitCandidate], angle: float,
+              estimate: "_SavingEstimate"):
     """The candidate cut leaving the least total overhang: (total, keeper, children).
 
     Candidates are ranked first by the overhang they could save (read from the piece's
     overhanging faces, no Boolean) and only the best few are split exactly.
     """
     needed = max(MIN_SAVING, MIN_SAVING_FRACTION * piece.overhang)
-    estimate = _SavingEstimate(piece, angle)
     ranked = sorted(((estimate.saving(c), i, c) for i, c in enumerate(candidates)),
                     key=lambda item: (-item[0], item[1]))
     best = None
@@ -245,14 +255,13 @@ def _best_cut(piece: _Piece, candidates: list[SplitCandidate], angle: float):
 class _SavingEstimate:
     """How much overhang a cut could save: the piece's overhanging faces on one side of the
     plane, re-read in the direction that side would be built in (the plane's normal away
-    from the other side). An estimate for ranking: the exact split decides."""
+    from the other side). An estimate for ranking: the exact split decides. It reads only
+    the plane, so planes are ranked before their regions are computed."""
 
-    def __init__(self, piece: _Piece, angle: float) -> None:
-        from freecad_conformal.planning.support import face_mesh, plane_normal, overhang_report
+    def __init__(self, piece: _Piece, angle: float, report) -> None:
+        from freecad_conformal.planning.support import face_mesh, plane_normal
 
         self.threshold = math.sin(angle)
-        report = overhang_report(piece.shape, piece.direction, angle, piece.base_faces,
-                                 on_bed=piece.rule == "root")
         faces = piece.shape.Faces
         self.faces = []
         for index, area in report.faces:
@@ -266,6 +275,12 @@ class _SavingEstimate:
             return area if shape @ d < -self.threshold else 0.0
         return min(area, shape.overhang(d, self.threshold))
 
+    def bound(self, normal: np.ndarray) -> float:
+        """The most any plane normal to ±`normal` could save by `saving`: every overhanging
+        face on the one side (so an axis whose bound is too small needs no sections)."""
+        return max(sum(area - self._overhang(shape, area, sign * normal)
+                       for _, area, shape in self.faces) for sign in (1.0, -1.0))
+
     def saving(self, candidate: SplitCandidate) -> float:
         n = candidate.normal
         sides = {1.0: 0.0, -1.0: 0.0}
@@ -275,14 +290,16 @@ class _SavingEstimate:
         return max(sides.values())
 
 
-def _area_jump_candidates(piece: _Piece, angle: float, needed: float) -> list[SplitCandidate]:
+def _area_jump_candidates(piece: _Piece, estimate: _SavingEstimate,
+                          needed: float) -> list[SplitCandidate]:
     """Regions of the area-jump planes whose estimated saving is worth a cut; the planes are
     ranked before their regions are computed (a section Boolean and inside tests each)."""
     from freecad_conformal.geometry.area_jumps import area_jump_planes, plane_candidates
 
-    estimate = _SavingEstimate(piece, angle)
     planes = []
-    for _, point, normal in area_jump_planes(piece.shape, piece.direction):
+    for _, point, normal in area_jump_planes(piece.shape, piece.direction,
+                                             skip=lambda axis: estimate.bound(axis) <= needed,
+                                             exact=False, limit=JUMP_PLANES):
         saving = estimate.saving(SplitCandidate(point, normal, None, "area-jump"))
         if saving > needed:
             planes.append((saving, point, normal))
@@ -293,13 +310,38 @@ def _area_jump_candidates(piece: _Piece, angle: float, needed: float) -> list[Sp
     return candidates
 
 
-def _face_candidates(piece: _Piece, axis) -> list[SplitCandidate]:
-    """Concave-face regions, those meeting the axis criteria first (METHODS section 3)."""
-    candidates = face_candidates(piece.shape, concave_edges(piece.shape))
+#: Two estimated savings closer than this (mm²) are a tie: regions of all tied planes are
+#: computed, so the axis criteria still break the tie as before.
+SAVING_TIE = 1e-9
+
+
+def _face_candidates(piece: _Piece, axis, estimate: _SavingEstimate,
+                     needed: float) -> list[SplitCandidate]:
+    """Concave-face regions worth an exact cut, those meeting the axis criteria first
+    (METHODS section 3). Planes are ranked by estimated saving first and regions computed
+    only for the best ones, enough to fill the exact cuts `_best_cut` makes."""
+    from freecad_conformal.geometry.splitting_faces import candidate_planes, plane_regions
+
+    planes = [(estimate.saving(plane.probe()), order, plane) for order, plane
+              in enumerate(candidate_planes(piece.shape, concave_edges(piece.shape)))]
+    planes = sorted((p for p in planes if p[0] > needed), key=lambda item: (-item[0], item[1]))
+    candidates: list[SplitCandidate] = []
+    last = None
+    for saving, _, plane in planes:
+        if len(candidates) >= MAX_EXACT_CUTS and saving < last - SAVING_TIE:
+            break
+        regions = plane_regions(piece.shape, plane)
+        if regions:
+            candidates.extend(regions)
+            last = saving
     for candidate in candidates:
         if axis.supports_split(candidate.normal, _boundary_points(candidate.region)):
             candidate.rule = "axis-face"
-    return sorted(candidates, key=lambda c: 0 if c.rule == "axis-face" else 1)
+    # Stable: best plane first, and within a tie, regions meeting the axis criteria first.
+    order = {id(c): i for i, c in enumerate(candidates)}
+    return sorted(candidates, key=lambda c: (-estimate.saving(c), 0 if c.rule == "axis-face" else 1,
+                                             c.face_index if c.face_index is not None else -1,
+                                             order[id(c)]))
 
 
 def _boundary_points(face) -> np.ndarray:
