@@ -6,21 +6,32 @@ with supports off, and read filament volume, support-only extrusion (";TYPE:Supp
 material" and its interface) and estimated time from the G-code. Then plan the part with
 this project (decomposition, layers, paths) at the same settings and print both with ratios.
 
-Same settings on both sides: layer 0.2 mm, nozzle 0.4 mm, 2 perimeters, 20 % infill, three
-solid top/bottom layers, bead width 0.45 mm (PrusaSlicer's automatic width for a 0.4 mm
-nozzle), PrusaSlicer's default speeds per role (external perimeter 30, perimeters 60, sparse
-infill 80, solid infill 20, travel 130 mm/s), its time-estimate limits (acceleration
-1500 mm/s², jerk 10 mm/s) and its cooling slowdown (layers under 5 s, not below 10 mm/s).
+The same rules on both sides, passed to PrusaSlicer explicitly (`PRUSA_SETTINGS`) and to the
+planner (`plan_options`): layer 0.2 mm (the first one too), nozzle 0.4 mm, bead width 0.45 mm
+for every role (PrusaSlicer's automatic width), rounded beads (PrusaSlicer's model,
+`paths.bead`), 2 perimeters, 20 % rectilinear infill reaching 25 % into the perimeters,
+sparse pieces under 70 mm² printed solid, three solid top/bottom layers, no skirt, speeds per
+role (external perimeter 30, perimeters 60, perimeter loops up to 2π·6.5 mm 15, sparse
+infill 80, solid and top infill 20, travel 130 mm/s, the first layer at the same speeds), the time estimate's limits
+(acceleration 1500 mm/s², jerk 10 mm/s) and the cooling slowdown (layers under 5 s, not
+below 10 mm/s). What only PrusaSlicer does: bridges over unsupported areas (supports off),
+gap fill between perimeters, retraction (its estimate counts it; our toolpath has none).
+
+`--roles` also prints material and time per role on both sides (PrusaSlicer's ;TYPE:
+blocks, timed with this project's model; our toolpath's roles).
 
 Needs the Debian package prusa-slicer (`TMPDIR=/var/tmp apt-get install -y prusa-slicer`).
-Run: `.venv/bin/python benchmarks/compare_planar.py [jack bracket hinge CrankArm]`.
+Run: `.venv/bin/python benchmarks/compare_planar.py [--roles] [jack bracket hinge CrankArm]`.
 """
 from __future__ import annotations
 
 import math
 import re
+from collections import defaultdict
 import shutil
 import subprocess
+
+import numpy as np
 import sys
 import tempfile
 import time
@@ -35,17 +46,36 @@ from freecad_conformal.geometry import samples  # noqa: E402
 from freecad_conformal.geometry.solids import load_shape  # noqa: E402
 from freecad_conformal.paths.assemble import Feeds, PathSettings  # noqa: E402
 from freecad_conformal.paths.fill2d import FillSettings  # noqa: E402
-from freecad_conformal.paths.timing import estimate_time  # noqa: E402
+from freecad_conformal.paths.timing import estimate_time, junction_speeds, move_seconds, move_times  # noqa: E402
+from freecad_conformal.toolpath import KINDS  # noqa: E402
 from freecad_conformal.planning.decompose import decompose  # noqa: E402
-from freecad_conformal.planning.job import PlanOptions, run_job  # noqa: E402
+from freecad_conformal.planning.job import PlanOptions, decompose_reachable, run_job  # noqa: E402
 from freecad_conformal.planning.layers import LayerSettings  # noqa: E402
 
 PARTS_DIR = ROOT.parent / "shared" / "parts"
 LAYER, NOZZLE, PERIMETERS, INFILL, BEAD = 0.2, 0.4, 2, 0.20, 0.45
 #: PrusaSlicer 2.5 defaults (mm/s) and its time-estimate machine limits.
 SPEEDS = {"external_perimeter": 30.0, "perimeter": 60.0, "infill": 80.0, "solid_infill": 20.0,
-          "travel": 130.0}
+          "travel": 130.0, "small_perimeter": 15.0}
 ACCELERATION, JERK = 1500.0, 10.0
+INFILL_OVERLAP, SOLID_BELOW_AREA, SOLID_LAYERS, MIN_LAYER_TIME, MIN_SPEED = 0.25, 70.0, 3, 5.0, 10.0
+#: Every PrusaSlicer setting that the comparison depends on, stated rather than defaulted.
+PRUSA_SETTINGS = [
+    "--layer-height", str(LAYER), "--first-layer-height", str(LAYER),
+    "--nozzle-diameter", str(NOZZLE), "--extrusion-width", str(BEAD),
+    *[arg for role in ("first-layer", "external-perimeter", "perimeter", "infill", "solid-infill",
+                       "top-infill") for arg in (f"--{role}-extrusion-width", str(BEAD))],
+    "--perimeters", str(PERIMETERS), "--top-solid-layers", str(SOLID_LAYERS),
+    "--bottom-solid-layers", str(SOLID_LAYERS), "--fill-density", f"{INFILL * 100:g}%",
+    "--fill-pattern", "rectilinear", "--infill-overlap", f"{INFILL_OVERLAP * 100:g}%",
+    "--solid-infill-below-area", f"{SOLID_BELOW_AREA:g}", "--skirts", "0",
+    "--external-perimeter-speed", f"{SPEEDS['external_perimeter']:g}",
+    "--perimeter-speed", f"{SPEEDS['perimeter']:g}",
+    "--small-perimeter-speed", f"{SPEEDS['small_perimeter']:g}", "--infill-speed", f"{SPEEDS['infill']:g}",
+    "--solid-infill-speed", f"{SPEEDS['solid_infill']:g}",
+    "--top-solid-infill-speed", f"{SPEEDS['solid_infill']:g}", "--travel-speed", f"{SPEEDS['travel']:g}",
+    "--first-layer-speed", "100%", "--slowdown-below-layer-time", f"{MIN_LAYER_TIME:g}",
+    "--min-print-speed", f"{MIN_SPEED:g}", "--use-relative-e-distances"]
 ORIENTATIONS = {"as modelled": [], "rotate-x 90": ["--rotate-x", "90"],
                 "rotate-x 180": ["--rotate-x", "180"], "rotate-x -90": ["--rotate-x", "-90"],
                 "rotate-y 90": ["--rotate-y", "90"], "rotate-y -90": ["--rotate-y", "-90"]}
@@ -58,6 +88,7 @@ class Slice:
     volume_cm3: float
     support_cm3: float
     seconds: float
+    gcode: Path
 
 
 def parse_time(text: str) -> float:
@@ -80,16 +111,14 @@ def support_volume(text: str) -> float:
 
 def prusa_slice(stl: Path, orientation: str, supports: bool, work: Path) -> Slice:
     out = work / f"{stl.stem}_{orientation.replace(' ', '_')}_{int(supports)}.gcode"
-    command = ["prusa-slicer", "--export-gcode", "--layer-height", str(LAYER),
-               "--nozzle-diameter", str(NOZZLE), "--perimeters", str(PERIMETERS),
-               "--fill-density", f"{INFILL * 100:g}%", "--use-relative-e-distances",
-               "--center", "100,100", *ORIENTATIONS[orientation], "-o", str(out), str(stl)]
+    command = ["prusa-slicer", "--export-gcode", *PRUSA_SETTINGS, "--center", "100,100",
+               *ORIENTATIONS[orientation], "-o", str(out), str(stl)]
     if supports:
         command.insert(2, "--support-material")
     subprocess.run(command, check=True, capture_output=True, timeout=1800)
     text = out.read_text()
     volume = float(re.search(r"filament used \[cm3\] = ([\d.]+)", text).group(1))
-    return Slice(orientation, volume, support_volume(text), parse_time(text))
+    return Slice(orientation, volume, support_volume(text), parse_time(text), out)
 
 
 def load(name: str):
@@ -98,13 +127,83 @@ def load(name: str):
     return load_shape(PARTS_DIR / f"{name}.brep")
 
 
-def ours(shape, name: str):
+def prusa_roles(gcode: Path) -> dict[str, list[float]]:
+    """{role: [mm, mm³, s]} of a PrusaSlicer G-code (";TYPE:" blocks, relative E), timed with
+    this project's model; travel as "travel", filament-only moves (retraction) as "retract"."""
+    x = y = z = feed = 0.0
+    role, moves, retract = "none", [], 0.0
+    for line in gcode.read_text().splitlines():
+        if line.startswith(";TYPE:"):
+            role = line[6:].strip()
+            continue
+        if not line.startswith(("G1 ", "G0 ")):
+            continue
+        words = {w[0]: float(w[1:]) for w in line.split(";")[0].split()[1:] if w[0] in "XYZEF"}
+        feed = words.get("F", feed * 60.0) / 60.0
+        target = (words.get("X", x), words.get("Y", y), words.get("Z", z))
+        e = words.get("E", 0.0)
+        if target == (x, y, z):
+            retract += abs(e) / feed if e else 0.0
+            continue
+        moves.append(((x, y, z), target, feed, role if e > 0 else "travel", max(e, 0.0)))
+        x, y, z = target
+    start = np.array([m[0] for m in moves])
+    steps = np.array([m[1] for m in moves]) - start
+    lengths = np.linalg.norm(steps, axis=1)
+    speeds = np.array([m[2] for m in moves])
+    seconds = move_times(lengths, speeds, junction_speeds(steps / lengths[:, None], speeds, JERK),
+                         ACCELERATION)
+    roles: dict[str, list[float]] = defaultdict(lambda: [0.0, 0.0, 0.0])
+    for move, length, t in zip(moves, lengths, seconds):
+        row = roles[move[3]]
+        row[0] += length
+        row[1] += move[4] * FILAMENT_AREA
+        row[2] += t
+    roles["retract"][2] += retract
+    return dict(roles)
+
+
+def our_roles(result) -> dict[str, list[float]]:
+    """{role: [mm, mm³, s]} of a plan, timed as `ours` times it."""
+    tp = result.assembly.toolpath
+    deposits = np.flatnonzero(tp.kind == KINDS.index("deposit"))
+    paths = dict(zip(deposits.tolist(), result.assembly.paths))
+    roles: dict[str, list[float]] = defaultdict(lambda: [0.0, 0.0, 0.0])
+    seconds, segments = move_seconds(tp, ACCELERATION, JERK)
+    for t, segment in zip(seconds, segments.tolist()):
+        roles[paths[segment].role if segment in paths else "travel"][2] += t
+    for segment, path in paths.items():
+        roles[path.role][0] += path.length
+        roles[path.role][1] += path.length * float(tp.flow[segment])
+    for points in result.assembly.travels:
+        roles["travel"][0] += float(np.linalg.norm(np.diff(points, axis=0), axis=1).sum())
+    return dict(roles)
+
+
+def print_roles(name: str, theirs: dict, mine: dict) -> None:
+    print(f"\n{name}: per role (PS = PrusaSlicer supports off)")
+    print(f"  {'role':<22} {'PS m':>7} {'PS cm3':>7} {'PS min':>7} | {'ours m':>7} {'cm3':>7} {'min':>7}")
+    for role, row in sorted(theirs.items(), key=lambda kv: -kv[1][1]):
+        print(f"  PS {role:<19} {row[0] / 1000:>7.1f} {row[1] / 1000:>7.3f} {row[2] / 60:>7.1f} |")
+    for role, row in sorted(mine.items(), key=lambda kv: -kv[1][1]):
+        print(f"  ours {role:<17} {'':>7} {'':>7} {'':>7} | {row[0] / 1000:>7.1f} {row[1] / 1000:>7.3f} "
+              f"{row[2] / 60:>7.1f}")
+
+
+def plan_options() -> PlanOptions:
+    """The planner's side of PRUSA_SETTINGS."""
     feeds = Feeds(**{k: v * 60.0 for k, v in SPEEDS.items()})
-    options = PlanOptions(layers=LayerSettings(thickness=LAYER), bead_width=BEAD,
-                          paths=PathSettings(fill=FillSettings(bead_width=BEAD, perimeters=PERIMETERS,
-                                                               density=INFILL), feeds=feeds))
+    fill = FillSettings(bead_width=BEAD, perimeters=PERIMETERS, density=INFILL, bead_model="rounded",
+                        infill_overlap=INFILL_OVERLAP, solid_below_area=SOLID_BELOW_AREA)
+    paths = PathSettings(fill=fill, feeds=feeds, top_layers=SOLID_LAYERS, bottom_layers=SOLID_LAYERS,
+                         min_layer_time=MIN_LAYER_TIME, min_speed=MIN_SPEED * 60.0)
+    return PlanOptions(layers=LayerSettings(thickness=LAYER), bead_width=BEAD, paths=paths)
+
+
+def ours(shape, name: str):
+    options = plan_options()
     started = time.perf_counter()
-    plan = decompose(shape)
+    shape, plan = decompose_reachable(shape, options, decompose)
     result = run_job(shape, plan, options, part=name)
     seconds = estimate_time(result.assembly.toolpath, ACCELERATION, JERK)
     return result, seconds, time.perf_counter() - started
@@ -115,7 +214,7 @@ def hms(seconds: float) -> str:
     return f"{whole // 3600}h{whole // 60 % 60:02d}m"
 
 
-def main(names: list[str]) -> int:
+def main(names: list[str], roles: bool = False) -> int:
     if shutil.which("prusa-slicer") is None:
         print("prusa-slicer is not installed: TMPDIR=/var/tmp apt-get install -y prusa-slicer")
         return 2
@@ -136,6 +235,8 @@ def main(names: list[str]) -> int:
                 continue
             rows.append((name, best, bare, result, our_time, wall))
             print(f"{name}: {len(result.subparts)} sub-parts, planned in {wall:.1f} s", flush=True)
+            if roles:
+                print_roles(name, prusa_roles(bare.gcode), our_roles(result))
     print()
     print(f"{'part':<10} {'PS best orientation':<20} {'PS+sup cm3':>10} {'sup cm3':>8} {'PS-sup cm3':>10} "
           f"{'ours cm3':>9} {'ours/PS-sup':>11} {'ours/PS+sup':>11} | {'PS+sup':>7} {'PS-sup':>7} "
@@ -148,10 +249,11 @@ def main(names: list[str]) -> int:
               f"{ours_cm3 / best.volume_cm3:>11.3f} | {hms(best.seconds):>7} {hms(bare.seconds):>7} "
               f"{hms(our_time):>7} {our_time / bare.seconds:>8.3f} {our_time / best.seconds:>8.3f} | "
               f"{'none' if support <= 0 else f'{support:.0f} mm2':>11}")
-    print("\nPS = PrusaSlicer (its estimate); ours = plan material (bead x layer x length) and the "
+    print("\nPS = PrusaSlicer (its estimate); ours = plan material (rounded bead x length) and the "
           "same time model (trapezoids, jerk 10 mm/s, acceleration 1500 mm/s2, 5 s layer cooling)")
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:] or ["jack", "bracket", "hinge", "CrankArm"]))
+    arguments = [a for a in sys.argv[1:] if a != "--roles"]
+    sys.exit(main(arguments or ["jack", "bracket", "hinge", "CrankArm"], roles="--roles" in sys.argv))

@@ -85,12 +85,12 @@ def options_from(args: argparse.Namespace):
 
 def plan_part(shape, name: str, options, output: str | Path, png: str | Path | None = None,
               summary: str | Path | None = None, toolpath: str | Path | None = None):
-    """Decompose, plan and write (G-code, PNG, summary, toolpath); returns (result, written)."""
-    from freecad_conformal.planning.decompose import decompose
-    from freecad_conformal.planning.job import check_options, run_job
+    """Decompose (turning the part on the table when the machine cannot reach a sub-part
+    as placed), plan and write (G-code, PNG, summary, toolpath); returns (result, written)."""
+    from freecad_conformal.planning.job import check_options, decompose_reachable, run_job
 
     check_options(shape, options)
-    plan = decompose(shape, tool=options.tool)
+    shape, plan = decompose_reachable(shape, options)
     result = run_job(shape, plan, options, part=name)
     png = png or Path(output).with_suffix(".png")
     written = result.write(output, png, summary)

@@ -3,19 +3,22 @@
 Sub-parts are built in the plan's order. Inside a layer the nozzle travels straight in the
 layer's top plane; between layers it first rises onto the next top plane along the new
 normal; between sub-parts it takes the checked safe move of `paths.approach`. Each deposit
-carries flow = bead width × layer thickness (mm³/mm: a rectangular bead; at the spacing of
-one bead width it fills the slab exactly, as a rounded bead at slicers' spacing does).
-Layers that would print faster than `min_layer_time` are slowed (not below `min_speed`),
-as slicers do to let a small layer cool.
+carries flow = the bead's cross-section (mm³/mm, `paths.bead`) for the layer's thickness;
+at the model's spacing it fills the slab exactly.
+Layers that would print (deposits and the travels between them, at nominal feeds) in under
+`min_layer_time` are slowed as PrusaSlicer's cooling does: every deposit feed is capped at
+one common speed (not below `min_speed`) so that the layer takes `min_layer_time`.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Sequence
 
 import numpy as np
 
 from freecad_conformal.errors import PlanError
+from freecad_conformal.paths.bead import bead_area
 from freecad_conformal.paths.approach import (SAFE_MARGIN, bounding_sphere, check_clearance,
                                               exit_distance, transition)
 from freecad_conformal.paths.fill2d import FillSettings, fill_layer
@@ -23,6 +26,11 @@ from freecad_conformal.paths.map3d import Path3D, map_paths, skin_regions
 from freecad_conformal.planning.layers import Layer
 from freecad_conformal.planning.subparts import BuildPlan
 from freecad_conformal.toolpath import Toolpath, ToolpathBuilder
+
+#: Perimeter loops this short (mm) are printed at `Feeds.small_perimeter`: PrusaSlicer's
+#: rule, a circle of 6.5 mm radius.
+SMALL_PERIMETER_LENGTH = 2.0 * math.pi * 6.5
+PERIMETER_ROLES = ("external_perimeter", "perimeter")
 
 #: Region polygons are simplified to this fraction of the bead width before path planning:
 #: sections come at a 1 µm chord tolerance, far finer than a bead can follow, and the
@@ -39,12 +47,22 @@ class Feeds:
     infill: float = 60.0 * 60
     solid_infill: float = 60.0 * 60
     travel: float = 150.0 * 60
+    #: perimeter loops no longer than SMALL_PERIMETER_LENGTH (PrusaSlicer's small_perimeter_speed)
+    small_perimeter: float = 15.0 * 60
 
     def for_role(self, role: str) -> float:
         return float(getattr(self, role))
 
+    def for_path(self, path: Path3D) -> float:
+        """The role's feed; small perimeter loops slower, so a small layer's walls can set."""
+        feed = self.for_role(path.role)
+        if path.closed and path.role in PERIMETER_ROLES and path.length <= SMALL_PERIMETER_LENGTH:
+            feed = min(feed, self.small_perimeter)
+        return feed
+
     def validate(self) -> None:
-        for name in ("external_perimeter", "perimeter", "infill", "solid_infill", "travel"):
+        for name in ("external_perimeter", "perimeter", "infill", "solid_infill", "travel",
+                     "small_perimeter"):
             value = getattr(self, name)
             if not (np.isfinite(value) and value > 0):
                 raise PlanError(f"{name} feed must be > 0 mm/min, got {value!r}")
@@ -82,21 +100,44 @@ def plan_paths(layers: Sequence[Layer], settings: PathSettings, rests_on_parent:
     for layer, skin in zip(layers, skins):
         here = layer.frame.to_2d(position[None])[0] if position is not None else None
         region = layer.region.simplify(tolerance)
-        paths = map_paths(layer, fill_layer(region, settings.fill, layer.index, skin, here))
+        paths = map_paths(layer, fill_layer(region, settings.fill, layer.index, skin, here,
+                                            height=layer.thickness))
         if paths:
             position = paths[-1].points[-1]
         result.append(paths)
     return result
 
 
+#: Bisection steps for the common cooling feed cap: 40 halvings of a feed range of
+#: ~10⁴ mm/min leave it exact to far below 10⁻⁶ mm/min.
+CAP_STEPS = 40
+
+
 def _layer_feeds(paths: Sequence[Path3D], settings: PathSettings) -> list[float]:
-    """Deposit feeds, slowed together when the layer would take under `min_layer_time`."""
-    feeds = [settings.feeds.for_role(p.role) for p in paths]
-    seconds = sum(60.0 * p.length / f for p, f in zip(paths, feeds))
-    if seconds <= 0 or seconds >= settings.min_layer_time:
+    """Deposit feeds; when the layer (deposits and the travels between them) would take
+    under `min_layer_time`, every feed is capped at the one speed that makes it take that
+    long, but not below `min_speed` (PrusaSlicer's cooling slowdown)."""
+    feeds = [settings.feeds.for_path(p) for p in paths]
+    gaps = sum(float(np.linalg.norm(b.points[0] - a.points[-1])) for a, b in zip(paths, paths[1:]))
+    travel = 60.0 * gaps / settings.feeds.travel
+    lengths = [p.length for p in paths]
+
+    def seconds(cap: float) -> float:
+        return travel + sum(60.0 * length / min(f, cap) for length, f in zip(lengths, feeds))
+
+    if not paths or seconds(max(feeds)) >= settings.min_layer_time:
         return feeds
-    scale = seconds / settings.min_layer_time
-    return [max(min(f, settings.min_speed), f * scale) for f in feeds]
+    low = min(settings.min_speed, max(feeds))
+    if seconds(low) <= settings.min_layer_time:
+        return [min(f, low) for f in feeds]
+    high = max(feeds)
+    for _ in range(CAP_STEPS):              # seconds(cap) falls as the cap rises
+        middle = 0.5 * (low + high)
+        if seconds(middle) > settings.min_layer_time:
+            low = middle
+        else:
+            high = middle
+    return [min(f, high) for f in feeds]
 
 
 def assemble(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSettings,
@@ -145,7 +186,7 @@ def assemble(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSett
                 first = False
                 builder.event("extruder_on")
                 builder.add_segment(path.points[1:], new_axis, kind="deposit", feed=feed, tool=tool,
-                                    flow=width * path.thickness)
+                                    flow=bead_area(width, path.thickness, settings.fill.bead_model))
                 builder.event("extruder_off")
                 position, axis = path.points[-1], new_axis
                 all_paths.append(path)

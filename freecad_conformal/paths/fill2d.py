@@ -1,10 +1,15 @@
 """2D deposition paths of one layer (shapely): perimeters, zigzag infill, seams, travel order.
 
-- Perimeters: the region offset inwards by (k + ½)·bead width, k = 0..perimeters−1 (mitred
-  corners), outer boundaries and holes alike; printed innermost first, the external one last
-  (its surface is the part's, so it goes on last, as slicers do).
-- Infill: what is left inside the last perimeter; sparse where `density` < 1 (line spacing
-  bead width / density), solid (spacing = bead width) in `solid` areas (top/bottom skins).
+- Perimeters: the external one's centre half a bead width inside the region, each further
+  one a bead spacing (`paths.bead`: the distance that fills the slab, for the layer height)
+  further in (mitred corners), outer boundaries and holes alike; printed innermost first,
+  the external one last (its surface is the part's, so it goes on last, as slicers do).
+- Infill: what is left inside the last perimeter, reaching `infill_overlap` of a spacing
+  into it so the two bond (PrusaSlicer's infill_overlap; lines end `LINE_END_INSET` of a
+  spacing short of that edge, as PrusaSlicer's do); sparse where `density` < 1 (line
+  spacing = bead spacing / density), solid (one bead spacing) in `solid` areas (top/bottom
+  skins) and in sparse pieces smaller than `solid_below_area` (PrusaSlicer's
+  solid_infill_below_area: a sparse grid in a small region carries nothing).
   Lines are zigzags linked by short connectors that stay inside the infill area, along the
   direction that needs the fewest turns (or a given angle), turned 90° on odd layers.
 - Seams: "aligned" (the rearmost vertex: +v), "nearest" (closest to the nozzle) or
@@ -23,6 +28,7 @@ from shapely import affinity
 from shapely.geometry import LineString, MultiLineString, MultiPolygon, Polygon
 
 from freecad_conformal.errors import PlanError
+from freecad_conformal.paths.bead import BEAD_MODELS, bead_spacing
 
 ROLES = ("external_perimeter", "perimeter", "infill", "solid_infill")
 SEAMS = ("aligned", "nearest", "sharpest")
@@ -33,6 +39,11 @@ MITRE_LIMIT = 2.0
 
 #: Angles tried for the fewest-turns infill direction (every 15° over a half turn).
 CANDIDATE_ANGLES = tuple(math.radians(a) for a in range(0, 180, 15))
+
+#: Infill lines end this fraction of a bead spacing inside the infill area (PrusaSlicer's
+#: 0.5 − INFILL_OVERLAP_OVER_SPACING): with the default 25 % overlap they reach 5 % of a
+#: spacing into the innermost perimeter, enough to bond without overfilling.
+LINE_END_INSET = 0.2
 
 #: Loops shorter than this many bead widths are dust left by offsetting thin features.
 MIN_LOOP_WIDTHS = 2.0
@@ -61,7 +72,10 @@ class Path2D:
 @dataclass
 class FillSettings:
     """Bead width (mm), perimeter count, sparse density 0..1, infill angle (rad, None: fewest
-    turns), 90° alternation on odd layers, and seam placement."""
+    turns), 90° alternation on odd layers, seam placement, bead model (`paths.bead`),
+    infill overlap into the innermost perimeter (fraction of a bead spacing) and the area
+    (mm²) under which a sparse infill piece is printed solid. The defaults are
+    PrusaSlicer's (rounded beads, 25 %, 70 mm²)."""
 
     bead_width: float = 0.4
     perimeters: int = 2
@@ -69,6 +83,9 @@ class FillSettings:
     angle: float | None = None
     alternate: bool = True
     seam: str = "aligned"
+    bead_model: str = "rounded"
+    infill_overlap: float = 0.25
+    solid_below_area: float = 70.0
 
     def validate(self) -> None:
         if not (isinstance(self.bead_width, (int, float)) and math.isfinite(self.bead_width)
@@ -82,6 +99,13 @@ class FillSettings:
             raise PlanError(f"infill angle must be finite, got {self.angle!r}")
         if self.seam not in SEAMS:
             raise PlanError(f"seam {self.seam!r} is not one of {', '.join(SEAMS)}")
+        if self.bead_model not in BEAD_MODELS:
+            raise PlanError(f"bead model {self.bead_model!r} is not one of {', '.join(BEAD_MODELS)}")
+        if not (math.isfinite(self.infill_overlap) and 0.0 <= self.infill_overlap < 1.0):
+            raise PlanError(f"infill overlap must be a fraction 0..1 of a bead spacing, "
+                            f"got {self.infill_overlap!r}")
+        if not (math.isfinite(self.solid_below_area) and self.solid_below_area >= 0.0):
+            raise PlanError(f"solid infill area threshold must be >= 0 mm2, got {self.solid_below_area!r}")
 
 
 def polygons_of(geometry) -> list[Polygon]:
@@ -92,11 +116,15 @@ def polygons_of(geometry) -> list[Polygon]:
     return [g for g in getattr(geometry, "geoms", []) if g.geom_type == "Polygon" and not g.is_empty]
 
 
-def perimeter_rings(island: Polygon, width: float, count: int) -> list[list[np.ndarray]]:
-    """Rings per depth (0 = external): each an (N, 2) closed polyline."""
+def perimeter_rings(island: Polygon, width: float, count: int,
+                    spacing: float | None = None) -> list[list[np.ndarray]]:
+    """Rings per depth (0 = external, half a width in; each next one `spacing` further,
+    default the width): each an (N, 2) closed polyline."""
+    spacing = width if spacing is None else spacing
     depths = []
     for k in range(count):
-        offset = island.buffer(-(k + 0.5) * width, join_style="mitre", mitre_limit=MITRE_LIMIT)
+        offset = island.buffer(-(0.5 * width + k * spacing), join_style="mitre",
+                               mitre_limit=MITRE_LIMIT)
         rings = [np.asarray(ring.coords) for poly in polygons_of(offset)
                  for ring in [poly.exterior, *poly.interiors] if ring.length >= MIN_LOOP_WIDTHS * width]
         if not rings:
@@ -219,7 +247,7 @@ def _nearest(candidates: list[Path2D], position: np.ndarray, reversible: bool) -
 
 
 def fill_layer(region, settings: FillSettings, layer_index: int = 0, solid=None,
-               position: np.ndarray | None = None) -> list[Path2D]:
+               position: np.ndarray | None = None, height: float | None = None) -> list[Path2D]:
     """Ordered paths of one layer: per island, perimeters (innermost first) then infill.
 
     Args:
@@ -228,27 +256,28 @@ def fill_layer(region, settings: FillSettings, layer_index: int = 0, solid=None,
         layer_index: parity picks the alternate infill direction.
         solid: area printed at 100 % (skins); None for none.
         position: the nozzle's position before the layer (seams "nearest", ordering).
+        height: the layer's (mean) thickness, for the bead spacing; None: beads a width apart.
     """
     settings.validate()
-    width = settings.bead_width
+    spacing = bead_spacing(settings.bead_width, height, settings.bead_model)
     here = np.zeros(2) if position is None else np.asarray(position, dtype=float)
     islands = polygons_of(region)
     ordered: list[Path2D] = []
     while islands:
         k = int(np.argmin([island.exterior.distance(shapely.Point(here)) for island in islands]))
         island = islands.pop(k)
-        paths = _island_paths(island, settings, layer_index, solid, here)
+        paths = _island_paths(island, settings, spacing, layer_index, solid, here)
         ordered.extend(paths)
         if paths:
             here = paths[-1].points[-1]
     return ordered
 
 
-def _island_paths(island: Polygon, settings: FillSettings, layer_index: int, solid,
-                  here: np.ndarray) -> list[Path2D]:
+def _island_paths(island: Polygon, settings: FillSettings, spacing: float, layer_index: int,
+                  solid, here: np.ndarray) -> list[Path2D]:
     width = settings.bead_width
     paths: list[Path2D] = []
-    depths = perimeter_rings(island, width, settings.perimeters)
+    depths = perimeter_rings(island, width, settings.perimeters, spacing)
     for depth in reversed(range(len(depths))):
         role = "external_perimeter" if depth == 0 else "perimeter"
         rings = list(depths[depth])
@@ -258,22 +287,26 @@ def _island_paths(island: Polygon, settings: FillSettings, layer_index: int, sol
             ring = start_ring_at(ring, _seam_index(ring, settings.seam, here))
             paths.append(Path2D(ring, role, closed=True))
             here = ring[-1]
-    inner = island.buffer(-len(depths) * width, join_style="mitre", mitre_limit=MITRE_LIMIT) \
-        if depths else island
+    inset = 0.5 * width + (len(depths) - 0.5 - settings.infill_overlap + LINE_END_INSET) * spacing
+    inner = island.buffer(-inset, join_style="mitre", mitre_limit=MITRE_LIMIT) if depths else island
     if inner.is_empty:
         return paths
     dense = inner.intersection(solid) if solid is not None and not solid.is_empty else Polygon()
     sparse = inner.difference(dense) if not dense.is_empty else inner
+    small = [p for p in polygons_of(sparse) if p.area < settings.solid_below_area]
+    if small and settings.density < 1.0:
+        dense = dense.union(MultiPolygon(small))
+        sparse = sparse.difference(MultiPolygon(small))
     infill: list[Path2D] = []
-    for area, spacing, role in ((dense, width, "solid_infill"),
-                                (sparse, width / settings.density if settings.density > 0 else 0.0,
-                                 "infill")):
-        if area.is_empty or spacing <= 0 or area.area < width * width:
+    for area, pitch, role in ((dense, spacing, "solid_infill"),
+                              (sparse, spacing / settings.density if settings.density > 0 else 0.0,
+                               "infill")):
+        if area.is_empty or pitch <= 0 or area.area < width * width:
             continue
-        angle = settings.angle if settings.angle is not None else fewest_turns_angle(area, spacing)
+        angle = settings.angle if settings.angle is not None else fewest_turns_angle(area, pitch)
         if settings.alternate and layer_index % 2:
             angle += math.pi / 2
-        infill += zigzag(area, spacing, angle, width, role)
+        infill += zigzag(area, pitch, angle, width, role)
     while infill:
         k, flip = _nearest(infill, here, reversible=True)
         path = infill.pop(k)

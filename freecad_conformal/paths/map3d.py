@@ -28,6 +28,7 @@ class Path3D:
     subpart: int
     layer: int
     thickness: float
+    closed: bool = False
 
     @property
     def length(self) -> float:
@@ -38,7 +39,7 @@ def map_paths(layer: Layer, paths: Sequence[Path2D]) -> list[Path3D]:
     """Map a layer's ordered 2D paths onto its top plane with the tool along the top normal."""
     return [Path3D(points=layer.to_3d(path.points), axis=np.array(layer.top_normal, dtype=float),
                    role=path.role, subpart=layer.subpart, layer=layer.index,
-                   thickness=layer.thickness)
+                   thickness=layer.thickness, closed=path.closed)
             for path in paths]
 
 

@@ -58,10 +58,10 @@ def move_times(lengths: np.ndarray, speeds: np.ndarray, junction: np.ndarray,
     return np.where(cruise >= 0, trapezoid, triangle)
 
 
-def estimate_time(tp: Toolpath, acceleration: float, jerk: float = DEFAULT_JERK,
-                  max_feed: float | None = None, rapid_feed: float | None = None) -> float:
-    """Seconds to run `tp` (tool-tip motion; feeds in mm/min, work moves capped at
-    `max_feed`, travel moves at most `rapid_feed`: the machine's own limits)."""
+def move_seconds(tp: Toolpath, acceleration: float, jerk: float = DEFAULT_JERK,
+                 max_feed: float | None = None,
+                 rapid_feed: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(seconds, segment index) of every move of `tp` that has a length (see estimate_time)."""
     lengths = tp.move_lengths()[1:]
     keep = lengths > 1e-9
     segment = tp.segment_index[1:]
@@ -72,8 +72,17 @@ def estimate_time(tp: Toolpath, acceleration: float, jerk: float = DEFAULT_JERK,
     if rapid_feed is not None:
         feed = np.where(travel, np.minimum(feed, rapid_feed), feed)
     lengths, speeds = lengths[keep], feed[keep] / 60.0
+    if not len(lengths):
+        return np.zeros(0), np.zeros(0, dtype=np.int64)
     steps = np.diff(tp.points, axis=0)[keep]
     directions = steps / lengths[:, None]
     junction = junction_speeds(directions, speeds, jerk)
-    seconds = float(move_times(lengths, speeds, junction, acceleration).sum()) if len(lengths) else 0.0
-    return seconds + sum(e.seconds for e in tp.events if e.action == "dwell")
+    return move_times(lengths, speeds, junction, acceleration), segment[keep]
+
+
+def estimate_time(tp: Toolpath, acceleration: float, jerk: float = DEFAULT_JERK,
+                  max_feed: float | None = None, rapid_feed: float | None = None) -> float:
+    """Seconds to run `tp` (tool-tip motion; feeds in mm/min, work moves capped at
+    `max_feed`, travel moves at most `rapid_feed`: the machine's own limits)."""
+    seconds, _ = move_seconds(tp, acceleration, jerk, max_feed, rapid_feed)
+    return float(seconds.sum()) + sum(e.seconds for e in tp.events if e.action == "dwell")

@@ -14,6 +14,7 @@ import numpy as np
 
 from freecad_conformal.errors import KinematicsError, PlanError
 from freecad_conformal.fileio import atomic_write, write_text_atomic
+from freecad_conformal.paths.bead import bead_area
 from freecad_conformal.paths.assemble import Assembly, PathSettings, assemble
 from freecad_conformal.paths.timing import DEFAULT_JERK, estimate_time
 from freecad_conformal.planning.layers import Layer, LayerSettings, check_thickness, plan_layers
@@ -205,7 +206,8 @@ def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
     post = post_toolpath(assembly.toolpath, machine, options.dialect)
     seconds = estimate_time(assembly.toolpath, machine.acceleration, options.jerk,
                             max_feed=machine.max_feed, rapid_feed=machine.rapid_feed)
-    summaries = [_subpart_summary(sub, layers[sub.index], assembly, width) for sub in plan.ordered()
+    summaries = [_subpart_summary(sub, layers[sub.index], assembly, width, path_settings.fill.bead_model)
+                 for sub in plan.ordered()
                  if layers[sub.index]]
     plan.notes.extend(notes)
     return JobResult(part=part, plan=plan, layers=layers, assembly=assembly, post=post,
@@ -213,10 +215,11 @@ def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
                      bead_width=width, time_s=seconds, subparts=summaries)
 
 
-def _subpart_summary(sub, layers: list[Layer], assembly: Assembly, width: float) -> SubPartSummary:
+def _subpart_summary(sub, layers: list[Layer], assembly: Assembly, width: float,
+                     bead_model: str) -> SubPartSummary:
     mine = [p for p in assembly.paths if p.subpart == sub.index]
     length = float(sum(p.length for p in mine))
-    material = float(sum(p.length * width * p.thickness for p in mine))
+    material = float(sum(p.length * bead_area(width, p.thickness, bead_model) for p in mine))
     return SubPartSummary(
         index=sub.index, name=sub.name or f"sub-part {sub.index}",
         direction=np.asarray(sub.build_direction, dtype=float), layers=len(layers),
@@ -224,6 +227,20 @@ def _subpart_summary(sub, layers: list[Layer], assembly: Assembly, width: float)
         thickness_max=max(layer.thickness_max for layer in layers),
         tilted_layers=sum(layer.tilted for layer in layers), deposit_length=length,
         material=material, overhang_area=float(sub.overhang_area))
+
+
+def decompose_reachable(shape, options: PlanOptions, decompose=None):
+    """(placed shape, BuildPlan): the decomposition of the part as placed, or, when the
+    machine cannot reach one of its sub-parts, of the part turned so another axis direction
+    is up (`planning.placement`; the plan notes the turn)."""
+    from freecad_conformal.planning.placement import reachable_plan
+
+    if decompose is None:
+        from freecad_conformal.planning.decompose import decompose
+    machine = load_machine(options.machine)
+    placed, plan, _ = reachable_plan(shape, lambda s: decompose(s, tool=options.tool),
+                                     lambda p: check_reach(machine, p))
+    return placed, plan
 
 
 def single_plan(shape, direction=(0.0, 0.0, 1.0)) -> BuildPlan:
