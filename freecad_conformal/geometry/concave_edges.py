@@ -96,9 +96,34 @@ def edge_angles(solid) -> list[EdgeAngle]:
         edge = edges[edge_index]
         if edge.Length <= 0 or edge.isSeam(faces[pair[0]]):
             continue
-        angle = _inner_angle(App, edge, faces[pair[0]], faces[pair[1]])
+        angle = _cached_angle(App, edge, faces[pair[0]], faces[pair[1]])
         result.append(EdgeAngle(edge_index, (pair[0], pair[1]), angle, edge))
     return result
+
+
+#: Inner angles already measured, by edge identity: the decomposition asks again for every
+#: piece, and a split leaves most edges and their faces untouched (same TShapes). Entries
+#: keep their shapes alive (no recycled addresses); a hit needs the same edge and faces
+#: (`isSame`) in the same orientations, which fix the normals the angle is read from.
+_ANGLES: dict[int, list[tuple[tuple, float]]] = {}
+MAX_CACHED_ANGLES = 20000
+
+
+def _same(a, b) -> bool:
+    return a.isSame(b) and a.Orientation == b.Orientation
+
+
+def _cached_angle(App, edge, face1, face2) -> float:
+    bucket = _ANGLES.setdefault(edge.hashCode(), [])
+    for (e, f1, f2), angle in bucket:
+        if _same(e, edge) and _same(f1, face1) and _same(f2, face2):
+            return angle
+    if sum(len(b) for b in _ANGLES.values()) >= MAX_CACHED_ANGLES:
+        _ANGLES.clear()
+        bucket = _ANGLES.setdefault(edge.hashCode(), [])
+    angle = _inner_angle(App, edge, face1, face2)
+    bucket.append(((edge, face1, face2), angle))
+    return angle
 
 
 def _inner_angle(App, edge, face1, face2) -> float:

@@ -17,9 +17,11 @@ from typing import Sequence
 import numpy as np
 
 from freecad_conformal.errors import GeometryError, PlanError
-from freecad_conformal.geometry.concave_edges import concave_edges
 from freecad_conformal.geometry.solids import solids_of
 from freecad_conformal.geometry.splitting_faces import SplitCandidate, split_solid
+from freecad_conformal.planning.cuts import (MAX_EXACT_CUTS, SAVING_TIE, LazyAxis,
+                                             SavingEstimate, area_jump_candidates, axis_first,
+                                             face_candidates)
 from freecad_conformal.planning.rotation import rotation_to
 from freecad_conformal.planning.subparts import BuildPlan, SubPart
 from freecad_conformal.planning.support import (DEFAULT_OVERHANG_ANGLE, best_single_direction,
@@ -39,15 +41,6 @@ BUILD_AXIS = np.array([0.0, 0.0, 1.0])
 #: be worth a new sub-part: below it the split only adds a rotation and a seam.
 MIN_SAVING = 1e-3
 MIN_SAVING_FRACTION = 1e-4
-
-#: Candidate cuts split exactly per refinement step, best estimated saving first: the
-#: estimate ranks well enough that the winner is among the first few, and each exact split
-#: is a Boolean plus an overhang evaluation of every piece.
-MAX_EXACT_CUTS = 3
-
-#: Area-jump planes (largest ∂ first) whose saving is estimated: the mesh profile and the
-#: estimate are cheap, so all jumps of a piece are ranked by what they could save.
-JUMP_PLANES = 64
 
 #: Two directions within this angle (rad) are the same build direction.
 SAME_DIRECTION = math.radians(1.0)
@@ -126,7 +119,7 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
                     notes.extend(trial_notes)
                     notes.append(f"solid {solid_index + 1}: root built along "
                                  f"{_text(direction)} (less overhang than as placed)")
-        axes.append(axis)
+        axes.append(_label(axis, refined))
         first = len(pieces)
         pieces.extend(refined)
         parents.extend(_parents_of(refined, first))
@@ -142,12 +135,23 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
 
 def _plan_solid(solid, solid_index: int, root: np.ndarray, angle: float, method: str,
                 axis_step: float | None, budget: int, notes: list[str]):
-    """The centroidal axis of one solid from `root` and its refined pieces."""
+    """The centroidal axis of one solid from `root` (computed when first needed) and its
+    refined pieces."""
     from freecad_conformal.geometry.centroidal_axis import centroidal_axis
 
-    axis = centroidal_axis(solid, method=method, step=axis_step, start_direction=root)
+    axis = LazyAxis(lambda: centroidal_axis(solid, method=method, step=axis_step,
+                                            start_direction=root))
     start = _Piece(solid, root, [], solid_index, "root")
     return axis, _refine(start, angle, axis, budget=budget, notes=notes)
+
+
+def _label(axis: LazyAxis, pieces: list[_Piece]):
+    """The solid's axis; cuts along splitting faces meeting its criteria become "axis-face"."""
+    for piece in pieces:
+        if piece.rule in ("concave-face", "axis-face"):
+            probe = SplitCandidate(np.zeros(3), piece.direction, piece.base_faces[0], piece.rule)
+            piece.rule = "axis-face" if axis.supports(probe) else "concave-face"
+    return axis.get()
 
 
 def _total(pieces: list[_Piece]) -> float:
@@ -214,12 +218,14 @@ def _refine(piece: _Piece, angle: float, axis, budget: int, notes: list[str]) ->
                          "of overhang left")
         return [piece]
     needed = max(MIN_SAVING, MIN_SAVING_FRACTION * piece.overhang)
-    estimate = _SavingEstimate(piece, angle, report)
-    best = _best_cut(piece, _face_candidates(piece, axis, estimate, needed), angle, estimate)
+    estimate = SavingEstimate(piece.shape, angle, report)
+    best = _best_cut(piece, face_candidates(piece.shape, estimate, needed), angle, estimate,
+                     axis)
     if best is None or best[0] > piece.overhang - needed:
         # Section 4's area-jump rule only where no splitting face helps: its sections along
         # three axes cost more than everything else here.
-        best = _best_cut(piece, _area_jump_candidates(piece, estimate, needed), angle, estimate)
+        best = _best_cut(piece, area_jump_candidates(piece.shape, piece.direction, estimate,
+                                                     needed), angle, estimate)
     if best is None or best[0] > piece.overhang - needed:
         return [piece]
     _, keeper, children = best
@@ -235,118 +241,29 @@ def _report(piece: _Piece, angle: float):
 
 
 def _best_cut(piece: _Piece, candidates: list[SplitCandidate], angle: float,
-              estimate: "_SavingEstimate"):
+              estimate: SavingEstimate, axis: LazyAxis | None = None):
     """The candidate cut leaving the least total overhang: (total, keeper, children).
 
     Candidates are ranked first by the overhang they could save (read from the piece's
-    overhanging faces, no Boolean) and only the best few are split exactly.
+    overhanging faces, no Boolean) and only the best few (and any tied with the last of
+    them) are split exactly; among tied ones, those meeting the axis criteria come first.
     """
     needed = max(MIN_SAVING, MIN_SAVING_FRACTION * piece.overhang)
     ranked = sorted(((estimate.saving(c), i, c) for i, c in enumerate(candidates)),
                     key=lambda item: (-item[0], item[1]))
+    ranked = [r for r in ranked if r[0] > needed]
+    chosen = ranked[:MAX_EXACT_CUTS]
+    for item in ranked[MAX_EXACT_CUTS:]:
+        if item[0] < chosen[-1][0] - SAVING_TIE:
+            break
+        chosen.append(item)
+    trials = [(saving, candidate, _try_cut(piece, candidate, angle))
+              for saving, _, candidate in chosen]
     best = None
-    for _, _, candidate in [r for r in ranked if r[0] > needed][:MAX_EXACT_CUTS]:
-        trial = _try_cut(piece, candidate, angle)
+    for _, _, trial in axis_first(trials, axis, MIN_SAVING):
         if trial is not None and (best is None or trial[0] < best[0] - MIN_SAVING):
             best = trial
     return best
-
-
-class _SavingEstimate:
-    """How much overhang a cut could save: the piece's overhanging faces on one side of the
-    plane, re-read in the direction that side would be built in (the plane's normal away
-    from the other side). An estimate for ranking: the exact split decides. It reads only
-    the plane, so planes are ranked before their regions are computed."""
-
-    def __init__(self, piece: _Piece, angle: float, report) -> None:
-        from freecad_conformal.planning.support import face_mesh, plane_normal
-
-        self.threshold = math.sin(angle)
-        faces = piece.shape.Faces
-        self.faces = []
-        for index, area in report.faces:
-            face = faces[index]
-            normal = plane_normal(face)
-            shape = normal if normal is not None else face_mesh(face)
-            self.faces.append((np.array(tuple(face.CenterOfMass)), area, shape))
-
-    def _overhang(self, shape, area: float, d: np.ndarray) -> float:
-        if isinstance(shape, np.ndarray):
-            return area if shape @ d < -self.threshold else 0.0
-        return min(area, shape.overhang(d, self.threshold))
-
-    def bound(self, normal: np.ndarray) -> float:
-        """The most any plane normal to ±`normal` could save by `saving`: every overhanging
-        face on the one side (so an axis whose bound is too small needs no sections)."""
-        return max(sum(area - self._overhang(shape, area, sign * normal)
-                       for _, area, shape in self.faces) for sign in (1.0, -1.0))
-
-    def saving(self, candidate: SplitCandidate) -> float:
-        n = candidate.normal
-        sides = {1.0: 0.0, -1.0: 0.0}
-        for centre, area, shape in self.faces:
-            side = 1.0 if (centre - candidate.point) @ n > 0 else -1.0
-            sides[side] += area - self._overhang(shape, area, side * n)
-        return max(sides.values())
-
-
-def _area_jump_candidates(piece: _Piece, estimate: _SavingEstimate,
-                          needed: float) -> list[SplitCandidate]:
-    """Regions of the area-jump planes whose estimated saving is worth a cut; the planes are
-    ranked before their regions are computed (a section Boolean and inside tests each)."""
-    from freecad_conformal.geometry.area_jumps import area_jump_planes, plane_candidates
-
-    planes = []
-    for _, point, normal in area_jump_planes(piece.shape, piece.direction,
-                                             skip=lambda axis: estimate.bound(axis) <= needed,
-                                             exact=False, limit=JUMP_PLANES):
-        saving = estimate.saving(SplitCandidate(point, normal, None, "area-jump"))
-        if saving > needed:
-            planes.append((saving, point, normal))
-    planes.sort(key=lambda item: -item[0])
-    candidates: list[SplitCandidate] = []
-    for _, point, normal in planes[:MAX_EXACT_CUTS]:
-        candidates.extend(plane_candidates(piece.shape, point, normal))
-    return candidates
-
-
-#: Two estimated savings closer than this (mm²) are a tie: regions of all tied planes are
-#: computed, so the axis criteria still break the tie as before.
-SAVING_TIE = 1e-9
-
-
-def _face_candidates(piece: _Piece, axis, estimate: _SavingEstimate,
-                     needed: float) -> list[SplitCandidate]:
-    """Concave-face regions worth an exact cut, those meeting the axis criteria first
-    (METHODS section 3). Planes are ranked by estimated saving first and regions computed
-    only for the best ones, enough to fill the exact cuts `_best_cut` makes."""
-    from freecad_conformal.geometry.splitting_faces import candidate_planes, plane_regions
-
-    planes = [(estimate.saving(plane.probe()), order, plane) for order, plane
-              in enumerate(candidate_planes(piece.shape, concave_edges(piece.shape)))]
-    planes = sorted((p for p in planes if p[0] > needed), key=lambda item: (-item[0], item[1]))
-    candidates: list[SplitCandidate] = []
-    last = None
-    for saving, _, plane in planes:
-        if len(candidates) >= MAX_EXACT_CUTS and saving < last - SAVING_TIE:
-            break
-        regions = plane_regions(piece.shape, plane)
-        if regions:
-            candidates.extend(regions)
-            last = saving
-    for candidate in candidates:
-        if axis.supports_split(candidate.normal, _boundary_points(candidate.region)):
-            candidate.rule = "axis-face"
-    # Stable: best plane first, and within a tie, regions meeting the axis criteria first.
-    order = {id(c): i for i, c in enumerate(candidates)}
-    return sorted(candidates, key=lambda c: (-estimate.saving(c), 0 if c.rule == "axis-face" else 1,
-                                             c.face_index if c.face_index is not None else -1,
-                                             order[id(c)]))
-
-
-def _boundary_points(face) -> np.ndarray:
-    """Points of a face's outer boundary (vertices and a few points along curved edges)."""
-    return np.array([tuple(p) for p in face.OuterWire.discretize(Number=32)])
 
 
 def _try_cut(piece: _Piece, candidate: SplitCandidate, angle: float):
@@ -381,8 +298,9 @@ def _holds_base(shape, piece: _Piece) -> bool:
     """Whether `shape` carries the piece's base faces (always true for a root on the bed)."""
     if not piece.base_faces:
         return True
-    return any(shape.distToShape(face)[0] < LEVEL_TOLERANCE and _touch_area(shape, face) > 0
-               for face in piece.base_faces)
+    # A shared area implies contact: no distance query needed (distToShape on B-spline
+    # pieces cost more than the split itself).
+    return any(_touch_area(shape, face) > 0 for face in piece.base_faces)
 
 
 def _touch_area(shape, region) -> float:
