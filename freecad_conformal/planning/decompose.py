@@ -6,7 +6,9 @@ planes of faces with concave edges, checked against the centroidal axis' break l
 (section 3), then the area-jump planes of section 4. The cut that leaves the least total
 overhang wins, the piece beyond it becomes a child built away from its parent along the
 plane's normal, and both halves are refined again. A cut that saves nothing is not made,
-so a part that is already support-free stays whole.
+so a part that is already support-free stays whole, except where several members leave one
+face along the build direction (a table's legs): those become sub-parts built on it, as in
+section 4's partition (planning/members.py).
 """
 from __future__ import annotations
 
@@ -216,7 +218,7 @@ def _refine(piece: _Piece, angle: float, axis, budget: int, notes: list[str]) ->
         if budget <= 1 and piece.overhang > MIN_SAVING:
             notes.append(f"stopped splitting at the sub-part limit with {piece.overhang:.3f} mm² "
                          "of overhang left")
-        return [piece]
+        return _members(piece, angle, axis, budget, notes)
     needed = max(MIN_SAVING, MIN_SAVING_FRACTION * piece.overhang)
     estimate = SavingEstimate(piece.shape, angle, report)
     best = _best_cut(piece, face_candidates(piece.shape, estimate, needed), angle, estimate,
@@ -227,8 +229,23 @@ def _refine(piece: _Piece, angle: float, axis, budget: int, notes: list[str]) ->
         best = _best_cut(piece, area_jump_candidates(piece.shape, piece.direction, estimate,
                                                      needed), angle, estimate)
     if best is None or best[0] > piece.overhang - needed:
-        return [piece]
+        return _members(piece, angle, axis, budget, notes)
     _, keeper, children = best
+    result = _refine(keeper, angle, axis, budget - len(children), notes)
+    for child in children:
+        result.extend(_refine(child, angle, axis, max(budget - len(result), 1), notes))
+    return result
+
+
+def _members(piece: _Piece, angle: float, axis, budget: int, notes: list[str]) -> list[_Piece]:
+    """The piece, or its base and the members leaving it (see `planning/members.py`), each
+    refined again."""
+    from freecad_conformal.planning.members import member_split
+
+    split = member_split(piece, angle, budget, _try_cut) if budget > 2 else None
+    if split is None:
+        return [piece]
+    keeper, children = split
     result = _refine(keeper, angle, axis, budget - len(children), notes)
     for child in children:
         result.extend(_refine(child, angle, axis, max(budget - len(result), 1), notes))
@@ -266,9 +283,15 @@ def _best_cut(piece: _Piece, candidates: list[SplitCandidate], angle: float,
     return best
 
 
-def _try_cut(piece: _Piece, candidate: SplitCandidate, angle: float):
-    """(total overhang after the cut, kept piece, children) or None when the cut is no use."""
-    pieces = split_solid(piece.shape, [candidate.region])
+def _try_cut(piece: _Piece, candidate: SplitCandidate, angle: float,
+             regions: list | None = None, same_direction: bool = False):
+    """(total overhang after the cut, kept piece, children) or None when the cut is no use.
+
+    `regions` (default: the candidate's) are cut at once, each child resting on the regions
+    it touches; `same_direction` lets children be built along the piece's own direction
+    (members, planning/members.py), which a cut made to save overhang never wants."""
+    regions = regions or [candidate.region]
+    pieces = split_solid(piece.shape, regions)
     if len(pieces) < 2:
         return None
     d = piece.direction
@@ -286,9 +309,12 @@ def _try_cut(piece: _Piece, candidate: SplitCandidate, angle: float):
             continue
         side = (np.array(tuple(shape.CenterOfMass)) - candidate.point) @ candidate.normal
         direction = candidate.normal if side > 0 else -candidate.normal
-        if math.acos(float(np.clip(direction @ d, -1, 1))) < SAME_DIRECTION:
+        if not same_direction and math.acos(float(np.clip(direction @ d, -1, 1))) < SAME_DIRECTION:
             return None
-        child = _Piece(shape, direction, [candidate.region], piece.solid_index, candidate.rule)
+        base = regions if len(regions) == 1 else [r for r in regions if _touch_area(shape, r) > 0]
+        if not base:
+            return None
+        child = _Piece(shape, direction, base, piece.solid_index, candidate.rule)
         total += _overhang(child, angle)
         children.append(child)
     return total, keeper, children

@@ -77,3 +77,34 @@ def test_plan_json_names_every_subpart_and_the_saving():
     assert [s["name"] for s in data["subparts"]] == ["P1", "P2"]
     assert data["support_area_saved"] == pytest.approx(plan.support_area_saved)
     assert data["axes"][0]["format"] == "conformal.axis/1"
+
+
+def _stool(legs: int):
+    """A 40 × 40 × 4 mm seat on `legs` round legs (∅4 mm, 20 mm long) under it."""
+    from freecad_conformal.freecad_env import import_freecad
+
+    App, Part = import_freecad()
+    seat = Part.makeBox(40, 40, 4, App.Vector(0, 0, 20))
+    spots = [(8, 8), (32, 8), (20, 32)][:legs]
+    for x, y in spots:
+        seat = seat.fuse(Part.makeCylinder(2, 20, App.Vector(x, y, 0)))
+    return seat.removeSplitter()
+
+
+def test_stool_turned_over_is_seat_then_each_leg_on_it():
+    stool = _stool(3)
+    plan = decompose(stool, root_direction=(0, 0, -1))
+    seat, *legs = plan.ordered()
+    assert len(legs) == 3
+    assert seat.volume == pytest.approx(40 * 40 * 4)
+    for leg in legs:
+        assert leg.parent == seat.index and leg.rule == "member"
+        np.testing.assert_allclose(leg.build_direction, [0, 0, -1], atol=1e-9)
+        assert leg.volume == pytest.approx(math.pi * 4 * 20)
+        assert leg.base_face.Area == pytest.approx(math.pi * 4)
+    assert plan.support_area == pytest.approx(0.0, abs=1e-6)
+
+
+def test_one_column_on_a_base_stays_whole():
+    plan = decompose(_stool(1), root_direction=(0, 0, -1))
+    assert len(plan.subparts) == 1

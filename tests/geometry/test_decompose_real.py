@@ -37,13 +37,27 @@ def check_reported_exactly(plan, shape) -> None:
         assert parent is None or plan.order.index(parent) < position
 
 
-def test_table_turned_whole_leaves_only_the_fillets_at_the_bed(parts_dir):
+def test_table_is_top_then_four_legs_with_only_the_fillets_at_the_bed(parts_dir):
     shape = load_shape(parts_dir / "MODERN_Table_1.brep")
     plan = decompose(shape, root_direction="auto")
     check_reported_exactly(plan, shape)
     assert plan.support_area <= plan.support_area_single_direction + AREA_TOLERANCE
-    root = plan.ordered()[0]
-    np.testing.assert_allclose(root.build_direction, [0, 0, -1], atol=1e-12)
+    assert len(plan.subparts) == 5
+    top, *legs = plan.ordered()
+    # The top first, turned over (its flat face on the bed, the one way it needs no support).
+    np.testing.assert_allclose(top.build_direction, [0, 0, -1], atol=1e-12)
+    assert top.parent is None and top.shape.BoundBox.ZMax == pytest.approx(60.0)
+    assert top.shape.BoundBox.ZMin == pytest.approx(57.0)
+    # Then the four legs, each on its own disc of the top's underside, grown along −Z.
+    for leg in legs:
+        assert leg.parent == top.index and leg.rule == "member"
+        np.testing.assert_allclose(leg.build_direction, [0, 0, -1], atol=1e-9)
+        box = leg.shape.BoundBox
+        assert (box.ZMin, box.ZMax) == (pytest.approx(0.0), pytest.approx(57.0))
+        # (OCC boxes of cylinders are a little loose)
+        assert box.XLength == pytest.approx(5.0, abs=0.01) and box.YLength == pytest.approx(5.0, abs=0.01)
+        assert leg.overhang_area == pytest.approx(0.0, abs=AREA_TOLERANCE)
+        assert leg.base_face.Area == pytest.approx(np.pi * 2.5 ** 2)
     # What remains: the 1 mm edge round of the top, on the bed side once it is turned over.
     for sub in plan.subparts:
         for name in sub.overhang_faces:
