@@ -178,7 +178,7 @@ def plan_layers(subpart: SubPart, settings: LayerSettings) -> list[Layer]:
     if settings.tilt and len(layers) > 2:
         from freecad_conformal.planning.tilted import axis_bends, tilted_layers
 
-        if axis_bends(layers):
+        if axis_bends(layers, settings.bounds):
             layers = tilted_layers(subpart, slicer, low, high, settings)
     return layers
 

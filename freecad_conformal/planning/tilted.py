@@ -7,10 +7,25 @@ than ΔL_min or thicker than ΔL_max anywhere over the section, D_up is bisected
 D_low (D_up ← (D_up + D_low)/2) until it fits or the two are within `PARALLEL_ANGLE`; then
 Δ shrinks by a quarter and the search repeats. A slab that cannot fit even at ΔL_min is
 refused with a PlanError naming the layer and its thickness range.
+
+Robustness: planes a hair off the build direction meet the faces square to it (a boss's
+top, a step) almost tangentially, and OCC's section wires then come out degenerate (their
+discretization ran away to 24 GB or aborted the process on CrankArm). Tilts accumulate
+over a stack (0.15° one way, 0.149° back), so every normal within `PARALLEL_ANGLE` of the
+build direction snaps to it exactly.
+
+Cost: each tilted plane is its own OCC Boolean (planar layers share one per 32 planes), so
+a trial plane is first checked against the lower section's boundary alone (numpy: the
+slab's thickness over the lower section), and cut only when that fits; a layer then costs
+about three cuts (the probe, the upper plane, the middle plane). Slicers are kept for the
+last few normals only, so a long bend does not hold one slicer per layer. Centroids come
+from the section's polygons in its own frame; a section without a finite centroid (a
+plane grazing a face) ends the tilted stack there instead of passing NaN on.
 """
 from __future__ import annotations
 
 import math
+from collections import OrderedDict
 
 import numpy as np
 from shapely.geometry import MultiPolygon
@@ -37,6 +52,10 @@ BEND_MAX_ANGLE = math.radians(45.0)
 #: A window whose area changes by more than this ratio is a geometric change, not a bend.
 BEND_AREA_RATIO = 1.25
 
+#: The least turn per layer worth tilting for: ten layers to follow the gentlest bend
+#: worth following (`BEND_MIN_ANGLE`).
+MIN_TURN = BEND_MIN_ANGLE / 10.0
+
 #: Planes closer than this angle count as parallel: bisection stops there (METHODS' ε).
 PARALLEL_ANGLE = math.radians(0.1)
 
@@ -44,9 +63,28 @@ PARALLEL_ANGLE = math.radians(0.1)
 #: final parallel try and margin.
 MAX_BISECTIONS = 14
 
+#: Slicers kept (one per plane normal): the probe and the lower plane share the current
+#: normal, the trial and middle planes each bring a new one; older ones are not reused.
+SLICER_CACHE = 4
 
-def axis_bends(layers: list[Layer]) -> bool:
-    """True when the centroids of successive planar layers drift as along a bent axis."""
+
+def turn_capacity(layer: Layer, d_min: float, d_max: float) -> float:
+    """The largest turn (rad) of the next plane about the layer's centroid that keeps the
+    slab within [ΔL_min, ΔL_max] over the layer's region (its farthest boundary point)."""
+    centre = np.array(layer.region.centroid.coords[0])
+    points = np.vstack([np.asarray(poly.exterior.coords) for poly in layer.region.geoms])
+    reach = float(np.linalg.norm(points - centre, axis=1).max())
+    slack = min(d_max - layer.thickness, layer.thickness - d_min)
+    if slack <= 0:
+        return 0.0
+    return math.atan2(slack, reach)
+
+
+def axis_bends(layers: list[Layer], bounds: tuple[float, float] | None = None) -> bool:
+    """True when the centroids of successive planar layers drift as along a bent axis (and,
+    given the thickness `bounds`, a plane can turn at least `MIN_TURN` per layer over the
+    sections there without leaving them: a section too wide for that would get 3-D layers
+    that all come out parallel, at three OCC cuts each)."""
     if len(layers) < 2:
         return False
     thickness = max(layers[0].thickness, 1e-9)
@@ -67,24 +105,51 @@ def axis_bends(layers: list[Layer]) -> bool:
         if length == 0.0:
             continue
         angle = math.acos(float(np.clip(drift @ n / length, -1.0, 1.0)))
-        if BEND_MIN_ANGLE <= angle <= BEND_MAX_ANGLE:
+        if not BEND_MIN_ANGLE <= angle <= BEND_MAX_ANGLE:
+            continue
+        if bounds is None:
+            return True
+        if min(turn_capacity(layers[j], *bounds) for j in (k, k + window)) >= MIN_TURN:
             return True
     return False
 
 
 class _Sections:
-    """Sections of one sub-part by planes of any normal (one slicer per normal, cached)."""
+    """Sections of one sub-part by planes of any normal (slicers of the last few normals
+    kept); `cuts` counts the OCC Booleans."""
 
-    def __init__(self, shape) -> None:
+    def __init__(self, shape, subpart: int) -> None:
         self.shape = shape
-        self._slicers: dict[tuple[float, ...], PlanarSlicer] = {}
+        self.subpart = subpart
+        self.cuts = 0
+        self._slicers: OrderedDict[tuple[float, ...], PlanarSlicer] = OrderedDict()
 
     def at(self, point: np.ndarray, normal: np.ndarray) -> PlanarSection:
+        if not (np.all(np.isfinite(point)) and np.all(np.isfinite(normal))):
+            raise PlanError(f"sub-part {self.subpart}: a 3-D layer plane is not finite (point "
+                            f"{np.round(point, 4).tolist()}, normal {np.round(normal, 4).tolist()})")
         key = tuple(np.round(normal, 12))
         slicer = self._slicers.get(key)
         if slicer is None:
             slicer = self._slicers[key] = PlanarSlicer(self.shape, normal)
+            while len(self._slicers) > SLICER_CACHE:
+                self._slicers.popitem(last=False)
+        else:
+            self._slicers.move_to_end(key)
+        self.cuts += 1
         return slicer.section(float(point @ slicer.frame.n))
+
+
+def section_centroid(section: PlanarSection) -> np.ndarray | None:
+    """The area centroid (3D) of a section's polygons, None when it has no finite one."""
+    if section.is_empty:
+        return None
+    region = as_multipolygon(section.polygons())
+    if region.is_empty or not region.area > 0:
+        return None
+    uv = np.array(region.centroid.coords[0], dtype=float)
+    point = section.frame.to_3d(uv[None], section.height)[0]
+    return point if np.all(np.isfinite(point)) else None
 
 
 def _points_3d(section: PlanarSection) -> np.ndarray:
@@ -101,6 +166,12 @@ def slab_thickness(lower: PlanarSection, lower_point: np.ndarray, lower_normal: 
     return float(both.min()), float(both.max())
 
 
+def _thickness_over(points: np.ndarray, plane_point: np.ndarray, normal: np.ndarray) -> tuple[float, float]:
+    """(min, max) distance from `points` up to the plane (`plane_point`, `normal`)."""
+    down = (plane_point - points) @ normal
+    return float(down.min()), float(down.max())
+
+
 def _angle(a: np.ndarray, b: np.ndarray) -> float:
     return math.acos(float(np.clip(a @ b, -1.0, 1.0)))
 
@@ -110,21 +181,21 @@ def tilted_layers(subpart: SubPart, slicer: PlanarSlicer, low: float, high: floa
     """3-D layers of a sub-part whose centroidal axis bends (see the module docstring)."""
     d_min, d_max = settings.bounds
     nominal = settings.thickness if settings.mode == "uniform" else d_max
-    sections = _Sections(subpart.shape)
+    sections = _Sections(subpart.shape, subpart.index)
     normal = slicer.frame.n
     lower = _first_section(slicer, low, high, nominal)
     plane_point = lower.height * normal
-    centroid = lower.centroid
+    centroid = section_centroid(lower)
     layers: list[Layer] = []
-    while True:
-        step = _next_plane(sections, lower, plane_point, centroid, normal, nominal, d_min, d_max,
-                           subpart.index, len(layers))
+    while centroid is not None:
+        step = _next_plane(sections, lower, plane_point, centroid, normal, slicer.frame.n, nominal,
+                           d_min, d_max, subpart.index, len(layers))
         if step is None:
             break
-        upper, upper_point, upper_normal, thin, thick = step
+        upper, upper_point, upper_normal, thin, thick, upper_centroid = step
         layers.append(_layer(sections, subpart.index, len(layers), plane_point, normal, upper_point,
                              upper_normal, thin, thick))
-        lower, plane_point, normal, centroid = upper, upper_point, upper_normal, upper.centroid
+        lower, plane_point, normal, centroid = upper, upper_point, upper_normal, upper_centroid
     layers.extend(_planar_top(subpart, sections, plane_point, normal, nominal, d_min, len(layers)))
     if not layers:
         raise PlanError(f"sub-part {subpart.index}: no 3-D layer fits between {d_min:g} and {d_max:g} mm")
@@ -145,29 +216,38 @@ def _first_section(slicer: PlanarSlicer, low: float, high: float, step: float) -
 
 
 def _next_plane(sections: _Sections, lower: PlanarSection, plane_point: np.ndarray,
-                centroid: np.ndarray, normal: np.ndarray, nominal: float, d_min: float,
-                d_max: float, subpart: int, index: int):
-    """The next plane (section, point, normal, thinnest, thickest), or None at the top."""
+                centroid: np.ndarray, normal: np.ndarray, build: np.ndarray, nominal: float,
+                d_min: float, d_max: float, subpart: int, index: int):
+    """The next plane (section, point, normal, thinnest, thickest, its centroid), or None at
+    the top (no material ahead, or no finite centroid there). A normal within
+    `PARALLEL_ANGLE` of the build direction `build` snaps to it exactly."""
     thickness = nominal
     worst: tuple[float, float] | None = None
+    below = _points_3d(lower)
     while thickness >= d_min - 1e-12:
         probe = sections.at(centroid + thickness * normal, normal)
-        if probe.is_empty:
+        ahead = section_centroid(probe)
+        if ahead is None:
             return None
-        drift = probe.centroid - centroid
-        direction = unit(drift, "centroidal axis") if np.linalg.norm(drift) > 0 else normal
+        drift = ahead - centroid
+        direction = unit(drift, "centroidal axis") if np.linalg.norm(drift) > 1e-12 else normal
         if _angle(direction, normal) > BEND_MAX_ANGLE:
             direction = normal
         for _ in range(MAX_BISECTIONS):
+            if _angle(direction, build) < PARALLEL_ANGLE:
+                direction = build
             point = centroid + thickness * direction
-            upper = sections.at(point, direction)
-            if upper.is_empty:
-                return None
-            thin, thick = slab_thickness(lower, plane_point, normal, upper, point, direction)
+            thin, thick = _thickness_over(below, point, direction)
             if d_min - 1e-9 <= thin and thick <= d_max + 1e-9:
-                return upper, point, direction, thin, thick
+                upper = sections.at(point, direction)
+                upper_centroid = section_centroid(upper)
+                if upper_centroid is None:
+                    return None
+                thin, thick = slab_thickness(lower, plane_point, normal, upper, point, direction)
+                if d_min - 1e-9 <= thin and thick <= d_max + 1e-9:
+                    return upper, point, direction, thin, thick, upper_centroid
             worst = (thin, thick)
-            if direction is normal:
+            if np.array_equal(direction, normal):
                 break
             direction = unit(direction + normal, "bisected axis direction")
             if _angle(direction, normal) < PARALLEL_ANGLE:

@@ -1,0 +1,85 @@
+"""3-D layers: robustness (no NaN planes, exact snap to the build direction, bounded slicer
+cache, no tilting where the section is too wide to turn) on top of test_layers' geometry."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from shapely.geometry import MultiPolygon, box
+
+from freecad_conformal.errors import PlanError
+from freecad_conformal.geometry import samples
+from freecad_conformal.geometry.frames import LayerFrame
+from freecad_conformal.planning import tilted
+from freecad_conformal.planning.layers import Layer, LayerSettings, check_thickness, plan_layers
+from freecad_conformal.planning.subparts import SubPart
+
+Z = np.array([0.0, 0.0, 1.0])
+
+
+def _sub(shape, direction=(0, 0, 1)):
+    return SubPart(index=3, shape=shape, build_direction=np.array(direction, dtype=float))
+
+
+def _layer(region, thickness=0.2) -> Layer:
+    frame = LayerFrame.for_direction(Z)
+    return Layer(subpart=0, index=0, frame=frame, section_height=0.0, region=MultiPolygon([region]),
+                 top_point=thickness * Z, top_normal=Z, thickness_min=thickness,
+                 thickness_max=thickness)
+
+
+def test_turn_capacity_is_the_slack_over_the_farthest_point():
+    layer = _layer(box(-3, -4, 3, 4))                      # farthest corner 5 mm from the centre
+    assert tilted.turn_capacity(layer, 0.1, 0.3) == pytest.approx(math.atan2(0.1, 5.0))
+    assert tilted.turn_capacity(layer, 0.2, 0.3) == 0.0    # no room below: no turn
+
+
+@pytest.fixture(scope="module")
+def rod():
+    return samples.inclined_rod()
+
+
+def test_an_inclined_rod_tilts_and_its_planes_are_square_or_clearly_tilted(rod):
+    settings = LayerSettings(thickness=0.2, tilt=True)
+    layers = plan_layers(_sub(rod), settings)
+    check_thickness(layers, settings)
+    assert sum(layer.tilted for layer in layers) > 10
+    for layer in layers:
+        assert np.all(np.isfinite(layer.top_point)) and np.all(np.isfinite(layer.top_normal))
+        angle = math.acos(min(1.0, float(layer.top_normal @ Z)))
+        # a hair off the build direction meets faces square to it almost tangentially
+        assert angle == 0.0 or angle >= tilted.PARALLEL_ANGLE
+
+
+def test_a_wide_leaning_slab_is_not_tilted(App, Part):
+    """A 60 mm wide slab leaning 10°: its centroids drift like a bend, but a plane can turn
+    only ~0.1° per 0.2 mm layer over it, so it stays planar (and fast)."""
+    V = App.Vector
+    lean = math.tan(math.radians(10.0)) * 20.0
+    bottom = Part.makePolygon([V(0, 0, 0), V(60, 0, 0), V(60, 60, 0), V(0, 60, 0), V(0, 0, 0)])
+    top = Part.makePolygon([V(lean, 0, 20), V(60 + lean, 0, 20), V(60 + lean, 60, 20),
+                            V(lean, 60, 20), V(lean, 0, 20)])
+    slab = Part.makeLoft([bottom, top], True)
+    planar = plan_layers(_sub(slab), LayerSettings(thickness=0.2, tilt=False))
+    assert tilted.axis_bends(planar)                               # the drift alone says "bend"
+    assert not tilted.axis_bends(planar, LayerSettings().bounds)   # but it cannot be followed
+    layers = plan_layers(_sub(slab), LayerSettings(thickness=0.2, tilt=True))
+    assert not any(layer.tilted for layer in layers)
+
+
+def test_sections_refuse_a_non_finite_plane_and_keep_few_slicers(rod):
+    sections = tilted._Sections(rod, 3)
+    with pytest.raises(PlanError, match=r"sub-part 3: a 3-D layer plane is not finite"):
+        sections.at(np.array([0.0, np.nan, 5.0]), Z)
+    for k in range(10):
+        normal = np.array([math.sin(0.01 * k), 0.0, math.cos(0.01 * k)])
+        sections.at(np.array([0.0, 0.0, 10.0]), normal)
+    assert len(sections._slicers) == tilted.SLICER_CACHE and sections.cuts == 10
+
+
+def test_section_centroid_of_nothing_is_none(rod):
+    sections = tilted._Sections(rod, 0)
+    assert tilted.section_centroid(sections.at(np.array([0.0, 0.0, 500.0]), Z)) is None
+    inside = tilted.section_centroid(sections.at(np.array([0.0, 0.0, 4.0]), Z))
+    np.testing.assert_allclose(inside, [0.0, 0.0, 4.0], atol=1e-6)
