@@ -42,8 +42,9 @@ def add_plan_settings(parser: argparse.ArgumentParser) -> None:
     layers.add_argument("--max-volume-difference", type=float, default=2.0,
                         help="adaptive limit per layer in mm3 (default 2)")
     layers.add_argument("--max-cusp", type=float, default=0.05, help="cusp height limit in mm")
-    layers.add_argument("--tilt", action="store_true",
-                        help="3-D layers: tilt the planes where a sub-part's centroidal axis bends")
+    layers.add_argument("--tilt", action=argparse.BooleanOptionalAction, default=True,
+                        help="3-D layers: tilt the planes where a sub-part's centroidal axis bends "
+                             "(default on; --no-tilt keeps every layer planar)")
     paths = parser.add_argument_group("paths")
     paths.add_argument("--bead-width", type=float, help="bead width in mm (default: the material's)")
     paths.add_argument("--perimeters", type=int, default=2)
@@ -51,6 +52,12 @@ def add_plan_settings(parser: argparse.ArgumentParser) -> None:
     paths.add_argument("--infill-angle", type=float, help="infill angle in degrees (default: fewest turns)")
     paths.add_argument("--seam", choices=("aligned", "nearest", "sharpest"), default="aligned")
     paths.add_argument("--solid-layers", type=int, default=3, help="top and bottom solid layers (default 3)")
+    paths.add_argument("--bead-model", choices=("rounded", "rectangular"), default="rounded",
+                       help="bead cross-section: rounded sides (PrusaSlicer's, default) or a rectangle")
+    paths.add_argument("--infill-overlap", type=float, default=25.0,
+                       help="infill reach into the innermost perimeter, percent of a bead spacing (default 25)")
+    paths.add_argument("--solid-below-area", type=float, default=70.0,
+                       help="sparse infill pieces smaller than this (mm2) are printed solid (default 70)")
 
 
 def load_part(name: str):
@@ -72,9 +79,13 @@ def options_from(args: argparse.Namespace):
 
     if not 0.0 <= args.infill <= 100.0:
         raise PlanError(f"--infill {args.infill:g} must be a percentage 0..100")
+    if not 0.0 <= args.infill_overlap < 100.0:
+        raise PlanError(f"--infill-overlap {args.infill_overlap:g} must be a percentage 0..100")
     angle = None if args.infill_angle is None else math.radians(args.infill_angle)
     fill = FillSettings(bead_width=args.bead_width or 0.4, perimeters=args.perimeters,
-                        density=args.infill / 100.0, angle=angle, seam=args.seam)
+                        density=args.infill / 100.0, angle=angle, seam=args.seam,
+                        bead_model=args.bead_model, infill_overlap=args.infill_overlap / 100.0,
+                        solid_below_area=args.solid_below_area)
     layers = LayerSettings(mode=args.layer_mode, thickness=args.layer, min_thickness=args.layer_min,
                            max_thickness=args.layer_max, max_volume_difference=args.max_volume_difference,
                            max_cusp=args.max_cusp, tilt=args.tilt)

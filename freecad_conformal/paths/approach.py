@@ -77,12 +77,17 @@ def slerp_directions(a: np.ndarray, b: np.ndarray, count: int, fallback: np.ndar
     return out / np.linalg.norm(out, axis=1)[:, None]
 
 
-def turn_axis(a: np.ndarray, b: np.ndarray, count: int) -> np.ndarray:
+def dips(a: np.ndarray, b: np.ndarray, count: int) -> bool:
+    """Whether the shortest turn from a to b dips lower (towards −Z) than either end."""
+    return bool(slerp_directions(a, b, count, UP)[:, 2].min() < min(a[2], b[2]) - 1e-9)
+
+
+def turn_axis(a: np.ndarray, b: np.ndarray, count: int, over_top: bool | None = None) -> np.ndarray:
     """Tool axes from a to b: the shortest turn, unless it would dip lower (towards −Z) than
-    either end, where tilting machines run out of reach; then the turn goes through +Z."""
-    direct = slerp_directions(a, b, count, UP)
-    if direct[:, 2].min() >= min(a[2], b[2]) - 1e-9:
-        return direct
+    either end, where tilting machines run out of reach, or `over_top` asks for it; then the
+    turn goes through +Z."""
+    if not (dips(a, b, count) if over_top is None else over_top):
+        return slerp_directions(a, b, count, UP)
     first = slerp_directions(a, UP, count // 2 + 1, b)
     second = slerp_directions(UP, b, count - count // 2, a)
     return np.vstack((first, second[1:])) if count > 2 else np.vstack((a, b))
@@ -98,10 +103,13 @@ def transition(end: np.ndarray, end_axis: np.ndarray, start: np.ndarray, start_a
     d1, d2 = (lifted - centre) / r1, (above - centre) / r2
     turn = math.acos(float(np.clip(d1 @ d2, -1.0, 1.0)))
     count = max(2, int(math.ceil(turn / ARC_STEP)) + 1)
-    directions = turn_axis(d1, d2, count)          # over the top, like the tool axis
+    # The tool axis turns the way the tip travels (over the top when the tip does): an axis
+    # turning sideways while the tip passes over the top lays the body across the part.
+    over_top = dips(d1, d2, count) or dips(end_axis, start_axis, count)
+    directions = turn_axis(d1, d2, count, over_top)
     radii = np.linspace(r1, r2, count)
     arc = centre + directions * radii[:, None]
-    axes = turn_axis(end_axis, start_axis, count)
+    axes = turn_axis(end_axis, start_axis, count, over_top)
     points = np.vstack((arc, start[None]))
     return points, np.vstack((axes, start_axis[None]))
 

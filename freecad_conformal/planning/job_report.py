@@ -15,7 +15,7 @@ def _direction(vector: np.ndarray) -> str:
 
 
 def summary_text(result) -> str:
-    """A table per sub-part and the totals (material: bead width × layer height × length)."""
+    """A table per sub-part and the totals (material: bead cross-section × length)."""
     lines = [
         f"part: {result.part}",
         f"machine: {result.machine.name}; tool: {result.tool_id} ({result.material_name}), "
@@ -34,7 +34,7 @@ def summary_text(result) -> str:
         f"build order: {' -> '.join(str(i) for i in plan.order)}",
         f"layers: {sum(s.layers for s in result.subparts)}; deposit path {result.deposit_length / 1000:.2f} m, "
         f"travel {result.travel_length / 1000:.2f} m",
-        f"material: {result.material_volume / 1000:.3f} cm3 (bead width x layer height x path length)",
+        f"material: {result.material_volume / 1000:.3f} cm3 (bead cross-section x path length)",
         f"estimated time: {format_duration(result.time_s)} ({result.time_s:.0f} s; trapezoidal "
         f"acceleration {result.machine.acceleration:g} mm/s2, jerk-limited corners)",
         f"support: {'none' if plan.support_area <= 0 else f'{plan.support_area:.1f} mm2 of overhang left unavoidable'}"

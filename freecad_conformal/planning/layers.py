@@ -57,9 +57,10 @@ class LayerSettings:
         min_thickness, max_thickness: ΔL_min, ΔL_max (mm); default 0.5× and 1.5× `thickness`.
         max_volume_difference: adaptive limit per layer (mm³).
         max_cusp: cusp-height limit (mm).
-        tilt: let planes tilt where the centroidal axis bends ("3-D" layers); off by
-            default: each tilted plane is its own OCC Boolean, slower and less robust on
-            complex parts (OCC crashed on a CrankArm solid).
+        tilt: let planes tilt where the centroidal axis bends ("3-D" layers): where the
+            sections move sideways keeping their shape and are narrow enough to turn
+            within the thickness bounds (`planning.tilted.axis_bends`); elsewhere the
+            layers stay planar.
     """
 
     mode: str = "uniform"
@@ -68,7 +69,7 @@ class LayerSettings:
     max_thickness: float | None = None
     max_volume_difference: float = 2.0
     max_cusp: float = 0.05
-    tilt: bool = False
+    tilt: bool = True
 
     @property
     def bounds(self) -> tuple[float, float]:

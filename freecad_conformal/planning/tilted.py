@@ -28,6 +28,7 @@ import math
 from collections import OrderedDict
 
 import numpy as np
+from shapely import affinity
 from shapely.geometry import MultiPolygon
 
 from freecad_conformal.errors import PlanError
@@ -51,6 +52,12 @@ BEND_MAX_ANGLE = math.radians(45.0)
 
 #: A window whose area changes by more than this ratio is a geometric change, not a bend.
 BEND_AREA_RATIO = 1.25
+
+#: A bent bar's section moves with its centroid and changes shape only slowly (its planar
+#: section stretches as 1/cos of the lean: 2 mm along a 25 mm radius changes it by a few
+#: per cent); a section whose moved copy misses the next one by more than this fraction of
+#: its area grew or shrank on one side instead.
+BEND_SHAPE_CHANGE = 0.1
 
 #: The least turn per layer worth tilting for: ten layers to follow the gentlest bend
 #: worth following (`BEND_MIN_ANGLE`).
@@ -81,7 +88,9 @@ def turn_capacity(layer: Layer, d_min: float, d_max: float) -> float:
 
 
 def axis_bends(layers: list[Layer], bounds: tuple[float, float] | None = None) -> bool:
-    """True when the centroids of successive planar layers drift as along a bent axis (and,
+    """True when the sections of successive planar layers move as along a bent axis: their
+    centroids drift sideways while the section keeps its area and shape (a wedge or a flange
+    moves the centroid by growing on one side, which is no bend to follow); and,
     given the thickness `bounds`, a plane can turn at least `MIN_TURN` per layer over the
     sections there without leaving them: a section too wide for that would get 3-D layers
     that all come out parallel, at three OCC cuts each)."""
@@ -107,11 +116,20 @@ def axis_bends(layers: list[Layer], bounds: tuple[float, float] | None = None) -
         angle = math.acos(float(np.clip(drift @ n / length, -1.0, 1.0)))
         if not BEND_MIN_ANGLE <= angle <= BEND_MAX_ANGLE:
             continue
+        if _shape_change(layers[k], layers[k + window]) > BEND_SHAPE_CHANGE:
+            continue
         if bounds is None:
             return True
         if min(turn_capacity(layers[j], *bounds) for j in (k, k + window)) >= MIN_TURN:
             return True
     return False
+
+
+def _shape_change(lower: Layer, upper: Layer) -> float:
+    """Area of (lower moved by the centroid drift) △ upper, relative to the lower area."""
+    (x0, y0), (x1, y1) = lower.region.centroid.coords[0], upper.region.centroid.coords[0]
+    moved = affinity.translate(lower.region, x1 - x0, y1 - y0)
+    return float(moved.symmetric_difference(upper.region).area) / max(lower.area, 1e-12)
 
 
 class _Sections:

@@ -132,3 +132,17 @@ def test_small_layers_are_slowed_to_the_minimum_layer_time(envelope):
     deposit = slow.toolpath.kind == KINDS.index("deposit")
     assert slow.toolpath.feed[deposit].min() < fast.toolpath.feed[deposit].min()
     assert slow.toolpath.feed[deposit].min() >= PathSettings().min_speed - 1e-9
+
+
+def test_the_tool_axis_turns_the_way_the_tip_travels():
+    """Leaving along −X and arriving along +Y just below the centre, the tip goes over the
+    top of the safe sphere (the side way dips); the axis must go over the top with it, not
+    turn sideways and lay the tool body across the part."""
+    centre, radius = np.zeros(3), 15.0
+    points, axes = transition(np.array([-10.0, 0.0, -1.0]), np.array([-1.0, 0.0, 0.0]),
+                              np.array([0.0, 10.0, -1.0]), np.array([0.0, 1.0, 0.0]), centre, radius)
+    arc, arc_axes = points[:-1], axes[:-1]
+    assert arc[:, 2].max() > radius                                  # over the top
+    radial = arc / np.linalg.norm(arc, axis=1)[:, None]
+    assert np.einsum("ij,ij->i", radial, arc_axes).min() > 0.5        # body points away from the part
+    np.testing.assert_allclose(axes[-1], [0.0, 1.0, 0.0])
