@@ -83,3 +83,17 @@ def test_section_centroid_of_nothing_is_none(rod):
     assert tilted.section_centroid(sections.at(np.array([0.0, 0.0, 500.0]), Z)) is None
     inside = tilted.section_centroid(sections.at(np.array([0.0, 0.0, 4.0]), Z))
     np.testing.assert_allclose(inside, [0.0, 0.0, 4.0], atol=1e-6)
+
+
+def test_a_section_growing_on_one_side_is_no_bend(App, Part):
+    """A 10 mm bar whose +X side flares out to 20 mm over 10 mm (Pump_Nut's flange): the
+    centroid drifts sideways (~27° over 2 mm) with the area within the ratio at the bottom,
+    but the section grows instead of moving."""
+    V = App.Vector
+    bottom = Part.makePolygon([V(0, 0, 0), V(10, 0, 0), V(10, 10, 0), V(0, 10, 0), V(0, 0, 0)])
+    top = Part.makePolygon([V(0, 0, 10), V(20, 0, 10), V(20, 10, 10), V(0, 10, 10), V(0, 0, 10)])
+    flare = Part.makeLoft([bottom, top], True)
+    layers = plan_layers(_sub(flare), LayerSettings(thickness=0.2, tilt=True))
+    assert not any(layer.tilted for layer in layers)
+    assert tilted._shape_change(layers[0], layers[10]) > tilted.BEND_SHAPE_CHANGE
+    assert layers[10].area / layers[0].area < tilted.BEND_AREA_RATIO

@@ -1,0 +1,46 @@
+"""Placing the part on the table so the machine reaches every sub-part (the hinge's lugs)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from freecad_conformal.errors import PlanError
+from freecad_conformal.geometry import samples
+from freecad_conformal.planning.job import PlanOptions, check_reach, decompose_reachable, run_job
+from freecad_conformal.planning.placement import reachable_plan, turn_up
+from freecad_conformal.planning.subparts import BuildPlan, SubPart
+from freecad_conformal.post.machine import load_machine
+
+
+def test_turn_up_puts_the_direction_along_z():
+    jack = samples.jack()
+    turned, placement = turn_up(jack, (0.0, 0.0, -1.0))
+    assert placement.turned and placement.angle == pytest.approx(np.pi)
+    assert turned.Volume == pytest.approx(jack.Volume)
+    box = turned.BoundBox
+    assert (box.ZMin, box.ZMax) == pytest.approx((-jack.BoundBox.ZMax, -jack.BoundBox.ZMin))
+    same, still = turn_up(jack, (0.0, 0.0, 1.0))
+    assert not still.turned and same.BoundBox.ZMax == pytest.approx(jack.BoundBox.ZMax)
+
+
+def test_the_hinge_is_turned_until_the_trunnion_reaches_every_sub_part():
+    """As modelled its lugs need the tool along −Z (A = 180°, beyond ±120°)."""
+    hinge = samples.hinge()
+    options = PlanOptions(machine="trunnion_ac")
+    placed, plan = decompose_reachable(hinge, options)
+    check_reach(load_machine("trunnion_ac"), plan)
+    assert any("part placed with its" in note for note in plan.notes)
+    assert placed.Volume == pytest.approx(hinge.Volume, rel=1e-6)
+    assert plan.support_area == 0.0
+    result = run_job(placed, plan, options, part="hinge")
+    assert 0.3 * hinge.Volume < result.material_volume < 0.9 * hinge.Volume
+
+
+def test_no_reachable_placement_names_every_one_tried():
+    def along_x(shape):
+        return BuildPlan([SubPart(0, shape, np.array([1.0, 0.0, 0.0]))], order=[0])
+
+    machine = load_machine("three_axis")
+    with pytest.raises(PlanError, match=r"no placement of the part .* \(\+0, \+0, -1\) up: machine "
+                                        r"'Plain 3-axis' cannot point"):
+        reachable_plan(samples.jack(), along_x, lambda plan: check_reach(machine, plan))
