@@ -5,9 +5,11 @@ cheapest thing the axis must do); the ratio says how much the search and the spl
 on top. The published centroidal axis took 2–3 s per example on a 2.8 GHz Pentium 4; the
 goal here is under 1 s per part for axis + decomposition.
 
-"decompose s" includes the axis (decompose computes it again) and the build order with the
-tool collision check; "support mm2" is what the plan leaves, "single mm2" the best single
-direction's.
+"axis s" is the centroidal axis alone from +Z; "decompose s" is the whole plan: its own axis
+(computed lazily, for the chosen root only), the cuts, the root trial of `auto` (run on
+the second core) and the build order with the tool collision check. "support mm2" is what
+the plan leaves, "single mm2" the best single direction's. The load average is printed with
+the results: the machine is shared and the times move with it.
 
 Run: .venv/bin/python benchmarks/decompose.py [--parts DIR] [--root auto|x,y,z]
 """
@@ -53,6 +55,7 @@ def main() -> int:
             parts.append((name, load_shape(folder / name)))
         else:
             print(f"skipping {name}: not in {folder}")
+    print("load average (1, 5, 15 min): " + ", ".join(f"{x:.2f}" for x in os.getloadavg()))
     print(f"{'part':<22}{'sections s':>11}{'axis s':>9}{'decompose s':>13}{'ratio':>8}"
           f"{'sub-parts':>11}{'support mm2':>13}{'single mm2':>13}")
     for name, shape in parts:
@@ -70,6 +73,7 @@ def main() -> int:
         print(f"{name:<22}{peer:>11.3f}{axis_time:>9.3f}{total:>13.3f}{total / peer:>8.1f}"
               f"{len(plan.subparts):>11}{plan.support_area:>13.1f}"
               f"{plan.support_area_single_direction:>13.1f}")
+    print("load average (1, 5, 15 min): " + ", ".join(f"{x:.2f}" for x in os.getloadavg()))
     return 0
 
 

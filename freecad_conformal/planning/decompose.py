@@ -25,9 +25,10 @@ from freecad_conformal.planning.cuts import (MAX_EXACT_CUTS, SAVING_TIE, LazyAxi
                                              SavingEstimate, area_jump_candidates, axis_first,
                                              face_candidates)
 from freecad_conformal.planning.rotation import rotation_to
+from freecad_conformal.planning.trial import Trial, can_fork
 from freecad_conformal.planning.subparts import BuildPlan, SubPart
 from freecad_conformal.planning.support import (DEFAULT_OVERHANG_ANGLE, best_single_direction,
-                                                check_angle, lowest_level,
+                                                check_angle, lowest_level, overhang_area,
                                                 overhang_report)
 
 METHODS = ("true-direction", "published")
@@ -106,21 +107,33 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
     axes = []
     for solid_index, solid in enumerate(solids):
         budget = max_subparts - len(pieces)
-        axis, refined = _plan_solid(solid, solid_index, root, overhang_angle, method,
-                                    axis_step, budget, notes)
+        plan = _Planner(solid, solid_index, overhang_angle, method, axis_step, budget)
+        trial = None
         if auto:
             direction, area = best_single_direction(solid, overhang_angle)
-            if _total(refined) > area + MIN_SAVING and _angle(direction, root) > SAME_DIRECTION:
-                # The part as placed keeps more overhang than turning it whole would: plan
-                # from that direction and keep whichever leaves less.
-                trial_notes: list[str] = []
-                other = _plan_solid(solid, solid_index, direction, overhang_angle, method,
-                                    axis_step, budget, trial_notes)
-                if _total(other[1]) < _total(refined) - MIN_SAVING:
-                    axis, refined = other
-                    notes.extend(trial_notes)
-                    notes.append(f"solid {solid_index + 1}: root built along "
-                                 f"{_text(direction)} (less overhang than as placed)")
+            turn = _angle(direction, root) > SAME_DIRECTION
+            if turn and overhang_area(solid, root, overhang_angle) > area + MIN_SAVING and can_fork():
+                # The as-placed plan may keep more overhang than turning the solid whole:
+                # plan from that direction on the other core meanwhile (planning/trial.py).
+                trial = Trial(plan, direction)
+        axis, refined = plan(root, notes)
+        if auto and _total(refined) > area + MIN_SAVING and turn:
+            # The part as placed keeps more overhang than turning it whole would: plan
+            # from that direction and keep whichever leaves less.
+            trial_notes: list[str] = []
+            if trial is not None:
+                other_pieces, trial_notes = trial.result(_Piece)
+                trial = None
+                other = plan.axis(direction), other_pieces
+            else:
+                other = plan(direction, trial_notes)
+            if _total(other[1]) < _total(refined) - MIN_SAVING:
+                axis, refined = other
+                notes.extend(trial_notes)
+                notes.append(f"solid {solid_index + 1}: root built along "
+                             f"{_text(direction)} (less overhang than as placed)")
+        if trial is not None:
+            trial.stop()
         axes.append(_label(axis, refined))
         first = len(pieces)
         pieces.extend(refined)
@@ -135,16 +148,34 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
                      single_direction=single[0], axes=axes)
 
 
-def _plan_solid(solid, solid_index: int, root: np.ndarray, angle: float, method: str,
-                axis_step: float | None, budget: int, notes: list[str]):
-    """The centroidal axis of one solid from `root` (computed when first needed) and its
-    refined pieces."""
-    from freecad_conformal.geometry.centroidal_axis import centroidal_axis
+@dataclass
+class _Planner:
+    """Plans one solid from a given root direction."""
 
-    axis = LazyAxis(lambda: centroidal_axis(solid, method=method, step=axis_step,
-                                            start_direction=root))
-    start = _Piece(solid, root, [], solid_index, "root")
-    return axis, _refine(start, angle, axis, budget=budget, notes=notes)
+    solid: object
+    solid_index: int
+    angle: float
+    method: str
+    axis_step: float | None
+    budget: int
+
+    def axis(self, root: np.ndarray) -> LazyAxis:
+        """The solid's centroidal axis from `root`, computed when first needed."""
+        from freecad_conformal.geometry.centroidal_axis import centroidal_axis
+
+        return LazyAxis(lambda: centroidal_axis(self.solid, method=self.method,
+                                                step=self.axis_step, start_direction=root))
+
+    def __call__(self, root: np.ndarray, notes: list[str]):
+        """(axis, refined pieces) from `root`."""
+        axis = self.axis(root)
+        start = _Piece(self.solid, root, [], self.solid_index, "root")
+        return axis, _refine(start, self.angle, axis, budget=self.budget, notes=notes)
+
+    def pieces(self, root: np.ndarray) -> tuple[list, list[str]]:
+        """(refined pieces, notes) from `root` (the trial's form: the axis stays lazy)."""
+        notes: list[str] = []
+        return self(root, notes)[1], notes
 
 
 def _label(axis: LazyAxis, pieces: list[_Piece]):

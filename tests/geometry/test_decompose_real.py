@@ -88,3 +88,18 @@ def test_crank_arm_plans_both_solids(parts_dir):
     check_reported_exactly(plan, shape)
     assert {s.solid_index for s in plan.subparts} == {0, 1}
     assert plan.support_area <= plan.support_area_single_direction + AREA_TOLERANCE
+
+
+def test_table_trial_on_the_other_core_gives_the_sequential_plan(parts_dir, monkeypatch):
+    import freecad_conformal.planning.decompose as module
+
+    shape = load_shape(parts_dir / "MODERN_Table_1.brep")
+    forked = decompose(shape, root_direction="auto", check_collisions=False)
+    monkeypatch.setattr(module, "can_fork", lambda: False)
+    sequential = decompose(shape, root_direction="auto", check_collisions=False)
+    assert forked.notes == sequential.notes
+    for a, b in zip(forked.subparts, sequential.subparts, strict=True):
+        assert (a.rule, a.parent) == (b.rule, b.parent)
+        np.testing.assert_allclose(a.build_direction, b.build_direction, atol=1e-12)
+        assert a.volume == pytest.approx(b.volume, rel=1e-12)
+        assert a.overhang_area == pytest.approx(b.overhang_area, abs=AREA_TOLERANCE)

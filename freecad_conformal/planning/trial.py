@@ -1,0 +1,133 @@
+"""The `root_direction="auto"` trial plan, run on the second core while the first plans the
+part as placed.
+
+Auto plans each solid as placed (+Z) and, when that leaves more overhang than the solid's
+best single axis direction, plans it again from that direction. The second plan is only
+useful when the part as placed starts with more overhang than that direction (a split can
+only lower it), and then both are independent: the trial starts in a child Python before
+the first plan and its pieces come back as BREP text (OCC's lossless format). If the first
+plan is good enough the child is stopped.
+
+The child is a fresh interpreter (`python -m freecad_conformal.planning.trial`), not a fork:
+OCC's thread pool, once started in the parent, deadlocks a forked child in its next Boolean
+(seen in `generalFuse` under pytest). It is used only outside FreeCAD's GUI and with two or
+more cores; otherwise the trial runs after the first plan, as before.
+"""
+from __future__ import annotations
+
+import os
+import pickle
+import subprocess
+import sys
+from pathlib import Path
+from typing import Callable
+
+from freecad_conformal.freecad_env import import_freecad
+
+#: The folder holding the freecad_conformal package, for the child's import path.
+PACKAGE_ROOT = Path(__file__).resolve().parents[2]
+
+
+def can_fork() -> bool:
+    """Whether a trial may run in a child process here."""
+    if (os.cpu_count() or 1) < 2:
+        return False
+    App, _ = import_freecad()
+    return not getattr(App, "GuiUp", False)
+
+
+def _to_text(shape) -> str:
+    return shape.exportBrepToString()
+
+
+def _from_text(text: str):
+    _, Part = import_freecad()
+    shape = Part.Shape()
+    shape.importBrepFromString(text, False)
+    return shape
+
+
+def _dump(pieces: list) -> list[dict]:
+    return [{"shape": _to_text(p.shape), "direction": p.direction,
+             "base_faces": [_to_text(f) for f in p.base_faces], "solid_index": p.solid_index,
+             "rule": p.rule, "overhang": p.overhang} for p in pieces]
+
+
+def _load(data: list[dict], make_piece: Callable) -> list:
+    pieces = []
+    for item in data:
+        # Read back as generic shapes: take the typed solid and faces out of them.
+        solid = _from_text(item["shape"]).Solids[0]
+        faces = [_from_text(text).Faces[0] for text in item["base_faces"]]
+        piece = make_piece(solid, item["direction"], faces, item["solid_index"], item["rule"])
+        piece.overhang = item["overhang"]
+        pieces.append(piece)
+    return pieces
+
+
+class Trial:
+    """`planner.pieces(direction)` running in a child Python: `result()` waits for it,
+    `stop()` ends it. `planner` is decompose's _Planner (its solid goes over as BREP)."""
+
+    def __init__(self, planner, direction) -> None:
+        spec = {"solid": _to_text(planner.solid), "solid_index": planner.solid_index,
+                "angle": planner.angle, "method": planner.method,
+                "axis_step": planner.axis_step, "budget": planner.budget,
+                "direction": [float(c) for c in direction]}
+        env = dict(os.environ)
+        env["PYTHONPATH"] = os.pathsep.join(
+            [str(PACKAGE_ROOT)] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
+        self._process = subprocess.Popen([sys.executable, "-m", "freecad_conformal.planning.trial"],
+                                         stdin=subprocess.PIPE, stdout=subprocess.PIPE, env=env)
+        self._process.stdin.write(pickle.dumps(spec))
+        self._process.stdin.close()
+
+    def result(self, make_piece: Callable) -> tuple[list, list[str]]:
+        """The trial's pieces and notes; re-raises the trial's error."""
+        from freecad_conformal.errors import PlanError
+
+        data = self._process.stdout.read()
+        self._process.stdout.close()
+        code = self._process.wait()
+        if code != 0 or not data:
+            raise PlanError(f"the root-direction trial plan exited with code {code}")
+        ok, payload, notes = pickle.loads(data)
+        if not ok:
+            raise payload
+        return _load(payload, make_piece), notes
+
+    def stop(self) -> None:
+        """End the trial (its plan is not needed)."""
+        if self._process.poll() is None:
+            self._process.kill()
+        self._process.stdout.close()
+        self._process.wait()
+
+
+def _child() -> None:
+    """Child side: read the spec on stdin, plan, write (ok, pieces or error, notes)."""
+    import numpy as np
+
+    out = os.fdopen(os.dup(1), "wb")
+    os.dup2(2, 1)  # anything FreeCAD prints goes to stderr, not into the result stream
+    spec = pickle.load(sys.stdin.buffer)
+    try:
+        from freecad_conformal.planning.decompose import _Planner
+
+        solid = _from_text(spec["solid"]).Solids[0]
+        planner = _Planner(solid, spec["solid_index"], spec["angle"], spec["method"],
+                           spec["axis_step"], spec["budget"])
+        pieces, notes = planner.pieces(np.array(spec["direction"]))
+        result = (True, _dump(pieces), notes)
+    except Exception as exc:  # sent to the parent, which raises it
+        from freecad_conformal.errors import ConformalError, GeometryError
+
+        error = exc if isinstance(exc, ConformalError) else GeometryError(
+            f"trial plan failed: {type(exc).__name__}: {exc}")
+        result = (False, error, [])
+    pickle.dump(result, out)
+    out.close()
+
+
+if __name__ == "__main__":
+    _child()
