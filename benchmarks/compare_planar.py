@@ -27,16 +27,16 @@ from __future__ import annotations
 
 import math
 import re
-from collections import defaultdict
 import shutil
 import subprocess
-
-import numpy as np
 import sys
 import tempfile
 import time
+from collections import defaultdict
 from dataclasses import dataclass
 from pathlib import Path
+
+import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
@@ -46,11 +46,14 @@ from freecad_conformal.geometry import samples  # noqa: E402
 from freecad_conformal.geometry.solids import load_shape  # noqa: E402
 from freecad_conformal.paths.assemble import Feeds, PathSettings  # noqa: E402
 from freecad_conformal.paths.fill2d import FillSettings  # noqa: E402
-from freecad_conformal.paths.timing import estimate_time, junction_speeds, move_seconds, move_times  # noqa: E402
-from freecad_conformal.toolpath import KINDS  # noqa: E402
+from freecad_conformal.paths.timing import (estimate_time, junction_speeds, move_seconds,  # noqa: E402
+                                            move_times)
 from freecad_conformal.planning.decompose import decompose  # noqa: E402
-from freecad_conformal.planning.job import PlanOptions, decompose_reachable, run_job  # noqa: E402
+from freecad_conformal.planning.job import PlanOptions, check_reach, run_job  # noqa: E402
 from freecad_conformal.planning.layers import LayerSettings  # noqa: E402
+from freecad_conformal.planning.placement import reachable_plan  # noqa: E402
+from freecad_conformal.post.machine import load_machine  # noqa: E402
+from freecad_conformal.toolpath import KINDS  # noqa: E402
 
 PARTS_DIR = ROOT.parent / "shared" / "parts"
 LAYER, NOZZLE, PERIMETERS, INFILL, BEAD = 0.2, 0.4, 2, 0.20, 0.45
@@ -79,6 +82,10 @@ PRUSA_SETTINGS = [
 ORIENTATIONS = {"as modelled": [], "rotate-x 90": ["--rotate-x", "90"],
                 "rotate-x 180": ["--rotate-x", "180"], "rotate-x -90": ["--rotate-x", "-90"],
                 "rotate-y 90": ["--rotate-y", "90"], "rotate-y -90": ["--rotate-y", "-90"]}
+#: The orientation that puts each axis direction of the part up (right-handed rotations:
+#: --rotate-x 90 takes +Y to +Z, --rotate-y -90 takes +X to +Z).
+ORIENTATION_FOR_UP = {(0, 0, 1): "as modelled", (0, 0, -1): "rotate-x 180", (0, 1, 0): "rotate-x 90",
+                      (0, -1, 0): "rotate-x -90", (1, 0, 0): "rotate-y -90", (-1, 0, 0): "rotate-y 90"}
 FILAMENT_AREA = math.pi * 1.75 ** 2 / 4.0
 
 
@@ -203,10 +210,13 @@ def plan_options() -> PlanOptions:
 def ours(shape, name: str):
     options = plan_options()
     started = time.perf_counter()
-    shape, plan = decompose_reachable(shape, options, decompose)
+    machine = load_machine(options.machine)
+    shape, plan, placement = reachable_plan(shape, lambda s: decompose(s, tool=options.tool),
+                                            lambda p: check_reach(machine, p))
     result = run_job(shape, plan, options, part=name)
     seconds = estimate_time(result.assembly.toolpath, ACCELERATION, JERK)
-    return result, seconds, time.perf_counter() - started
+    up = ORIENTATION_FOR_UP[tuple(int(round(c)) for c in placement.up)]
+    return result, seconds, time.perf_counter() - started, up
 
 
 def hms(seconds: float) -> str:
@@ -229,11 +239,12 @@ def main(names: list[str], roles: bool = False) -> int:
             best = min(with_support, key=lambda s: s.volume_cm3)
             bare = prusa_slice(stl, best.orientation, False, work)
             try:
-                result, our_time, wall = ours(shape, name)
+                result, our_time, wall, up = ours(shape, name)
             except ConformalError as exc:
                 print(f"{name}: no plan for {PlanOptions().machine}: {exc}", flush=True)
                 continue
-            rows.append((name, best, bare, result, our_time, wall))
+            same = bare if up == best.orientation else prusa_slice(stl, up, False, work)
+            rows.append((name, best, bare, result, our_time, wall, same))
             print(f"{name}: {len(result.subparts)} sub-parts, planned in {wall:.1f} s", flush=True)
             if roles:
                 print_roles(name, prusa_roles(bare.gcode), our_roles(result))
@@ -241,7 +252,7 @@ def main(names: list[str], roles: bool = False) -> int:
     print(f"{'part':<10} {'PS best orientation':<20} {'PS+sup cm3':>10} {'sup cm3':>8} {'PS-sup cm3':>10} "
           f"{'ours cm3':>9} {'ours/PS-sup':>11} {'ours/PS+sup':>11} | {'PS+sup':>7} {'PS-sup':>7} "
           f"{'ours':>7} {'t/PS-sup':>8} {'t/PS+sup':>8} | {'our support':>11}")
-    for name, best, bare, result, our_time, _ in rows:
+    for name, best, bare, result, our_time, _, _ in rows:
         ours_cm3 = result.material_volume / 1000.0
         support = result.plan.support_area
         print(f"{name:<10} {best.orientation:<20} {best.volume_cm3:>10.2f} {best.support_cm3:>8.2f} "
@@ -249,6 +260,13 @@ def main(names: list[str], roles: bool = False) -> int:
               f"{ours_cm3 / best.volume_cm3:>11.3f} | {hms(best.seconds):>7} {hms(bare.seconds):>7} "
               f"{hms(our_time):>7} {our_time / bare.seconds:>8.3f} {our_time / best.seconds:>8.3f} | "
               f"{'none' if support <= 0 else f'{support:.0f} mm2':>11}")
+    print(f"\nPrusaSlicer without supports with the part placed as our plan's root (the same "
+          "geometry on the bed; what remains is the sub-parts built along their own axes):")
+    print(f"{'part':<10} {'orientation':<20} {'PS-sup cm3':>10} {'ours/PS':>8} | {'PS-sup':>7} {'t ours/PS':>9}")
+    for name, _, _, result, our_time, _, same in rows:
+        print(f"{name:<10} {same.orientation:<20} {same.volume_cm3:>10.2f} "
+              f"{result.material_volume / 1000.0 / same.volume_cm3:>8.3f} | {hms(same.seconds):>7} "
+              f"{our_time / same.seconds:>9.3f}")
     print("\nPS = PrusaSlicer (its estimate); ours = plan material (rounded bead x length) and the "
           "same time model (trapezoids, jerk 10 mm/s, acceleration 1500 mm/s2, 5 s layer cooling)")
     return 0

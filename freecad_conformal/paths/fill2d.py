@@ -40,6 +40,14 @@ MITRE_LIMIT = 2.0
 #: Angles tried for the fewest-turns infill direction (every 15° over a half turn).
 CANDIDATE_ANGLES = tuple(math.radians(a) for a in range(0, 180, 15))
 
+#: Zigzag rows are linked along the area's boundary when the way round is at most this many
+#: line spacings (a boundary slanting 15° to the lines): longer, a travel is shorter.
+LINK_ROWS = 4.0
+
+#: A scan line's end lies on the area's boundary to within this (mm): it is an intersection
+#: with that boundary.
+ON_BOUNDARY = 1e-6
+
 #: Infill lines end this fraction of a bead spacing inside the infill area (PrusaSlicer's
 #: 0.5 − INFILL_OVERLAP_OVER_SPACING): with the default 25 % overlap they reach 5 % of a
 #: spacing into the innermost perimeter, enough to bond without overfilling.
@@ -162,20 +170,54 @@ def fewest_turns_angle(area, spacing: float) -> float:
     return CANDIDATE_ANGLES[int(np.argmin(counts))]
 
 
+class _Boundary:
+    """The rings of an area (scan-line frame): paths along them between two boundary points."""
+
+    def __init__(self, area) -> None:
+        self.rings = []
+        for poly in polygons_of(area):
+            for ring in (poly.exterior, *poly.interiors):
+                coords = np.asarray(ring.coords)
+                along = np.concatenate(([0.0], np.cumsum(np.linalg.norm(np.diff(coords, axis=0), axis=1))))
+                self.rings.append((LineString(coords), coords[:-1], along[:-1], float(along[-1])))
+
+    def path(self, p: tuple[float, float], q: tuple[float, float],
+             limit: float) -> list[tuple[float, float]] | None:
+        """Points from p to q along the ring both lie on, the shorter way round, or None when
+        they lie on no common ring or that way is longer than `limit`."""
+        a, b = shapely.Point(p), shapely.Point(q)
+        for line, vertices, along, length in self.rings:
+            if line.distance(a) > ON_BOUNDARY or line.distance(b) > ON_BOUNDARY:
+                continue
+            start, end = line.project(a), line.project(b)
+            ahead = (end - start) % length
+            way = min(ahead, length - ahead)
+            if way > limit:
+                return None
+            offsets = (along - start) % length if ahead <= length - ahead else (start - along) % length
+            inside = np.flatnonzero((offsets > 0.0) & (offsets < way))
+            between = vertices[inside[np.argsort(offsets[inside])]]
+            return [p, *map(tuple, between), q]
+        return None
+
+
 def zigzag(area, spacing: float, angle: float, width: float, role: str) -> list[Path2D]:
-    """Scan lines at `spacing` along `angle` linked into zigzags by inside connectors."""
+    """Scan lines at `spacing` along `angle` linked into zigzags: by a straight connector
+    inside the area, else along its boundary when that is at most `LINK_ROWS` spacings
+    (PrusaSlicer links its lines along the perimeter the same way)."""
     if area.is_empty:
         return []
     rows = _scan_segments(area, spacing, angle)
     guard = area.buffer(CONNECTOR_SLACK * width)
     shapely.prepare(guard)
+    boundary = _Boundary(affinity.rotate(area, -angle, origin=(0.0, 0.0), use_radians=True))
     used = [[False] * len(row) for row in rows]
     chains: list[list[tuple[float, float]]] = []
     for r, row in enumerate(rows):
         for s in range(len(row)):
             if used[r][s]:
                 continue
-            chain = _follow(rows, used, r, s, guard, spacing)
+            chain = _follow(rows, used, r, s, guard, boundary, spacing)
             chains.append(chain)
     cos, sin = math.cos(angle), math.sin(angle)
     paths = []
@@ -186,7 +228,8 @@ def zigzag(area, spacing: float, angle: float, width: float, role: str) -> list[
     return paths
 
 
-def _follow(rows, used, r: int, s: int, guard, spacing: float) -> list[tuple[float, float]]:
+def _follow(rows, used, r: int, s: int, guard, boundary: _Boundary,
+            spacing: float) -> list[tuple[float, float]]:
     """Walk from piece s of row r, alternating direction, onto the next row's nearest piece."""
     x0, x1, y = rows[r][s]
     used[r][s] = True
@@ -194,7 +237,7 @@ def _follow(rows, used, r: int, s: int, guard, spacing: float) -> list[tuple[flo
     forward = True
     while r + 1 < len(rows):
         end_x, end_y = chain[-1]
-        best, best_gap = None, 2.0 * spacing
+        best, best_gap = None, LINK_ROWS * spacing
         for k, (a, b, y_next) in enumerate(rows[r + 1]):
             if used[r + 1][k] or y_next - end_y > 1.5 * spacing:
                 continue
@@ -206,10 +249,15 @@ def _follow(rows, used, r: int, s: int, guard, spacing: float) -> list[tuple[flo
             break
         a, b, y_next = rows[r + 1][best]
         start = (b, y_next) if forward else (a, y_next)
-        if not guard.covers(LineString([chain[-1], start])):
-            break
+        if guard.covers(LineString([chain[-1], start])):
+            link = [start]
+        else:
+            link = boundary.path(chain[-1], start, LINK_ROWS * spacing)
+            if link is None:
+                break
+            link = link[1:]
         used[r + 1][best] = True
-        chain += [start, (a, y_next) if forward else (b, y_next)]
+        chain += [*link, (a, y_next) if forward else (b, y_next)]
         forward = not forward
         r += 1
     return chain

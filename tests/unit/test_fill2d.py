@@ -107,3 +107,15 @@ def test_bad_settings_are_refused(field, value):
     settings = FillSettings(**{field: value})
     with pytest.raises(PlanError, match=field.split("_")[0].rstrip("s")):
         fill_layer(box(0, 0, 10, 10), settings)
+
+
+def test_zigzag_rows_link_along_the_boundary_where_a_straight_connector_would_leave():
+    """An annulus: rows ending on the hole cannot be linked straight across it, nor around a
+    disc's rim with dense lines; along the boundary they link into a few chains, inside."""
+    ring = Point(0, 0).buffer(15, quad_segs=64).difference(Point(0, 0).buffer(6, quad_segs=64))
+    lines = zigzag(ring, 2.0, 0.0, WIDTH, "infill")
+    assert len(lines) <= 3
+    guard = ring.buffer(0.05 * WIDTH)
+    assert all(guard.covers(LineString(p.points)) for p in lines)
+    dense = zigzag(Point(0, 0).buffer(15, quad_segs=64), 0.4, 0.3, WIDTH, "solid_infill")
+    assert len(dense) <= 3
