@@ -15,10 +15,6 @@ from freecad_conformal.errors import GeometryError
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.concave_edges import EdgeAngle
 
-#: A point this far (mm) off a section face on either side tells inside from boundary:
-#: 1 µm is far above OCC's confusion and below any feature worth building.
-SIDE_PROBE = 1e-3
-
 #: A region touches an edge when closer than this (mm).
 TOUCH_TOLERANCE = 1e-5
 
@@ -68,18 +64,41 @@ def _inner_point(face) -> np.ndarray:
 
 
 def interior_regions(solid, point: np.ndarray, normal: np.ndarray) -> list:
-    """Faces of the plane's section that lie inside the material (not on the boundary)."""
+    """Faces of the plane's section that lie inside the material (not on the boundary).
+
+    Every section face lies in the closed solid; it is boundary (material on one side only)
+    exactly where it lies on a face of the solid in the same plane. So a face whose inner
+    point is on such a face is dropped: a 2D classification in that face, instead of two 3D
+    inside tests (which cost ~8 ms each on B-spline solids)."""
     App, _ = import_freecad()
+    on_plane = _faces_on_plane(solid, point, normal)
     regions = []
     for face in solid.common(plane_through(point, normal, solid.BoundBox)).Faces:
         if face.Area <= 1e-9:
             continue
-        probe = _inner_point(face)
-        above = solid.isInside(App.Vector(*(probe + SIDE_PROBE * normal)), 1e-9, False)
-        below = solid.isInside(App.Vector(*(probe - SIDE_PROBE * normal)), 1e-9, False)
-        if above and below:
+        probe = App.Vector(*_inner_point(face))
+        if not any(other.isInside(probe, ON_FACE, True) for other in on_plane):
             regions.append(face)
     return regions
+
+
+#: A section face's inner point lies on a boundary face of the solid within this (mm):
+#: OCC's default confusion, both being exact faces in one plane.
+ON_FACE = 1e-7
+
+
+def _faces_on_plane(solid, point: np.ndarray, normal: np.ndarray) -> list:
+    """The solid's planar faces lying in the plane through `point` normal to `normal`."""
+    from freecad_conformal.planning.support import plane_normal
+
+    faces = []
+    for face in solid.Faces:
+        n = plane_normal(face)
+        if n is None or 1.0 - abs(float(n @ normal)) > SAME_PLANE_COS:
+            continue
+        if abs(float((_vec(face.Vertexes[0].Point) - point) @ normal)) < ON_PLANE:
+            faces.append(face)
+    return faces
 
 
 #: Two faces lie on one plane when their normals agree to this (1 − |cos|) and their levels
