@@ -71,7 +71,7 @@ def interior_regions(solid, point: np.ndarray, normal: np.ndarray) -> list:
     point is on such a face is dropped: a 2D classification in that face, instead of two 3D
     inside tests (which cost ~8 ms each on B-spline solids)."""
     App, _ = import_freecad()
-    on_plane = _faces_on_plane(solid, point, normal)
+    on_plane = faces_on_plane(solid, point, normal)
     regions = []
     for face in solid.common(plane_through(point, normal, solid.BoundBox)).Faces:
         if face.Area <= 1e-9:
@@ -87,7 +87,7 @@ def interior_regions(solid, point: np.ndarray, normal: np.ndarray) -> list:
 ON_FACE = 1e-7
 
 
-def _faces_on_plane(solid, point: np.ndarray, normal: np.ndarray) -> list:
+def faces_on_plane(solid, point: np.ndarray, normal: np.ndarray) -> list:
     """The solid's planar faces lying in the plane through `point` normal to `normal`."""
     from freecad_conformal.planning.support import plane_normal
 

@@ -11,8 +11,9 @@ direction. Section 4 still makes them separate sub-parts: top first, then each l
 two or more separate regions of material cross the plane — several members leave the piece
 there — the piece is cut at all of them at once. The base keeps the build direction; each
 member becomes a child built along it, on its own region. The split is kept only if it
-leaves no more overhang than the piece had, and one member alone is never split off (a
-column on a base gains nothing from its own sub-part).
+leaves no more overhang than the piece had, one member alone is never split off (a
+column on a base gains nothing from its own sub-part), and the members must be a narrowing
+(under half the section they leave: legs, not the two sides of a screw head's slot).
 """
 from __future__ import annotations
 
@@ -22,13 +23,19 @@ from typing import Callable
 import numpy as np
 
 from freecad_conformal.geometry.concave_edges import concave_edges
-from freecad_conformal.geometry.splitting_faces import candidate_planes, plane_regions
+from freecad_conformal.geometry.splitting_faces import (candidate_planes, faces_on_plane,
+                                                        plane_regions)
 
 #: The plane's normal within this angle (rad) of the build direction: members leave along it.
 MEMBER_ANGLE = math.radians(1.0)
 
 #: Fewest separate regions on one plane that make members (one is a column: no split).
 MIN_MEMBERS = 2
+
+#: Members are narrower than this fraction of the section they leave (their regions plus
+#: the base's faces in the plane facing their way): the table's legs are 0.9 % of its top,
+#: a stool's 2.4 %; the two sides of a screw head's slot, 88 % of the head, are no members.
+MAX_MEMBER_FRACTION = 0.5
 
 #: The split may add this much overhang (mm², Boolean rounding) and still count as equal.
 EQUAL_OVERHANG = 1e-3
@@ -48,6 +55,8 @@ def member_split(piece, angle: float, budget: int, cut: Callable):
         regions = plane_regions(piece.shape, plane)
         if len(regions) < MIN_MEMBERS or len(regions) + 1 > budget:
             continue
+        if _member_fraction(piece.shape, plane, regions, d) > MAX_MEMBER_FRACTION:
+            continue  # no narrowing: the material goes on (a slotted head), no members
         candidate = regions[0]
         candidate.rule = "member"
         trial = cut(piece, candidate, angle, regions=[c.region for c in regions],
@@ -84,3 +93,14 @@ def _edge_groups(plane) -> int:
                     parent[root(key)] = root(other)
             owner.setdefault(vertex.hashCode(), []).append((vertex, key))
     return len({root(key) for key in edges})
+
+
+def _member_fraction(shape, plane, regions: list, d: np.ndarray) -> float:
+    """The members' share of the section they leave: their regions' area over it plus the
+    area of the solid's faces in the plane that face along d (the shoulder they rise from)."""
+    from freecad_conformal.planning.support import plane_normal
+
+    members = sum(float(c.region.Area) for c in regions)
+    shoulder = sum(float(face.Area) for face in faces_on_plane(shape, plane.point, plane.normal)
+                   if float(plane_normal(face) @ d) > 0)
+    return members / (members + shoulder) if members + shoulder > 0 else 1.0
