@@ -116,24 +116,27 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
                 # The as-placed plan may keep more overhang than turning the solid whole:
                 # plan from that direction on the other core meanwhile (planning/trial.py).
                 trial = Trial(plan, direction)
-        axis, refined = plan(root, notes)
-        if auto and _total(refined) > area + MIN_SAVING and turn:
-            # The part as placed keeps more overhang than turning it whole would: plan
-            # from that direction and keep whichever leaves less.
-            trial_notes: list[str] = []
-            if trial is not None:
-                other_pieces, trial_notes = trial.result(_Piece)
+        try:
+            axis, refined = plan(root, notes)
+            if auto and _total(refined) > area + MIN_SAVING and turn:
+                # The part as placed keeps more overhang than turning it whole would: plan
+                # from that direction and keep whichever leaves less.
+                trial_notes: list[str] = []
+                result = trial.result(_Piece) if trial is not None else None
                 trial = None
-                other = plan.axis(direction), other_pieces
-            else:
-                other = plan(direction, trial_notes)
-            if _total(other[1]) < _total(refined) - MIN_SAVING:
-                axis, refined = other
-                notes.extend(trial_notes)
-                notes.append(f"solid {solid_index + 1}: root built along "
-                             f"{_text(direction)} (less overhang than as placed)")
-        if trial is not None:
-            trial.stop()
+                if result is not None:
+                    other = plan.axis(direction), result[0]
+                    trial_notes = result[1]
+                else:
+                    other = plan(direction, trial_notes)
+                if _total(other[1]) < _total(refined) - MIN_SAVING:
+                    axis, refined = other
+                    notes.extend(trial_notes)
+                    notes.append(f"solid {solid_index + 1}: root built along "
+                                 f"{_text(direction)} (less overhang than as placed)")
+        finally:
+            if trial is not None:
+                trial.stop()
         axes.append(_label(axis, refined))
         first = len(pieces)
         pieces.extend(refined)

@@ -32,6 +32,8 @@ def can_fork() -> bool:
     """Whether a trial may run in a child process here."""
     if (os.cpu_count() or 1) < 2:
         return False
+    if not Path(sys.executable).name.lower().startswith("python"):
+        return False  # embedded (FreeCADCmd): no interpreter to start the child with
     App, _ = import_freecad()
     return not getattr(App, "GuiUp", False)
 
@@ -82,16 +84,18 @@ class Trial:
         self._process.stdin.write(pickle.dumps(spec))
         self._process.stdin.close()
 
-    def result(self, make_piece: Callable) -> tuple[list, list[str]]:
-        """The trial's pieces and notes; re-raises the trial's error."""
-        from freecad_conformal.errors import PlanError
-
+    def result(self, make_piece: Callable) -> tuple[list, list[str]] | None:
+        """The trial's pieces and notes; None when the child could not plan at all (it
+        did not start, or died): the caller then plans here. Re-raises a planning error."""
         data = self._process.stdout.read()
         self._process.stdout.close()
         code = self._process.wait()
         if code != 0 or not data:
-            raise PlanError(f"the root-direction trial plan exited with code {code}")
-        ok, payload, notes = pickle.loads(data)
+            return None
+        try:
+            ok, payload, notes = pickle.loads(data)
+        except (pickle.UnpicklingError, EOFError, AttributeError, ImportError):
+            return None
         if not ok:
             raise payload
         return _load(payload, make_piece), notes

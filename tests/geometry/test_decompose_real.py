@@ -106,3 +106,16 @@ def test_table_trial_on_the_other_core_gives_the_sequential_plan(parts_dir, monk
         np.testing.assert_allclose(a.build_direction, b.build_direction, atol=1e-12)
         assert a.volume == pytest.approx(b.volume, rel=1e-12)
         assert a.overhang_area == pytest.approx(b.overhang_area, abs=AREA_TOLERANCE)
+
+
+def test_table_plans_here_when_the_trial_child_cannot_start(parts_dir, monkeypatch):
+    import sys
+
+    import freecad_conformal.planning.decompose as module
+
+    shape = load_shape(parts_dir / "MODERN_Table_1.brep")
+    monkeypatch.setattr(module, "can_fork", lambda: True)
+    monkeypatch.setattr(sys, "executable", "/bin/false")   # the child exits at once
+    plan = decompose(shape, root_direction="auto", check_collisions=False)
+    assert len(plan.subparts) == 5
+    np.testing.assert_allclose(plan.ordered()[0].build_direction, [0, 0, -1], atol=1e-12)
