@@ -25,7 +25,7 @@ from freecad_conformal.planning.cuts import (MAX_EXACT_CUTS, SAVING_TIE, LazyAxi
                                              SavingEstimate, area_jump_candidates, axis_first,
                                              face_candidates)
 from freecad_conformal.planning.rotation import rotation_to
-from freecad_conformal.planning.trial import Trial, can_fork
+from freecad_conformal.planning.trial import Trial, can_fork, worth_a_trial
 from freecad_conformal.planning.subparts import BuildPlan, SubPart
 from freecad_conformal.planning.support import (DEFAULT_OVERHANG_ANGLE, best_single_direction,
                                                 check_angle, lowest_level, overhang_area,
@@ -112,7 +112,8 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
         if auto:
             direction, area = best_single_direction(solid, overhang_angle)
             turn = _angle(direction, root) > SAME_DIRECTION
-            if turn and overhang_area(solid, root, overhang_angle) > area + MIN_SAVING and can_fork():
+            if (turn and worth_a_trial(solid) and can_fork()
+                    and overhang_area(solid, root, overhang_angle) > area + MIN_SAVING):
                 # The as-placed plan may keep more overhang than turning the solid whole:
                 # plan from that direction on the other core meanwhile (planning/trial.py).
                 trial = Trial(plan, direction)

@@ -97,6 +97,9 @@ def test_table_trial_on_the_other_core_gives_the_sequential_plan(parts_dir, monk
     import freecad_conformal.planning.decompose as module
 
     shape = load_shape(parts_dir / "MODERN_Table_1.brep")
+    # The table is analytic (too quick to plan for a child to pay): force the trial.
+    monkeypatch.setattr(module, "worth_a_trial", lambda solid: True)
+    monkeypatch.setattr(module, "can_fork", lambda: True)
     forked = decompose(shape, root_direction="auto", check_collisions=False)
     monkeypatch.setattr(module, "can_fork", lambda: False)
     sequential = decompose(shape, root_direction="auto", check_collisions=False)
@@ -114,8 +117,18 @@ def test_table_plans_here_when_the_trial_child_cannot_start(parts_dir, monkeypat
     import freecad_conformal.planning.decompose as module
 
     shape = load_shape(parts_dir / "MODERN_Table_1.brep")
+    monkeypatch.setattr(module, "worth_a_trial", lambda solid: True)
     monkeypatch.setattr(module, "can_fork", lambda: True)
     monkeypatch.setattr(sys, "executable", "/bin/false")   # the child exits at once
     plan = decompose(shape, root_direction="auto", check_collisions=False)
     assert len(plan.subparts) == 5
     np.testing.assert_allclose(plan.ordered()[0].build_direction, [0, 0, -1], atol=1e-12)
+
+
+def test_only_free_form_solids_are_worth_a_trial_child(parts_dir):
+    from freecad_conformal.planning.trial import worth_a_trial
+
+    table = load_shape(parts_dir / "MODERN_Table_1.brep")
+    pin, arm = load_shape(parts_dir / "CrankArm.brep").Solids
+    assert not worth_a_trial(table.Solids[0]) and not worth_a_trial(pin)
+    assert worth_a_trial(arm)
