@@ -123,10 +123,15 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
                 # The part as placed keeps more overhang than turning it whole would: plan
                 # from that direction and keep whichever leaves less.
                 trial_notes: list[str] = []
-                result = trial.result(_Piece) if trial is not None else None
-                trial = None
+                result = None
+                if trial is not None:
+                    # Its axis, while the child may still be planning: needed if it wins.
+                    other_axis = plan.axis(direction)
+                    other_axis.get()
+                    result = trial.result(_Piece)
+                    trial = None
                 if result is not None:
-                    other = plan.axis(direction), result[0]
+                    other = other_axis, result[0]
                     trial_notes = result[1]
                 else:
                     other = plan(direction, trial_notes)

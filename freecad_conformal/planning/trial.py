@@ -92,14 +92,27 @@ class Trial:
         env = dict(os.environ)
         env["PYTHONPATH"] = os.pathsep.join(
             [str(PACKAGE_ROOT)] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
-        self._process = subprocess.Popen([sys.executable, "-m", "freecad_conformal.planning.trial"],
-                                         stdin=subprocess.PIPE, stdout=subprocess.PIPE, env=env)
-        self._process.stdin.write(pickle.dumps(spec))
-        self._process.stdin.close()
+        try:
+            self._process = subprocess.Popen(
+                [sys.executable, "-m", "freecad_conformal.planning.trial"],
+                stdin=subprocess.PIPE, stdout=subprocess.PIPE, env=env)
+        except OSError:
+            self._process = None  # no interpreter to start: result() says so
+            return
+        try:
+            self._process.stdin.write(pickle.dumps(spec))
+        except OSError:
+            pass  # the child died at once (BrokenPipe): result() sees its exit code
+        try:
+            self._process.stdin.close()
+        except OSError:
+            pass  # same: nothing left to flush to
 
     def result(self, make_piece: Callable) -> tuple[list, list[str]] | None:
         """The trial's pieces and notes; None when the child could not plan at all (it
         did not start, or died): the caller then plans here. Re-raises a planning error."""
+        if self._process is None:
+            return None
         data = self._process.stdout.read()
         self._process.stdout.close()
         code = self._process.wait()
@@ -115,6 +128,8 @@ class Trial:
 
     def stop(self) -> None:
         """End the trial (its plan is not needed)."""
+        if self._process is None:
+            return
         if self._process.poll() is None:
             self._process.kill()
         self._process.stdout.close()
