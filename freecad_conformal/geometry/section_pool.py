@@ -16,6 +16,11 @@ import numpy as np
 
 from freecad_conformal.errors import GeometryError
 from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.planar_faces import SectionFace
+
+#: Heights per job: at least JOB_MIN, about JOBS_PER_WORKER jobs per worker.
+JOB_MIN = 4
+JOBS_PER_WORKER = 6
 
 _WORKER_SLICER = None  # set in the parent just before forking; inherited by the workers
 
@@ -24,10 +29,12 @@ def default_workers() -> int:
     return max(1, min(os.cpu_count() or 1, 8))
 
 
-def _cut_chunk_as_brep(solid_index: int, heights: np.ndarray) -> list[str]:
+def _cut_chunk_as_brep(solid_index: int, heights: np.ndarray) -> list[tuple[str, list]]:
+    """Per height: the faces as one BREP text, and each face's (area, centroid)."""
     _, Part = import_freecad()
     per_height = _WORKER_SLICER.cut_chunk(solid_index, heights)
-    return [Part.makeCompound(faces).exportBrepToString() if faces else "" for faces in per_height]
+    return [(Part.makeCompound([item.face for item in items]).exportBrepToString() if items else "",
+             [(item.area, item.centroid) for item in items]) for items in per_height]
 
 
 def parallel_sections(slicer, heights: Sequence[float], workers: int,
@@ -39,8 +46,11 @@ def parallel_sections(slicer, heights: Sequence[float], workers: int,
     if not np.all(np.isfinite(levels)):
         raise GeometryError(f"section heights must be finite, got {levels[~np.isfinite(levels)][0]!r}")
     levels, where = np.unique(levels, return_inverse=True)
+    # Face-by-face layers cost about the same each: small jobs keep both cores busy to the
+    # end. Boolean fallbacks still share one Boolean per job.
+    size = max(JOB_MIN, min(slicer.CHUNK, -(-len(levels) // (JOBS_PER_WORKER * workers))))
     jobs = [(solid_index, chunk) for solid_index in range(len(slicer.solids))
-            for chunk in slicer._chunks(solid_index, levels)]
+            for chunk in slicer._chunks(solid_index, levels, size)]
     faces_at: list[list] = [[] for _ in levels]
     _WORKER_SLICER = slicer
     try:
@@ -50,11 +60,12 @@ def parallel_sections(slicer, heights: Sequence[float], workers: int,
                        for solid_index, chunk in jobs]
             done_layers = 0
             for (solid_index, chunk), future in zip(jobs, futures):
-                for index, text in zip(chunk, future.result()):
+                for index, (text, props) in zip(chunk, future.result()):
                     if text:
                         shape = Part.Shape()
                         shape.importBrepFromString(text, False)
-                        faces_at[index].extend(shape.Faces)
+                        faces_at[index].extend(SectionFace(face, area, centroid)
+                                               for face, (area, centroid) in zip(shape.Faces, props))
                 done_layers += len(chunk)
                 if progress is not None:
                     progress(min(done_layers, len(levels)), len(levels))

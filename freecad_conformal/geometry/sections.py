@@ -18,8 +18,10 @@ import numpy as np
 
 from freecad_conformal.errors import GeometryError
 from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.face_cut import FaceCutter
+from freecad_conformal.geometry.planar_faces import SectionFace
 from freecad_conformal.geometry.frames import LayerFrame
-from freecad_conformal.geometry.loops import Loop, area_and_centroid, loops_of_faces, polygons_of_loops
+from freecad_conformal.geometry.loops import Loop, loops_of_faces, polygons_of_loops
 from freecad_conformal.geometry.solids import solids_of
 from freecad_conformal.tolerances import DEFAULT_CHORD_TOLERANCE, MIN_SECTION_AREA
 
@@ -165,7 +167,8 @@ class PlanarSlicer:
     CHUNK = 32
 
     def __init__(self, shape, direction: Sequence[float] = (0.0, 0.0, 1.0),
-                 chord_tolerance: float = DEFAULT_CHORD_TOLERANCE) -> None:
+                 chord_tolerance: float = DEFAULT_CHORD_TOLERANCE, *,
+                 face_by_face: bool = True) -> None:
         App, Part = import_freecad()
         if not np.isfinite(chord_tolerance) or chord_tolerance <= 0:
             raise GeometryError(f"chord tolerance must be a positive length, got {chord_tolerance!r}")
@@ -173,7 +176,12 @@ class PlanarSlicer:
         self.solids = solids_of(shape)
         self.frame = LayerFrame.for_direction(direction)
         self.chord_tolerance = chord_tolerance
-        self._boxes = [solid.BoundBox for solid in self.solids]
+        # Not `BoundBox`: taken from a triangulation it can fall short of a curved face.
+        self._boxes = [solid.optimalBoundingBox(False) for solid in self.solids]
+        self.face_by_face = face_by_face
+        self._cutters: dict[int, FaceCutter] = {}
+        #: Layers (per solid) cut face by face and by the Boolean fallback, for reports.
+        self.counts = {"face_by_face": 0, "boolean": 0}
 
     def section(self, height: float) -> PlanarSection:
         return self.sections([height])[0]
@@ -186,20 +194,41 @@ class PlanarSlicer:
             raise GeometryError(f"section heights must be finite, got {bad[0]!r}")
         # Repeated heights are cut once: two coincident planes in one Boolean would share faces.
         distinct, where = np.unique(levels, return_inverse=True)
-        faces_at: list[list] = [[] for _ in distinct]
+        faces_at: list[list[SectionFace]] = [[] for _ in distinct]
         for solid_index in range(len(self.solids)):
             for chunk in self._chunks(solid_index, distinct):
                 for index, faces in zip(chunk, self.cut_chunk(solid_index, distinct[chunk])):
                     faces_at[index].extend(faces)
         return [self._make_section(levels[i], list(faces_at[k])) for i, k in enumerate(where)]
 
-    def _chunks(self, solid_index: int, levels: np.ndarray) -> list[np.ndarray]:
-        """Indices of `levels` that meet the solid's box, grouped into chunks."""
+    def _chunks(self, solid_index: int, levels: np.ndarray, size: int | None = None) -> list[np.ndarray]:
+        """Indices of `levels` that meet the solid's box, grouped into chunks of `size`."""
+        size = size or self.CHUNK
         inside = [i for i, h in enumerate(levels)
                   if _plane_meets_box(self._boxes[solid_index], self.frame.n, h)]
-        return [np.array(inside[k:k + self.CHUNK]) for k in range(0, len(inside), self.CHUNK)]
+        return [np.array(inside[k:k + size]) for k in range(0, len(inside), size)]
 
-    def cut_chunk(self, solid_index: int, heights: np.ndarray) -> list[list]:
+    def cut_chunk(self, solid_index: int, heights: np.ndarray) -> list[list[SectionFace]]:
+        """Section faces of one solid, with their areas and centroids, for each height.
+
+        Each height is first cut face by face (`face_cut`); the heights that path leaves
+        (a vertex on the plane, a tangency, anything not generic) go to one Boolean.
+        """
+        result: list[list | None] = [None] * len(heights)
+        if self.face_by_face:
+            cutter = self._cutters.get(solid_index)
+            if cutter is None:
+                cutter = self._cutters[solid_index] = FaceCutter(self.solids[solid_index], self.frame.n)
+            result = [cutter.section_faces(float(h)) for h in heights]
+        left = [i for i, faces in enumerate(result) if faces is None]
+        self.counts["face_by_face"] += len(heights) - len(left)
+        self.counts["boolean"] += len(left)
+        if left:
+            for i, faces in zip(left, self._boolean_chunk(solid_index, np.asarray(heights)[left])):
+                result[i] = faces
+        return [[item for item in faces if item.area > MIN_SECTION_AREA] for faces in result]
+
+    def _boolean_chunk(self, solid_index: int, heights: np.ndarray) -> list[list[SectionFace]]:
         """Section faces of one solid for each height of a chunk (one Boolean)."""
         solid, box = self.solids[solid_index], self._boxes[solid_index]
         size = box.DiagonalLength * (1 + 2 * PLANE_MARGIN) + 1.0
@@ -216,11 +245,16 @@ class PlanarSlicer:
             if slot > 0 and abs(sorted_heights[slot - 1] - h) < abs(sorted_heights[slot] - h):
                 slot -= 1
             result[int(order[slot])].append(face)
-        return [_merge_touching(faces) for faces in result]
+        return [[SectionFace.of(face) for face in _merge_touching(faces)] for faces in result]
 
-    def _make_section(self, height: float, faces: list) -> PlanarSection:
-        area, centroid = area_and_centroid(faces)
-        return PlanarSection(height=float(height), frame=self.frame, faces=faces, area=area,
+    def _make_section(self, height: float, items: list[SectionFace]) -> PlanarSection:
+        area = float(sum(item.area for item in items))
+        if items:
+            centroid = sum((item.centroid * item.area for item in items), np.zeros(3)) / area
+        else:
+            centroid = np.full(3, np.nan)
+        return PlanarSection(height=float(height), frame=self.frame,
+                             faces=[item.face for item in items], area=area,
                              centroid=centroid, chord_tolerance=self.chord_tolerance)
 
 

@@ -1,0 +1,160 @@
+"""Where a plane meets a solid's edges and faces: crossing points and trimmed curve pieces.
+
+Building blocks of the face-by-face section (`face_cut`). Every function answers None when
+the configuration is not generic (an edge lying in the plane, a tangent crossing, a surface
+OCC cannot intersect): the caller then leaves the layer to the Boolean.
+"""
+from __future__ import annotations
+
+import math
+from typing import Iterator
+
+import numpy as np
+
+from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.torus_cut import torus_plane_curves
+
+#: A vertex closer than this (mm) to the plane sends the layer to the Boolean: the plane
+#: passes through an edge end, where curve pieces of several faces meet at one point.
+VERTEX_CLEARANCE = 1e-6
+
+#: A crossing point lies on an intersection curve when closer than this (mm). OCC's walked
+#: curves are within ~1e-7 of their surfaces, analytic ones within 1e-12, but B-spline
+#: edges of imported models sit up to 1.3e-4 mm off their faces (bottle.brep, measured).
+ON_CURVE = 2e-4
+
+#: |cos| of a circle edge's crossing above this is a near-tangent crossing: the two roots
+#: merge and their order is ill-conditioned, so the layer goes to the Boolean.
+TANGENT_COS = 1.0 - 1e-9
+
+#: OCC reports an unbounded curve's parameter range as ±2e100.
+UNBOUNDED = 1e99
+
+#: (start, end, first crossing id, last crossing id); ids are None at a free curve end.
+Span = tuple[float, float, "int | None", "int | None"]
+
+
+def edge_kind(edge) -> str:
+    """"line" and "circle" edges are crossed in closed form, "other" ones by OCC."""
+    name = type(edge.Curve).__name__
+    if name in ("Line", "LineSegment"):
+        return "line"
+    if name == "Circle":
+        return "circle"
+    return "other"
+
+
+def edge_crossings(edge, kind: str, n: np.ndarray, height: float) -> list[np.ndarray] | None:
+    """Points where one edge crosses the plane n·p = height (None: in it, or tangent)."""
+    first, last = edge.ParameterRange
+    if kind == "line":
+        a = np.array(tuple(edge.valueAt(first)))
+        b = np.array(tuple(edge.valueAt(last)))
+        ha, hb = a @ n, b @ n
+        if abs(hb - ha) < VERTEX_CLEARANCE:
+            # Parallel to the plane: in it (the Boolean's case) or no crossing at all.
+            return None if abs(height - ha) < VERTEX_CLEARANCE else []
+        t = (height - ha) / (hb - ha)
+        return [a + t * (b - a)] if 0.0 < t < 1.0 else []
+    if kind == "circle":
+        return _circle_crossings(edge.Curve, first, last, n, height)
+    return _curve_crossings(edge.Curve, first, last, n, height)
+
+
+def _circle_crossings(circle, first: float, last: float, n: np.ndarray, height: float):
+    centre = np.array(tuple(circle.Center))
+    x = np.array(tuple(circle.XAxis))
+    y = np.cross(np.array(tuple(circle.Axis)), x)
+    p, q = circle.Radius * (x @ n), circle.Radius * (y @ n)
+    amplitude = math.hypot(p, q)
+    if amplitude < VERTEX_CLEARANCE:
+        # The circle lies parallel to the cut: in it (the Boolean's case) or apart.
+        return None if abs(height - centre @ n) < VERTEX_CLEARANCE else []
+    c = (height - centre @ n) / amplitude
+    if abs(c) >= TANGENT_COS:
+        return None if abs(c) < 1.0 + 1e-9 else []
+    phase, spread = math.atan2(q, p), math.acos(c)
+    found = []
+    for theta in (phase + spread, phase - spread):
+        t = first + (theta - first) % (2 * math.pi)
+        if t < last:
+            found.append(centre + circle.Radius * (math.cos(t) * x + math.sin(t) * y))
+    return found
+
+
+def _curve_crossings(curve, first: float, last: float, n: np.ndarray, height: float):
+    App, Part = import_freecad()
+    plane = Part.Plane(App.Vector(*(height * n)), App.Vector(*n))
+    try:
+        hits, segments = curve.intersectCS(plane)
+    except Part.OCCError:
+        return None
+    if segments:
+        return None
+    found = []
+    for hit in hits:
+        point = np.array([hit.X, hit.Y, hit.Z])
+        t = curve.parameter(App.Vector(*point))
+        if curve.isPeriodic():
+            t = first + (t - first) % curve.period()
+        if first < t < last:
+            found.append(point)
+    return found
+
+
+def surface_curves(face, plane, n: np.ndarray, height: float) -> list | None:
+    """The plane's intersection curves with the face's whole surface (None: OCC failed)."""
+    surface = face.Surface
+    if type(surface).__name__ == "Toroid":
+        curves = torus_plane_curves(surface, n, height, face.ParameterRange)
+        if curves is not None:
+            return curves
+    try:
+        return list(surface.intersectSS(plane))
+    except Exception:  # noqa: BLE001 - OCC raises bare Standard_Failure types here
+        return None
+
+
+def finite(parameter: float) -> bool:
+    return abs(parameter) < UNBOUNDED
+
+
+def point_gap(curve, t0: float, t1: float) -> float:
+    """Distance (mm) between the curve's points at two parameters."""
+    return float((curve.value(t0) - curve.value(t1)).Length)
+
+
+def closed_piece(curve, start: float, end: float) -> bool:
+    return finite(start) and finite(end) and point_gap(curve, start, end) < ON_CURVE
+
+
+def curve_spans(curve, stops: list[tuple[float, int]]) -> Iterator[Span]:
+    """Pieces of `curve` between its stops (parameter, crossing id), sorted by parameter.
+
+    A closed curve is cut cyclically; an open one also yields its free ends (ids None),
+    except where a stop sits on the end itself (a curve ending on the face's boundary).
+    """
+    lo, hi = curve.FirstParameter, curve.LastParameter
+    bounded = finite(lo) and finite(hi)
+    if curve.isPeriodic():
+        hi = lo + curve.period()
+        closed = True
+    else:
+        closed = bounded and point_gap(curve, lo, hi) < ON_CURVE
+    if not stops:
+        if bounded:
+            yield lo, hi, None, None
+        return
+    if closed:
+        period = hi - lo
+        ordered = sorted((lo + (t - lo) % period, pid) for t, pid in stops)
+        following = ordered[1:] + [(ordered[0][0] + period, ordered[0][1])]
+        for (t0, p0), (t1, p1) in zip(ordered, following):
+            yield t0, t1, p0, p1
+        return
+    for (t0, p0), (t1, p1) in zip(stops, stops[1:]):
+        yield t0, t1, p0, p1
+    if finite(lo) and point_gap(curve, lo, stops[0][0]) > ON_CURVE:
+        yield lo, stops[0][0], None, stops[0][1]
+    if finite(hi) and point_gap(curve, stops[-1][0], hi) > ON_CURVE:
+        yield stops[-1][0], hi, stops[-1][1], None

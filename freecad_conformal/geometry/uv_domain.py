@@ -1,0 +1,84 @@
+"""Whether a point of a face's surface lies in the face: its (u, v) in the trimmed domain.
+
+OCC's classifier (`Face.isInside`) takes about 0.5 ms a call; the face-by-face section asks
+once per curve piece. The face's parameter domain is discretised once into a shapely
+polygon and points are tested against it; only points too close to its boundary for the
+discretisation to decide go to OCC.
+"""
+from __future__ import annotations
+
+import numpy as np
+import shapely
+from shapely.geometry import Polygon
+
+#: Points per edge when discretising the face's boundary curves in (u, v).
+UV_POINTS_PER_EDGE = 48
+
+#: A point whose (u, v) neighbours this far away (relative to the domain's size) disagree
+#: with it lies too near the discretised boundary: OCC decides.
+UV_AMBIGUOUS = 1e-3
+
+#: OCC's classification tolerance (mm) for those points.
+CLASSIFY_TOLERANCE = 1e-7
+
+
+class FaceDomain:
+    """The trimmed (u, v) domain of one face, built on first use."""
+
+    def __init__(self, face) -> None:
+        self.face = face
+        self.surface = face.Surface
+        self._polygon = None
+        self._size = 1.0
+        self._u_period = self.surface.UPeriod() if self.surface.isUPeriodic() else 0.0
+        self._v_period = self.surface.VPeriod() if self.surface.isVPeriodic() else 0.0
+        self._broken = False
+
+    def contains(self, point) -> bool:
+        """Whether the surface point (a FreeCAD Vector) lies in the face."""
+        if self._polygon is None and not self._broken:
+            try:
+                self._polygon, self._size = _domain_polygon(self.face)
+            except (ValueError, shapely.errors.ShapelyError):
+                self._broken = True    # a boundary without curves on the face: ask OCC
+        if self._broken:
+            return bool(self.face.isInside(point, CLASSIFY_TOLERANCE, True))
+        u, v = self.surface.parameter(point)
+        low_u, low_v, _, _ = self._polygon.bounds
+        if self._u_period:
+            u = low_u + (u - low_u) % self._u_period
+        if self._v_period:
+            v = low_v + (v - low_v) % self._v_period
+        step = UV_AMBIGUOUS * self._size
+        verdicts = shapely.contains_xy(self._polygon, np.array([u, u - step, u + step, u, u]),
+                                       np.array([v, v, v, v - step, v + step]))
+        if verdicts.all() or not verdicts.any():
+            return bool(verdicts[0])
+        return bool(self.face.isInside(point, CLASSIFY_TOLERANCE, True))
+
+
+def _domain_polygon(face):
+    """The face's parameter domain as a prepared shapely polygon, and its size."""
+    rings = []
+    outer = face.OuterWire
+    for wire in face.Wires:
+        ring = []
+        for edge in wire.OrderedEdges:
+            found = face.curveOnSurface(edge)
+            if found is None:
+                raise ValueError("edge without a curve on the face")
+            curve2d, a, b = found
+            points = [curve2d.value(t) for t in np.linspace(a, b, UV_POINTS_PER_EDGE)]
+            uv = [(p.x, p.y) for p in points]
+            if edge.Orientation == "Reversed":
+                uv.reverse()
+            ring.extend(uv[:-1])
+        rings.append((wire.isSame(outer), ring))
+    shells = [ring for is_outer, ring in rings if is_outer]
+    if not shells:
+        raise ValueError("face without an outer wire")
+    holes = [ring for is_outer, ring in rings if not is_outer]
+    polygon = shapely.make_valid(Polygon(shells[0], holes))
+    minx, miny, maxx, maxy = polygon.bounds
+    shapely.prepare(polygon)
+    return polygon, max(maxx - minx, maxy - miny, 1e-12)
