@@ -69,8 +69,18 @@ def area_and_centroid(faces: list) -> tuple[float, np.ndarray]:
 
 
 def discretize_wire(wire, chord_tolerance: float) -> np.ndarray:
-    """Points (N, 3) along the wire in its order, closing point dropped."""
-    points = np.array([tuple(p) for p in wire.discretize(Deflection=chord_tolerance)])
+    """Points (N, 3) along the wire in its order, closing point dropped.
+
+    Edge by edge: OCC's `Wire.discretize` ends the process (no exception) on a wire the
+    Boolean returned open, a one-edge sliver of bottle.brep cut along +X (measured).
+    """
+    runs = []
+    for edge in wire.OrderedEdges:
+        run = [tuple(p) for p in edge.discretize(Deflection=chord_tolerance)]
+        if edge.Orientation == "Reversed":
+            run.reverse()
+        runs.append(run if not runs else run[1:])
+    points = np.array([p for run in runs for p in run]) if runs else np.zeros((0, 3))
     if len(points) > 1 and np.linalg.norm(points[0] - points[-1]) < 1e-9:
         points = points[:-1]
     return points

@@ -44,3 +44,25 @@ def test_crankarm_two_solids_are_both_sectioned(parts_dir):
     per_solid = [sum(layer.area for layer in planar_sections(solid, heights=[l.height for l in stack.layers]).layers)
                  for solid in shape.Solids]
     assert sum(layer.area for layer in stack.layers) == pytest.approx(sum(per_solid), rel=1e-12)
+
+
+@pytest.mark.parts
+def test_loops_of_an_open_sliver_wire_do_not_end_the_process(parts_dir):
+    """bottle.brep cut along +X at this height: the Boolean returns a one-edge open wire, and
+    OCC's Wire.discretize ended the whole process on it. Run in a child so a regression
+    fails this test instead of killing the suite."""
+    import subprocess
+    import sys
+    import textwrap
+
+    code = textwrap.dedent(f"""
+        from freecad_conformal.geometry.sections import PlanarSlicer
+        from freecad_conformal.geometry.solids import load_shape
+        layer = PlanarSlicer(load_shape({str(parts_dir / 'bottle.brep')!r}), (1, 0, 0)).section(7.2100311900134315)
+        print(len(layer.loops), layer.polygons().area, layer.area)
+    """)
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    loops, polygon_area, area = done.stdout.split()
+    assert int(loops) >= 3
+    assert float(polygon_area) == pytest.approx(float(area), rel=1e-3)
