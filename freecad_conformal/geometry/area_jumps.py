@@ -81,8 +81,9 @@ class MeshProfile:
         return result
 
 
-def _mesh_area_profile(mesh: MeshProfile, shape, axis: np.ndarray, d: float | None):
-    low, high = extent_along(shape, axis)
+def _mesh_area_profile(mesh: MeshProfile, extent: tuple[float, float], axis: np.ndarray,
+                       d: float | None):
+    low, high = extent
     step = d if d is not None else (high - low) / DEFAULT_SLICES
     if step <= 0:
         return np.zeros(0), np.zeros(0), 0.0
@@ -116,8 +117,11 @@ def area_jump_planes(shape, build_direction: np.ndarray, d: float | None = None,
     the areas from a triangulation (see the module docstring).
     """
     jumps = []
+    # Extents first: OCC's bounding box tightens once the shape is finely triangulated, and
+    # the heights must be those the exact sections would use.
+    extents = {i: extent_along(shape, axis) for i, axis in enumerate(AXES[:3])}
     mesh = None if exact else MeshProfile(shape)
-    for axis in AXES[:3]:
+    for i, axis in enumerate(AXES[:3]):
         if abs(float(axis @ build_direction)) > 1 - 1e-9:
             continue
         if skip is not None and skip(axis):
@@ -125,7 +129,7 @@ def area_jump_planes(shape, build_direction: np.ndarray, d: float | None = None,
         if mesh is None:
             heights, areas, step = _area_profile(shape, axis, d)
         else:
-            heights, areas, step = _mesh_area_profile(mesh, shape, axis, d)
+            heights, areas, step = _mesh_area_profile(mesh, extents[i], axis, d)
         jumps.extend((rate, height, axis) for height, rate in _jumps(heights, areas, step))
         jumps.extend((rate, -height, -axis)
                      for height, rate in _jumps(-heights[::-1], areas[::-1], step))
