@@ -86,6 +86,11 @@ class FaceCutter:
                     ids.append(index_of[key])
             self.faces.append(_FaceData(face, FaceDomain(face), *self._span(face), ids))
 
+    def prepare(self) -> None:
+        """Build every face's parameter domain now (otherwise built on first use)."""
+        for data in self.faces:
+            data.domain.prepare()
+
     def _span(self, shape) -> tuple[float, float]:
         # Not `BoundBox`: taken from a triangulation it can fall short of a curved face.
         box = shape.optimalBoundingBox(False)

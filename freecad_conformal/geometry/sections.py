@@ -186,8 +186,13 @@ class PlanarSlicer:
     def section(self, height: float) -> PlanarSection:
         return self.sections([height])[0]
 
-    def sections(self, heights: Sequence[float]) -> list[PlanarSection]:
-        """Sections at `heights` (any order), in the order given."""
+    def sections(self, heights: Sequence[float],
+                 progress: ProgressCallback | None = None) -> list[PlanarSection]:
+        """Sections at `heights` (any order), in the order given.
+
+        Every height is cut face by face first; the layers that path leaves go to the
+        Boolean afterwards, up to `CHUNK` of them (per solid) in one Boolean.
+        """
         levels = np.asarray(heights, dtype=float).reshape(-1)
         bad = levels[~np.isfinite(levels)]
         if bad.size:
@@ -195,9 +200,21 @@ class PlanarSlicer:
         # Repeated heights are cut once: two coincident planes in one Boolean would share faces.
         distinct, where = np.unique(levels, return_inverse=True)
         faces_at: list[list[SectionFace]] = [[] for _ in distinct]
-        for solid_index in range(len(self.solids)):
-            for chunk in self._chunks(solid_index, distinct):
-                for index, faces in zip(chunk, self.cut_chunk(solid_index, distinct[chunk])):
+        chunks = [(solid_index, chunk) for solid_index in range(len(self.solids))
+                  for chunk in self._chunks(solid_index, distinct)]
+        left: dict[int, list[int]] = {}
+        for done, (solid_index, chunk) in enumerate(chunks, start=1):
+            for index, faces in zip(chunk, self.cut_faces(solid_index, distinct[chunk])):
+                if faces is None:
+                    left.setdefault(solid_index, []).append(index)
+                else:
+                    faces_at[index].extend(faces)
+            if progress is not None:
+                progress(int(len(distinct) * done / len(chunks)), len(distinct))
+        for solid_index, indices in left.items():
+            for start in range(0, len(indices), self.CHUNK):
+                chunk = np.array(indices[start:start + self.CHUNK])
+                for index, faces in zip(chunk, self.cut_boolean(solid_index, distinct[chunk])):
                     faces_at[index].extend(faces)
         return [self._make_section(levels[i], list(faces_at[k])) for i, k in enumerate(where)]
 
@@ -208,28 +225,28 @@ class PlanarSlicer:
                   if _plane_meets_box(self._boxes[solid_index], self.frame.n, h)]
         return [np.array(inside[k:k + size]) for k in range(0, len(inside), size)]
 
-    def cut_chunk(self, solid_index: int, heights: np.ndarray) -> list[list[SectionFace]]:
-        """Section faces of one solid, with their areas and centroids, for each height.
-
-        Each height is first cut face by face (`face_cut`); the heights that path leaves
-        (a vertex on the plane, a tangency, anything not generic) go to one Boolean.
-        """
-        result: list[list | None] = [None] * len(heights)
-        if self.face_by_face:
-            cutter = self._cutters.get(solid_index)
-            if cutter is None:
-                cutter = self._cutters[solid_index] = FaceCutter(self.solids[solid_index], self.frame.n)
+    def cut_faces(self, solid_index: int, heights: np.ndarray) -> list[list[SectionFace] | None]:
+        """Section faces of one solid cut face by face (`face_cut`), per height; None where
+        that path leaves the layer to the Boolean (a vertex on the plane, a tangency, ...)."""
+        if not self.face_by_face:
+            result: list = [None] * len(heights)
+        else:
+            cutter = self.cutter(solid_index)
             result = [cutter.section_faces(float(h)) for h in heights]
-        left = [i for i, faces in enumerate(result) if faces is None]
-        self.counts["face_by_face"] += len(heights) - len(left)
-        self.counts["boolean"] += len(left)
-        if left:
-            for i, faces in zip(left, self._boolean_chunk(solid_index, np.asarray(heights)[left])):
-                result[i] = faces
-        return [[item for item in faces if item.area > MIN_SECTION_AREA] for faces in result]
+        fallbacks = sum(faces is None for faces in result)
+        self.counts["face_by_face"] += len(heights) - fallbacks
+        self.counts["boolean"] += fallbacks
+        return [None if faces is None else [item for item in faces if item.area > MIN_SECTION_AREA]
+                for faces in result]
 
-    def _boolean_chunk(self, solid_index: int, heights: np.ndarray) -> list[list[SectionFace]]:
-        """Section faces of one solid for each height of a chunk (one Boolean)."""
+    def cutter(self, solid_index: int) -> FaceCutter:
+        """The face-by-face cutter of one solid, built on first use."""
+        if solid_index not in self._cutters:
+            self._cutters[solid_index] = FaceCutter(self.solids[solid_index], self.frame.n)
+        return self._cutters[solid_index]
+
+    def cut_boolean(self, solid_index: int, heights: np.ndarray) -> list[list[SectionFace]]:
+        """Section faces of one solid for each height of a chunk, by one Boolean common."""
         solid, box = self.solids[solid_index], self._boxes[solid_index]
         size = box.DiagonalLength * (1 + 2 * PLANE_MARGIN) + 1.0
         planes = [_plane_face(self._Part, self._App, h, self.frame.n, size, box) for h in heights]
@@ -310,9 +327,5 @@ def planar_sections(shape, direction: Sequence[float] = (0.0, 0.0, 1.0), *,
 
         layers = parallel_sections(slicer, levels, workers, progress)
         return SectionStack(frame=slicer.frame, layers=layers, chord_tolerance=chord_tolerance)
-    layers: list[PlanarSection] = []
-    for start in range(0, len(levels), PlanarSlicer.CHUNK):
-        layers.extend(slicer.sections(levels[start:start + PlanarSlicer.CHUNK]))
-        if progress is not None:
-            progress(len(layers), len(levels))
+    layers = slicer.sections(levels, progress)
     return SectionStack(frame=slicer.frame, layers=layers, chord_tolerance=chord_tolerance)

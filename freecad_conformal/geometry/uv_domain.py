@@ -34,13 +34,17 @@ class FaceDomain:
         self._v_period = self.surface.VPeriod() if self.surface.isVPeriodic() else 0.0
         self._broken = False
 
-    def contains(self, point) -> bool:
-        """Whether the surface point (a FreeCAD Vector) lies in the face."""
+    def prepare(self) -> None:
+        """Discretise the domain now (`contains` does it on first use otherwise)."""
         if self._polygon is None and not self._broken:
             try:
                 self._polygon, self._size = _domain_polygon(self.face)
             except (ValueError, shapely.errors.ShapelyError):
                 self._broken = True    # a boundary without curves on the face: ask OCC
+
+    def contains(self, point) -> bool:
+        """Whether the surface point (a FreeCAD Vector) lies in the face."""
+        self.prepare()
         if self._broken:
             return bool(self.face.isInside(point, CLASSIFY_TOLERANCE, True))
         u, v = self.surface.parameter(point)
