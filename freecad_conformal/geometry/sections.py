@@ -125,21 +125,23 @@ def uniform_heights(shape, direction: Sequence[float], layer: float) -> list[flo
 
 
 def extent_along(shape, direction: np.ndarray) -> tuple[float, float]:
-    """Exact (min, max) of the shape's vertices and curves projected on `direction`."""
-    App, _ = import_freecad()
-    box = shape.optimalBoundingBox() if hasattr(shape, "optimalBoundingBox") else shape.BoundBox
+    """Exact (min, max) of the shape projected on `direction` (unit).
+
+    Measured as the distance from two far planes (OCC's extrema), whatever the direction:
+    bounding boxes are not exact. `optimalBoundingBox` boxes a trimmed B-spline or torus
+    face by its whole parameter rectangle (CrankArm's box reaches 1.29 mm below its bottom)
+    and `BoundBox` adds tolerances and control polygons (the screw's, 0.83 mm above its top);
+    a slicer starting from either lays its first layers in the air.
+    """
+    App, Part = import_freecad()
+    n = np.asarray(direction, dtype=float)
+    box = shape.BoundBox
     corners = np.array([[x, y, z] for x in (box.XMin, box.XMax) for y in (box.YMin, box.YMax)
                         for z in (box.ZMin, box.ZMax)])
-    axis_aligned = np.count_nonzero(np.abs(direction) > 1e-12) == 1
-    if axis_aligned:
-        heights = corners @ direction
-        return float(heights.min()), float(heights.max())
-    # Oblique direction: a box corner over-estimates; measure the distance to far planes.
-    _, Part = import_freecad()
-    reach = float(np.max(np.abs(corners @ direction))) + box.DiagonalLength + 1.0
+    reach = float(np.max(np.abs(corners @ n))) + box.DiagonalLength + 1.0
     size = 4 * box.DiagonalLength + 2.0
-    far_low = _plane_face(Part, App, -reach, direction, size, box)
-    far_high = _plane_face(Part, App, reach, direction, size, box)
+    far_low = _plane_face(Part, App, -reach, n, size, box)
+    far_high = _plane_face(Part, App, reach, n, size, box)
     low = -reach + far_low.distToShape(shape)[0]
     high = reach - far_high.distToShape(shape)[0]
     return float(low), float(high)
