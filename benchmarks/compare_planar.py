@@ -5,6 +5,8 @@ orientations with supports on, keep its best (least filament), slice that orient
 with supports off, and read filament volume, support-only extrusion (";TYPE:Support
 material" and its interface) and estimated time from the G-code. Then plan the part with
 this project (decomposition, layers, paths) at the same settings and print both with ratios.
+Last, PrusaSlicer slices each of our sub-parts stood on its base: the same support-free
+geometry under the same rules, which separates what the geometry costs from what our paths do.
 
 The same rules on both sides, passed to PrusaSlicer explicitly (`PRUSA_SETTINGS`) and to the
 planner (`plan_options`): layer 0.2 mm (the first one too), nozzle 0.4 mm, bead width 0.45 mm
@@ -128,6 +130,27 @@ def prusa_slice(stl: Path, orientation: str, supports: bool, work: Path) -> Slic
     return Slice(orientation, volume, support_volume(text), parse_time(text), out)
 
 
+def prusa_on_subparts(plan, work: Path) -> Slice:
+    """PrusaSlicer (supports off) on each of our sub-parts stood on its base, summed: the same
+    support-free geometry under the same rules, so what differs from our figures is the path
+    planning alone (and PrusaSlicer's bottom skins on sub-parts that rest on a parent)."""
+    import FreeCAD as App
+
+    volume = seconds = 0.0
+    for sub in plan.ordered():
+        shape = sub.shape.copy()
+        shape.rotate(App.Vector(0, 0, 0), App.Vector(*sub.rotation_axis), math.degrees(sub.rotation_angle))
+        turned = App.Rotation(App.Vector(*sub.rotation_axis), math.degrees(sub.rotation_angle))
+        up = turned.multVec(App.Vector(*sub.build_direction))
+        assert abs(up.z - 1.0) < 1e-9, f"{sub.name} turned to {up}, not +Z"
+        stl = work / f"{sub.name}.stl"
+        shape.exportStl(str(stl))
+        result = prusa_slice(stl, "as modelled", False, work)
+        volume += result.volume_cm3
+        seconds += result.seconds
+    return Slice("our sub-parts", volume, 0.0, seconds, work)
+
+
 def load(name: str):
     if name in samples.SAMPLES:
         return samples.SAMPLES[name]()
@@ -244,7 +267,10 @@ def main(names: list[str], roles: bool = False) -> int:
                 print(f"{name}: no plan for {PlanOptions().machine}: {exc}", flush=True)
                 continue
             same = bare if up == best.orientation else prusa_slice(stl, up, False, work)
-            rows.append((name, best, bare, result, our_time, wall, same))
+            parts_dir = work / f"{name}_subparts"
+            parts_dir.mkdir()
+            pieces = prusa_on_subparts(result.plan, parts_dir)
+            rows.append((name, best, bare, result, our_time, wall, same, pieces))
             print(f"{name}: {len(result.subparts)} sub-parts, planned in {wall:.1f} s", flush=True)
             if roles:
                 print_roles(name, prusa_roles(bare.gcode), our_roles(result))
@@ -252,7 +278,7 @@ def main(names: list[str], roles: bool = False) -> int:
     print(f"{'part':<10} {'PS best orientation':<20} {'PS+sup cm3':>10} {'sup cm3':>8} {'PS-sup cm3':>10} "
           f"{'ours cm3':>9} {'ours/PS-sup':>11} {'ours/PS+sup':>11} | {'PS+sup':>7} {'PS-sup':>7} "
           f"{'ours':>7} {'t/PS-sup':>8} {'t/PS+sup':>8} | {'our support':>11}")
-    for name, best, bare, result, our_time, _, _ in rows:
+    for name, best, bare, result, our_time, *_ in rows:
         ours_cm3 = result.material_volume / 1000.0
         support = result.plan.support_area
         print(f"{name:<10} {best.orientation:<20} {best.volume_cm3:>10.2f} {best.support_cm3:>8.2f} "
@@ -263,10 +289,17 @@ def main(names: list[str], roles: bool = False) -> int:
     print(f"\nPrusaSlicer without supports with the part placed as our plan's root (the same "
           "geometry on the bed; what remains is the sub-parts built along their own axes):")
     print(f"{'part':<10} {'orientation':<20} {'PS-sup cm3':>10} {'ours/PS':>8} | {'PS-sup':>7} {'t ours/PS':>9}")
-    for name, _, _, result, our_time, _, same in rows:
+    for name, _, _, result, our_time, _, same, _ in rows:
         print(f"{name:<10} {same.orientation:<20} {same.volume_cm3:>10.2f} "
               f"{result.material_volume / 1000.0 / same.volume_cm3:>8.3f} | {hms(same.seconds):>7} "
               f"{our_time / same.seconds:>9.3f}")
+    print("\nPrusaSlicer without supports on each of our sub-parts, stood on its base (the same "
+          "support-free geometry under the same rules; the difference is path planning):")
+    print(f"{'part':<10} {'sub-parts':>9} {'PS cm3':>10} {'ours/PS':>8} | {'PS t':>7} {'t ours/PS':>9}")
+    for name, _, _, result, our_time, _, _, pieces in rows:
+        print(f"{name:<10} {len(result.plan.subparts):>9} {pieces.volume_cm3:>10.2f} "
+              f"{result.material_volume / 1000.0 / pieces.volume_cm3:>8.3f} | {hms(pieces.seconds):>7} "
+              f"{our_time / pieces.seconds:>9.3f}")
     print("\nPS = PrusaSlicer (its estimate); ours = plan material (rounded bead x length) and the "
           "same time model (trapezoids, jerk 10 mm/s, acceleration 1500 mm/s2, 5 s layer cooling)")
     return 0
