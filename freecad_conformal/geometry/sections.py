@@ -1,10 +1,12 @@
-"""Exact planar sections of B-rep solids (OpenCASCADE Booleans through FreeCAD's Part).
+"""Exact planar sections of B-rep solids (OpenCASCADE through FreeCAD's Part).
 
-Each section is the Boolean common of a solid with a bounded plane, so OCC returns faces with
-their holes already told apart: areas and centroids come from those faces (exact up to OCC's
-integration), loops are their wires, and a plane lying on a face of the part returns that face
-rather than a ragged set of edges. Polygons for path planning are derived from the exact wires
-at a stated chord tolerance.
+Each layer is cut face by face (`face_cut`: plane∩surface curves trimmed to the faces and
+filled); layers that are not generic (a vertex or an edge on the plane, a tangency) fall back
+to the Boolean common of the solid with a bounded plane. Either way OCC returns faces with
+their holes told apart: areas and centroids come from those faces (exact up to OCC's
+integration), loops are their wires, and a plane lying on a face of the part returns that
+face rather than a ragged set of edges. Polygons for path planning are derived from the
+exact wires at a stated chord tolerance.
 
 Heights are signed distances along the (unit) direction from the world origin, so the same
 height means the same plane whatever the part's position.
