@@ -21,8 +21,7 @@ import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.plane_curves import (ON_CURVE, VERTEX_CLEARANCE, closed_piece,
-                                                     curve_spans, edge_crossings, edge_kind,
-                                                     surface_curves)
+                                                     curve_spans, edge_crosser, surface_curves)
 from freecad_conformal.geometry.planar_faces import Piece, SectionFace, faces_from_pieces
 from freecad_conformal.geometry.uv_domain import FaceDomain
 
@@ -45,12 +44,13 @@ class _FaceData:
     low: float
     high: float
     edge_ids: list[int]
+    parameter_range: tuple = ()
 
 
 @dataclass
 class _EdgeData:
     edge: object
-    kind: str
+    crosser: object
     low: float
     high: float
     faces: list[int]
@@ -78,13 +78,14 @@ class FaceCutter:
                 key = edge.hashCode()
                 if key not in index_of:
                     index_of[key] = len(self.edges)
-                    self.edges.append(_EdgeData(edge, edge_kind(edge), *self._span(edge), []))
+                    self.edges.append(_EdgeData(edge, edge_crosser(edge, self.n), *self._span(edge), []))
                 data = self.edges[index_of[key]]
                 if face_index not in data.faces:
                     data.faces.append(face_index)
                 if index_of[key] not in ids:
                     ids.append(index_of[key])
-            self.faces.append(_FaceData(face, FaceDomain(face), *self._span(face), ids))
+            self.faces.append(_FaceData(face, FaceDomain(face), *self._span(face), ids,
+                                        tuple(face.ParameterRange)))
 
     def prepare(self) -> None:
         """Build every face's parameter domain now (otherwise built on first use)."""
@@ -124,7 +125,7 @@ class FaceCutter:
         for data in self.edges:
             if not data.low <= height <= data.high:
                 continue
-            crossings = edge_crossings(data.edge, data.kind, self.n, height)
+            crossings = data.crosser.at(height)
             if crossings is None:
                 return None, None
             for point in crossings:
@@ -136,7 +137,7 @@ class FaceCutter:
     def _face_pieces(self, data: _FaceData, plane, height: float, points: list,
                      point_ids: list[int]) -> list[Piece] | None:
         """The face's intersection curves cut at its crossings, the pieces inside it."""
-        curves = surface_curves(data.face, plane, self.n, height)
+        curves = surface_curves(data.domain.surface, data.parameter_range, plane, self.n, height)
         if curves is None:
             return None
         stops: list[list[tuple[float, int]]] = [[] for _ in curves]

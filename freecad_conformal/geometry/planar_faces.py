@@ -103,19 +103,20 @@ def _faces_of_wires(wires: list, plane) -> list[SectionFace] | None:
             return None
         # OCC's centre of mass divides the moments by the signed area: right either way.
         centroid = np.array(tuple(alone.CenterOfMass))
-        loops.append((wire if area > 0 else wire.reversed(), abs(area), wire.BoundBox, centroid))
+        loops.append((wire if area > 0 else wire.reversed(), abs(area), wire.BoundBox, centroid,
+                      alone if area > 0 else None))
     loops.sort(key=lambda loop: -loop[1])
     parent: list[int | None] = []
-    for i, (wire, _, box, _) in enumerate(loops):
+    for i, (wire, _, box, _, _) in enumerate(loops):
         container = None
         for j in range(i - 1, -1, -1):   # the smallest enclosing loop comes last
-            other_wire, _, other_box, _ = loops[j]
+            other_wire, _, other_box, _, _ = loops[j]
             if _box_inside(box, other_box) and _wire_inside(wire, other_wire, plane):
                 container = j
                 break
         parent.append(container)
     faces = []
-    for i, (wire, area, _, centroid) in enumerate(loops):
+    for i, (wire, area, _, centroid, alone) in enumerate(loops):
         if _depth(parent, i) % 2:
             continue
         holes = [k for k in range(len(loops)) if parent[k] == i]
@@ -123,7 +124,10 @@ def _faces_of_wires(wires: list, plane) -> list[SectionFace] | None:
         if net <= MIN_LOOP_AREA:
             return None
         moment = area * centroid - sum((loops[k][1] * loops[k][3] for k in holes), np.zeros(3))
-        face = Part.Face(plane, [wire] + [loops[k][0].reversed() for k in holes])
+        if holes or alone is None:
+            face = Part.Face(plane, [wire] + [loops[k][0].reversed() for k in holes])
+        else:
+            face = alone     # one counter-clockwise loop: the face already built to orient it
         faces.append(SectionFace(face, float(net), moment / net))
     return faces
 

@@ -34,79 +34,96 @@ UNBOUNDED = 1e99
 Span = tuple[float, float, "int | None", "int | None"]
 
 
-def edge_kind(edge) -> str:
-    """"line" and "circle" edges are crossed in closed form, "other" ones by OCC."""
+def edge_crosser(edge, n: np.ndarray):
+    """What finds where one edge crosses the planes n·p = h: lines and circles in closed form
+    (their heights along n read once, since a cutter's normal is fixed), other curves by OCC."""
     name = type(edge.Curve).__name__
     if name in ("Line", "LineSegment"):
-        return "line"
+        return LineCrosser(edge, n)
     if name == "Circle":
-        return "circle"
-    return "other"
+        return CircleCrosser(edge, n)
+    return CurveCrosser(edge, n)
 
 
-def edge_crossings(edge, kind: str, n: np.ndarray, height: float) -> list[np.ndarray] | None:
-    """Points where one edge crosses the plane n·p = height (None: in it, or tangent)."""
-    first, last = edge.ParameterRange
-    if kind == "line":
-        a = np.array(tuple(edge.valueAt(first)))
-        b = np.array(tuple(edge.valueAt(last)))
-        ha, hb = a @ n, b @ n
+class LineCrosser:
+    def __init__(self, edge, n: np.ndarray) -> None:
+        first, last = edge.ParameterRange
+        self.a = np.array(tuple(edge.valueAt(first)))
+        self.b = np.array(tuple(edge.valueAt(last)))
+        self.ha, self.hb = float(self.a @ n), float(self.b @ n)
+
+    def at(self, height: float) -> list[np.ndarray] | None:
+        """Crossing points at `height` (None: the edge lies in the plane)."""
+        ha, hb = self.ha, self.hb
         if abs(hb - ha) < VERTEX_CLEARANCE:
             # Parallel to the plane: in it (the Boolean's case) or no crossing at all.
             return None if abs(height - ha) < VERTEX_CLEARANCE else []
         t = (height - ha) / (hb - ha)
-        return [a + t * (b - a)] if 0.0 < t < 1.0 else []
-    if kind == "circle":
-        return _circle_crossings(edge.Curve, first, last, n, height)
-    return _curve_crossings(edge.Curve, first, last, n, height)
+        return [self.a + t * (self.b - self.a)] if 0.0 < t < 1.0 else []
 
 
-def _circle_crossings(circle, first: float, last: float, n: np.ndarray, height: float):
-    centre = np.array(tuple(circle.Center))
-    x = np.array(tuple(circle.XAxis))
-    y = np.cross(np.array(tuple(circle.Axis)), x)
-    p, q = circle.Radius * (x @ n), circle.Radius * (y @ n)
-    amplitude = math.hypot(p, q)
-    if amplitude < VERTEX_CLEARANCE:
-        # The circle lies parallel to the cut: in it (the Boolean's case) or apart.
-        return None if abs(height - centre @ n) < VERTEX_CLEARANCE else []
-    c = (height - centre @ n) / amplitude
-    if abs(c) >= TANGENT_COS:
-        return None if abs(c) < 1.0 + 1e-9 else []
-    phase, spread = math.atan2(q, p), math.acos(c)
-    found = []
-    for theta in (phase + spread, phase - spread):
-        t = first + (theta - first) % (2 * math.pi)
-        if t < last:
-            found.append(centre + circle.Radius * (math.cos(t) * x + math.sin(t) * y))
-    return found
+class CircleCrosser:
+    def __init__(self, edge, n: np.ndarray) -> None:
+        circle = edge.Curve
+        self.first, self.last = edge.ParameterRange
+        self.centre = np.array(tuple(circle.Center))
+        self.x = np.array(tuple(circle.XAxis))
+        self.y = np.cross(np.array(tuple(circle.Axis)), self.x)
+        self.radius = float(circle.Radius)
+        p, q = self.radius * float(self.x @ n), self.radius * float(self.y @ n)
+        self.amplitude, self.phase = math.hypot(p, q), math.atan2(q, p)
+        self.centre_height = float(self.centre @ n)
+
+    def at(self, height: float) -> list[np.ndarray] | None:
+        """Crossing points at `height` (None: in the plane, or a near-tangent crossing)."""
+        if self.amplitude < VERTEX_CLEARANCE:
+            # The circle lies parallel to the cut: in it (the Boolean's case) or apart.
+            return None if abs(height - self.centre_height) < VERTEX_CLEARANCE else []
+        c = (height - self.centre_height) / self.amplitude
+        if abs(c) >= TANGENT_COS:
+            return None if abs(c) < 1.0 + 1e-9 else []
+        spread = math.acos(c)
+        found = []
+        for theta in (self.phase + spread, self.phase - spread):
+            t = self.first + (theta - self.first) % (2 * math.pi)
+            if t < self.last:
+                found.append(self.centre + self.radius * (math.cos(t) * self.x + math.sin(t) * self.y))
+        return found
 
 
-def _curve_crossings(curve, first: float, last: float, n: np.ndarray, height: float):
-    App, Part = import_freecad()
-    plane = Part.Plane(App.Vector(*(height * n)), App.Vector(*n))
-    try:
-        hits, segments = curve.intersectCS(plane)
-    except Part.OCCError:
-        return None
-    if segments:
-        return None
-    found = []
-    for hit in hits:
-        point = np.array([hit.X, hit.Y, hit.Z])
-        t = curve.parameter(App.Vector(*point))
-        if curve.isPeriodic():
-            t = first + (t - first) % curve.period()
-        if first < t < last:
-            found.append(point)
-    return found
+class CurveCrosser:
+    def __init__(self, edge, n: np.ndarray) -> None:
+        self.curve = edge.Curve
+        self.first, self.last = edge.ParameterRange
+        self.n = n
+
+    def at(self, height: float) -> list[np.ndarray] | None:
+        """Crossing points at `height` (None: OCC failed, or the curve runs in the plane)."""
+        App, Part = import_freecad()
+        curve, first, last = self.curve, self.first, self.last
+        plane = Part.Plane(App.Vector(*(height * self.n)), App.Vector(*self.n))
+        try:
+            hits, segments = curve.intersectCS(plane)
+        except Part.OCCError:
+            return None
+        if segments:
+            return None
+        found = []
+        for hit in hits:
+            point = np.array([hit.X, hit.Y, hit.Z])
+            t = curve.parameter(App.Vector(*point))
+            if curve.isPeriodic():
+                t = first + (t - first) % curve.period()
+            if first < t < last:
+                found.append(point)
+        return found
 
 
-def surface_curves(face, plane, n: np.ndarray, height: float) -> list | None:
-    """The plane's intersection curves with the face's whole surface (None: OCC failed)."""
-    surface = face.Surface
+def surface_curves(surface, parameter_range, plane, n: np.ndarray, height: float) -> list | None:
+    """The plane's intersection curves with a face's whole surface (None: OCC failed);
+    `parameter_range` is the face's (u0, u1, v0, v1)."""
     if type(surface).__name__ == "Toroid":
-        curves = torus_plane_curves(surface, n, height, face.ParameterRange)
+        curves = torus_plane_curves(surface, n, height, parameter_range)
         if curves is not None:
             return curves
     try:

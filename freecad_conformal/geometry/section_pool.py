@@ -1,15 +1,17 @@
-"""Planar sections on several cores: heights cut in forked worker processes.
+"""Planar sections on several cores: heights cut in this process and in forked workers.
 
 OCC does its work in C++, but FreeCAD's Python bindings do not release the GIL,
 so threads do not help; processes do. Workers are forked after the slicer is built, so they
-inherit the validated solids without re-reading the file, and they send back each chunk's
-section faces as BREP text, OCC's own lossless format.
+inherit the validated solids without re-reading the file, and they send back each job's
+section faces as BREP text, OCC's own lossless format. This process cuts too: it takes jobs
+from the same shared counter as the workers, so N cores need N − 1 workers, the jobs it
+takes need no BREP round trip, and whoever is free takes the next job.
 """
 from __future__ import annotations
 
 import multiprocessing
 import os
-from concurrent.futures import ProcessPoolExecutor
+from queue import Empty
 from typing import Callable, Sequence
 
 import numpy as np
@@ -38,9 +40,27 @@ def _as_brep(items: list | None):
     return text, [(item.area, item.centroid) for item in items]
 
 
-def _cut_in_worker(solid_index: int, heights: np.ndarray, boolean: bool) -> list:
+def _cut(solid_index: int, heights: np.ndarray, boolean: bool) -> list:
     cut = _WORKER_SLICER.cut_boolean if boolean else _WORKER_SLICER.cut_faces
-    return [_as_brep(items) for items in cut(solid_index, heights)]
+    return cut(solid_index, heights)
+
+
+def _worker(jobs: list, boolean: bool, counter, results) -> None:
+    """Forked worker: takes jobs from the shared counter until none is left."""
+    try:
+        while (index := _claim(counter)) < len(jobs):
+            solid_index, heights = jobs[index]
+            results.put((index, [_as_brep(items) for items in _cut(solid_index, heights, boolean)]))
+        results.put((None, None))
+    except BaseException as exc:  # noqa: BLE001 - reported to the parent, which raises it
+        results.put((None, f"{type(exc).__name__}: {exc}"))
+
+
+def _claim(counter) -> int:
+    with counter.get_lock():
+        index = counter.value
+        counter.value += 1
+    return index
 
 
 def _from_brep(text: str, props: list) -> list[SectionFace]:
@@ -54,13 +74,13 @@ def _from_brep(text: str, props: list) -> list[SectionFace]:
 
 def parallel_sections(slicer, heights: Sequence[float], workers: int,
                       progress: Callable[[int, int], None] | None = None) -> list:
-    """Like `slicer.sections(heights)`, with the work spread over `workers` processes.
+    """Like `slicer.sections(heights)`, with the work spread over `workers` processes
+    (this one included).
 
     First every height is cut face by face in small jobs (they cost about the same each,
     so small jobs keep both cores busy to the end); then the layers that path left go to
     Booleans of up to `CHUNK` planes each.
     """
-    global _WORKER_SLICER
     levels = np.asarray(heights, dtype=float).reshape(-1)
     if not np.all(np.isfinite(levels)):
         raise GeometryError(f"section heights must be finite, got {levels[~np.isfinite(levels)][0]!r}")
@@ -68,38 +88,82 @@ def parallel_sections(slicer, heights: Sequence[float], workers: int,
     size = max(JOB_MIN, min(slicer.CHUNK, -(-len(levels) // (JOBS_PER_WORKER * workers))))
     jobs = [(solid_index, chunk) for solid_index in range(len(slicer.solids))
             for chunk in slicer._chunks(solid_index, levels, size)]
-    faces_at: list[list] = [[] for _ in levels]
     if slicer.face_by_face:
         # Built here, the cutters (and their faces' parameter domains) are inherited by the
         # forked workers instead of being built again in each.
         for solid_index in range(len(slicer.solids)):
             slicer.cutter(solid_index).prepare()
-    _WORKER_SLICER = slicer
+    faces_at: list[list] = [[] for _ in levels]
     left: dict[int, list[int]] = {}
-    try:
-        context = multiprocessing.get_context("fork")
-        with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
-            futures = [pool.submit(_cut_in_worker, solid_index, levels[chunk], False)
-                       for solid_index, chunk in jobs]
-            for done, ((solid_index, chunk), future) in enumerate(zip(jobs, futures), start=1):
-                for index, result in zip(chunk, future.result()):
-                    if result is None:
-                        left.setdefault(solid_index, []).append(index)
-                    else:
-                        faces_at[index].extend(_from_brep(*result))
-                if progress is not None:
-                    progress(int(len(levels) * done / len(jobs)), len(levels))
-            fallbacks = [(solid_index, np.array(indices[k:k + slicer.CHUNK]))
-                         for solid_index, indices in left.items()
-                         for k in range(0, len(indices), slicer.CHUNK)]
-            futures = [pool.submit(_cut_in_worker, solid_index, levels[chunk], True)
-                       for solid_index, chunk in fallbacks]
-            for (solid_index, chunk), future in zip(fallbacks, futures):
-                for index, result in zip(chunk, future.result()):
-                    faces_at[index].extend(_from_brep(*result))
-    finally:
-        _WORKER_SLICER = None
+
+    def report(claimed: int) -> None:
+        if progress is not None:
+            progress(int(len(levels) * min(claimed, len(jobs)) / max(len(jobs), 1)), len(levels))
+
+    for (solid_index, chunk), result in zip(jobs, _shared(slicer, levels, jobs, False, workers, report)):
+        for index, faces in zip(chunk, result):
+            if faces is None:
+                left.setdefault(solid_index, []).append(index)
+            else:
+                faces_at[index].extend(faces)
+    fallbacks = [(solid_index, np.array(indices[k:k + slicer.CHUNK]))
+                 for solid_index, indices in left.items()
+                 for k in range(0, len(indices), slicer.CHUNK)]
+    for (_, chunk), result in zip(fallbacks, _shared(slicer, levels, fallbacks, True, workers)):
+        for index, faces in zip(chunk, result):
+            faces_at[index].extend(faces)
     boolean = sum(len(indices) for indices in left.values())
     slicer.counts["boolean"] += boolean
     slicer.counts["face_by_face"] += sum(len(chunk) for _, chunk in jobs) - boolean
     return [slicer._make_section(levels[k], list(faces_at[k])) for k in where]
+
+
+#: Seconds between checks that the workers are still alive while waiting for their results.
+WORKER_POLL = 0.5
+
+
+def _shared(slicer, levels: np.ndarray, jobs: list, boolean: bool, workers: int,
+            report: Callable[[int], None] | None = None) -> list:
+    """Each job's per-height results, cut by this process and `workers - 1` forked ones."""
+    global _WORKER_SLICER
+    if not jobs:
+        return []
+    work = [(solid_index, levels[chunk]) for solid_index, chunk in jobs]
+    results: list = [None] * len(jobs)
+    context = multiprocessing.get_context("fork")
+    counter = context.Value("i", 0)
+    queue = context.Queue()
+    _WORKER_SLICER = slicer
+    processes = []
+    try:
+        for _ in range(min(workers, len(jobs)) - 1):
+            process = context.Process(target=_worker, args=(work, boolean, counter, queue), daemon=True)
+            process.start()
+            processes.append(process)
+        while (index := _claim(counter)) < len(jobs):
+            results[index] = _cut(*work[index], boolean)
+            if report is not None:
+                report(index + 1)
+        running = len(processes)
+        while running:
+            try:
+                index, payload = queue.get(timeout=WORKER_POLL)
+            except Empty:
+                if not any(process.is_alive() for process in processes):
+                    raise GeometryError("a section worker process died before it finished") from None
+                continue
+            if index is None:
+                if payload is not None:
+                    raise GeometryError(f"a section worker failed: {payload}")
+                running -= 1
+            else:
+                results[index] = [None if item is None else _from_brep(*item) for item in payload]
+    finally:
+        _WORKER_SLICER = None
+        for process in processes:
+            if process.is_alive():
+                process.terminate()
+            process.join()
+    if report is not None:
+        report(len(jobs))
+    return results

@@ -32,9 +32,11 @@ FIT_TOLERANCE = 1e-7
 #: loops touching, a branch touching itself) are left to OCC (returns None).
 DEGENERATE = 1e-9
 
-#: Samples for a whole loop on the first try (doubled until within tolerance), the fewest
-#: for a stretch, and the most before giving the case to OCC.
-FIRST_SAMPLES = 128
+#: Samples for a whole loop on the first try, the fewest for a stretch, and the most before
+#: giving the case to OCC. On Pump_Nut's fillets no loop met the tolerance with 128 samples,
+#: 82 % did with 256 and the rest with 512; a failed try predicts the count it needs from its
+#: deviation (a cubic interpolant's error falls as the fourth power of the spacing).
+FIRST_SAMPLES = 256
 MIN_SAMPLES = 16
 MAX_SAMPLES = 4096
 
@@ -183,9 +185,10 @@ def _fit(section, kind, low, high, branch, first, last, App, Part):
         knots = spline.getKnots()
         middles = [0.5 * (a + b) for a, b in zip(knots, knots[1:])]
         check = np.array([tuple(spline.value(t)) for t in middles])
-        if section.deviation(check) <= FIT_TOLERANCE:
+        deviation = section.deviation(check)
+        if deviation <= FIT_TOLERANCE:
             return spline
-        count *= 2
+        count = int(count * min(8.0, max(2.0, 1.1 * (deviation / FIT_TOLERANCE) ** 0.25)))
     return None
 
 

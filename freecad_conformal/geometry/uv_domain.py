@@ -39,6 +39,7 @@ class FaceDomain:
         if self._polygon is None and not self._broken:
             try:
                 self._polygon, self._size = _domain_polygon(self.face)
+                self._low = self._polygon.bounds[:2]
             except (ValueError, shapely.errors.ShapelyError):
                 self._broken = True    # a boundary without curves on the face: ask OCC
 
@@ -48,7 +49,7 @@ class FaceDomain:
         if self._broken:
             return bool(self.face.isInside(point, CLASSIFY_TOLERANCE, True))
         u, v = self.surface.parameter(point)
-        low_u, low_v, _, _ = self._polygon.bounds
+        low_u, low_v = self._low
         if self._u_period:
             u = low_u + (u - low_u) % self._u_period
         if self._v_period:
