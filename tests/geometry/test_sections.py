@@ -140,6 +140,31 @@ def test_parallel_sections_equal_serial(Part):
         assert a.area == pytest.approx(b.area, rel=1e-12, abs=1e-12)
 
 
+def test_parallel_sections_share_the_work_and_the_boolean_fallbacks(App, Part):
+    """Steps every 1 mm put the solids' vertices on some planes: those layers take the
+    Boolean (one job per solid, so a worker takes one), and each layer is reported once."""
+    pyramid = Part.makeBox(20, 20, 1)
+    for k in range(1, 8):
+        pyramid = pyramid.fuse(Part.makeBox(20 - 2 * k, 20 - 2 * k, 1, App.Vector(k, k, k)))
+    pyramid = pyramid.removeSplitter()
+    other = pyramid.copy()
+    other.translate(App.Vector(30, 0, 0))
+    steps = Part.makeCompound([pyramid, other])
+    heights = [0.05 + 0.1 * k for k in range(80)]  # 1.05, 2.05, ...: generic; 1.0 ... below
+    heights += [float(k) for k in range(1, 8)]
+    serial_slicer = PlanarSlicer(steps, (0, 0, 1))
+    serial = serial_slicer.sections(heights)
+    seen = []
+    parallel = planar_sections(steps, heights=heights, workers=2, progress=lambda d, t: seen.append((d, t)))
+    assert serial_slicer.counts["boolean"] == 14
+    for a, b in zip(serial, parallel.layers):
+        assert a.height == b.height
+        assert a.area == pytest.approx(b.area, rel=1e-12)
+        assert len(a.faces) == len(b.faces)
+    assert seen[-1] == (len(heights), len(heights))
+    assert all(d1 <= d2 for (d1, _), (d2, _) in zip(seen, seen[1:]))
+
+
 @pytest.mark.parametrize("bad, message", [
     ({"layer": 0.0}, "positive"),
     ({"layer": -1.0}, "positive"),
