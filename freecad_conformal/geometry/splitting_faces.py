@@ -171,6 +171,25 @@ def face_candidates(solid, concave: list[EdgeAngle]) -> list[SplitCandidate]:
             for candidate in plane_regions(solid, plane)]
 
 
+#: `Shape.fix` settings for Boolean pieces OCC's checker rejects (CrankArm's B-spline cuts
+#: leave "not connected" / "unorientable" wires): working precision and the range its
+#: tolerances may take; the geometry is not moved.
+FIX_PRECISION = 1e-7
+FIX_MAX_TOLERANCE = 1e-4
+
+
+def repaired(solid):
+    """The solid, or a copy fixed by OCC's shape healing when its checker rejects it and the
+    fix passes the check without changing the volume (else the solid as it was)."""
+    if solid.isValid():
+        return solid
+    fixed = solid.copy()
+    fixed.fix(FIX_PRECISION, FIX_PRECISION, FIX_MAX_TOLERANCE)
+    if fixed.isValid() and abs(fixed.Volume - solid.Volume) <= 1e-9 * max(abs(solid.Volume), 1.0):
+        return fixed
+    return solid
+
+
 def split_solid(solid, regions: list) -> list:
     """The solid cut by the planar regions (exact Boolean), as a list of solids."""
     if not regions:

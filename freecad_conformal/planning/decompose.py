@@ -20,7 +20,7 @@ import numpy as np
 
 from freecad_conformal.errors import GeometryError, PlanError
 from freecad_conformal.geometry.solids import solids_of
-from freecad_conformal.geometry.splitting_faces import SplitCandidate, split_solid
+from freecad_conformal.geometry.splitting_faces import SplitCandidate, repaired, split_solid
 from freecad_conformal.planning.cuts import (MAX_EXACT_CUTS, SAVING_TIE, LazyAxis,
                                              SavingEstimate, area_jump_candidates, axis_first,
                                              face_candidates)
@@ -222,7 +222,8 @@ def _subpart(index: int, piece: _Piece, parent: int | None, angle: float) -> Sub
     report = overhang_report(piece.shape, piece.direction, angle, piece.base_faces,
                              on_bed=parent is None)
     base = piece.base_faces[0] if piece.base_faces else _bed_face(piece.shape, piece.direction)
-    return SubPart(index=index, shape=piece.shape, build_direction=piece.direction,
+    # Layers and paths cut the sub-part again: it must pass OCC's check.
+    return SubPart(index=index, shape=repaired(piece.shape), build_direction=piece.direction,
                    base_face=base, parent=parent, volume=float(piece.shape.Volume),
                    rotation_axis=axis, rotation_angle=rotation, overhang_area=report.area,
                    name=f"P{index + 1}", rule=piece.rule, solid_index=piece.solid_index,
