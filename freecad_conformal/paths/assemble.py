@@ -1,7 +1,10 @@
 """A BuildPlan's layers -> ordered 3D deposition paths -> the neutral toolpath.
 
-Sub-parts are built in the plan's order. Inside a layer the nozzle travels straight in the
-layer's top plane; between layers it first rises onto the next top plane along the new
+Sub-parts are built in the plan's order; consecutive ones built in one direction from one
+base level (a table's legs, solids standing side by side on the platform) are laid together,
+layer by layer, as a planar slicer lays several objects and as the collision check of the
+build order assumes (`planning.collision`). Inside a layer the nozzle travels straight in
+the layer's top plane; between layers it first rises onto the next top plane along the new
 normal; between sub-parts it takes the checked safe move of `paths.approach`. Each deposit
 carries flow = the bead's cross-section (mm³/mm, `paths.bead`) for the layer's thickness;
 at the model's spacing it fills the slab exactly.
@@ -108,6 +111,53 @@ def plan_paths(layers: Sequence[Layer], settings: PathSettings, rests_on_parent:
     return result
 
 
+#: Two layer tops closer than this (mm) along the build direction are one level.
+SAME_LEVEL = 1e-6
+
+
+def together(plan: BuildPlan, layers: dict[int, list[Layer]]) -> list[list]:
+    """The plan's sub-parts in order, consecutive ones built in one direction from one base
+    level grouped (see `planning.collision.concurrent`); sub-parts without layers dropped."""
+    from freecad_conformal.planning.collision import concurrent
+
+    groups: list[list] = []
+    for sub in plan.ordered():
+        if not layers[sub.index]:
+            continue
+        head = groups[-1][0] if groups else None
+        if head is not None and concurrent(head.build_direction, _base(layers[head.index]),
+                                           sub.build_direction, _base(layers[sub.index])):
+            groups[-1].append(sub)
+        else:
+            groups.append([sub])
+    return groups
+
+
+def _base(layers: Sequence[Layer]) -> float:
+    """Level of the first layer's bottom along its normal."""
+    first = layers[0]
+    return float(first.top_point @ first.top_normal) - first.thickness_min
+
+
+def _levels(per_member: list[list[list[Path3D]]], member_layers: list[list[Layer]]) -> list[list[Path3D]]:
+    """The members' paths per layer merged level by level (layer tops along the group's
+    direction, within SAME_LEVEL), each level's members in group order."""
+    if len(per_member) == 1:
+        return per_member[0]
+    d = member_layers[0][0].top_normal
+    items = sorted((float(layer.top_point @ d), k, paths)
+                   for k, (paths_of, layers_of) in enumerate(zip(per_member, member_layers))
+                   for layer, paths in zip(layers_of, paths_of))
+    merged: list[list[Path3D]] = []
+    level = None
+    for height, _, paths in items:
+        if level is None or height - level > SAME_LEVEL:
+            merged.append([])
+            level = height
+        merged[-1].extend(paths)
+    return merged
+
+
 #: Bisection steps for the common cooling feed cap: 40 halvings of a feed range of
 #: ~10⁴ mm/min leave it exact to far below 10⁻⁶ mm/min.
 CAP_STEPS = 40
@@ -160,22 +210,23 @@ def assemble(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSett
         builder.add_segment(points, axes, kind="travel", feed=travel_feed, tool=tool)
         travels.append(np.vstack((position[None], points)) if position is not None else points)
 
-    for subpart in plan.ordered():
-        per_layer = plan_paths(layers[subpart.index], settings, subpart.parent is not None, position)
+    for group in together(plan, layers):
+        per_layer = _levels([plan_paths(layers[sub.index], settings, sub.parent is not None, position)
+                             for sub in group], [layers[sub.index] for sub in group])
         first = True
         for paths in per_layer:
             feeds = _layer_feeds(paths, settings)
             for k, (path, feed) in enumerate(zip(paths, feeds)):
                 start, new_axis = path.points[0], path.axis
                 if position is None:
-                    lift = SAFE_MARGIN + bounding_sphere([subpart.shape])[1]
+                    lift = SAFE_MARGIN + bounding_sphere([sub.shape for sub in group])[1]
                     travel(np.array([start + lift * new_axis, start]), np.array([new_axis, new_axis]))
                 elif first:
                     centre, radius = bounding_sphere(built)
                     points, axes = transition(position, axis, start, new_axis, centre, radius)
                     check_clearance(np.vstack((position[None], points)), np.vstack((axis[None], axes)),
                                     built, envelope,
-                                    f"move to sub-part {subpart.index}", ", ".join(names))
+                                    f"move to sub-part {path.subpart}", ", ".join(names))
                     checked += 1
                     travel(points, axes)
                 elif k == 0:
@@ -190,8 +241,8 @@ def assemble(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSett
                 builder.event("extruder_off")
                 position, axis = path.points[-1], new_axis
                 all_paths.append(path)
-        built.append(subpart.shape)
-        names.append(f"sub-part {subpart.index}")
+        built.extend(sub.shape for sub in group)
+        names.extend(f"sub-part {sub.index}" for sub in group)
     if position is None:
         raise PlanError("the plan has no layer with material to deposit")
     centre, radius = bounding_sphere(built)

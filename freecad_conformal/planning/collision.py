@@ -147,6 +147,16 @@ def _inside(obstacle_s, obstacle_uv, tool_s, tool_uv, envelope: Envelope) -> np.
     return inside.any(axis=1)
 
 
+def concurrent(d: np.ndarray, level: float, e: np.ndarray, other_level: float) -> bool:
+    """Whether sub-parts built along `d` and `e` from base levels `level`, `other_level` are
+    one direction from one level: the toolpath lays them together layer by layer
+    (paths.assemble), the nozzle never sits below material of either, so they cannot collide
+    with each other."""
+    d, e = np.asarray(d, dtype=float), np.asarray(e, dtype=float)
+    same = float(d @ e) / (np.linalg.norm(d) * np.linalg.norm(e)) > math.cos(SAME_DIRECTION)
+    return same and abs(level - other_level) < LEVEL_TOLERANCE
+
+
 class CollisionChecker:
     """Samples each sub-part once; answers which built sub-parts the tool would hit."""
 
@@ -169,12 +179,8 @@ class CollisionChecker:
         return [other for other in built if self._hits_one(index, other)]
 
     def _concurrent(self, index: int, other: int) -> bool:
-        """Sub-parts built in one direction from one base level are laid layer by layer
-        together: the nozzle never sits below material of either, so they cannot collide
-        with each other."""
-        d, e = self.directions[index], self.directions[other]
-        same = float(d @ e) / (np.linalg.norm(d) * np.linalg.norm(e)) > math.cos(SAME_DIRECTION)
-        return same and abs(self.levels[index] - self.levels[other]) < LEVEL_TOLERANCE
+        return concurrent(self.directions[index], self.levels[index],
+                          self.directions[other], self.levels[other])
 
     def _hits_one(self, index: int, other: int) -> bool:
         key = (index, other)

@@ -146,3 +146,25 @@ def test_the_tool_axis_turns_the_way_the_tip_travels():
     radial = arc / np.linalg.norm(arc, axis=1)[:, None]
     assert np.einsum("ij,ij->i", radial, arc_axes).min() > 0.5        # body points away from the part
     np.testing.assert_allclose(axes[-1], [0.0, 1.0, 0.0])
+
+
+def test_sub_parts_from_one_level_in_one_direction_are_laid_layer_by_layer(App, Part, envelope):
+    """Two posts on the platform (the table's legs, solids side by side): each layer of both
+    before the next, as the build order's collision check assumes; the cooling slowdown
+    then sees the two posts' layer as one."""
+    posts = [Part.makeBox(4, 4, 3, App.Vector(x, 0, 0)) for x in (0, 20)]
+    plan = BuildPlan([SubPart(k, post, np.array([0.0, 0, 1]), volume=post.Volume, solid_index=k)
+                      for k, post in enumerate(posts)], order=[0, 1])
+    layers = {s.index: plan_layers(s, LayerSettings(thickness=0.5, tilt=False)) for s in plan.subparts}
+    settings = PathSettings(fill=FillSettings(bead_width=0.5, density=1.0), min_layer_time=8.0)
+    result = assemble(plan, layers, settings, envelope)
+    heights = [float(path.points[0][2]) for path in result.paths]
+    assert heights == sorted(heights)
+    for k in range(6):
+        level = [path.subpart for path in result.paths if path.layer == k]
+        assert level == sorted(level) and set(level) == {0, 1}, k
+    alone = assemble(BuildPlan([plan.subparts[0]], order=[0]), {0: layers[0]}, settings, envelope)
+    deposit = result.toolpath.kind == KINDS.index("deposit")
+    single = alone.toolpath.kind == KINDS.index("deposit")
+    # One post alone is slowed to fill 8 s per layer; two together take less slowing.
+    assert result.toolpath.feed[deposit].min() > alone.toolpath.feed[single].min()
