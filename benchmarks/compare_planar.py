@@ -50,11 +50,8 @@ from freecad_conformal.paths.assemble import Feeds, PathSettings  # noqa: E402
 from freecad_conformal.paths.fill2d import FillSettings  # noqa: E402
 from freecad_conformal.paths.timing import (estimate_time, junction_speeds, move_seconds,  # noqa: E402
                                             move_times)
-from freecad_conformal.planning.decompose import decompose  # noqa: E402
-from freecad_conformal.planning.job import PlanOptions, check_reach, run_job  # noqa: E402
+from freecad_conformal.planning.job import PlanOptions, machine_plan, run_job  # noqa: E402
 from freecad_conformal.planning.layers import LayerSettings  # noqa: E402
-from freecad_conformal.planning.placement import reachable_plan  # noqa: E402
-from freecad_conformal.post.machine import load_machine  # noqa: E402
 from freecad_conformal.toolpath import KINDS  # noqa: E402
 
 PARTS_DIR = ROOT.parent / "shared" / "parts"
@@ -84,10 +81,6 @@ PRUSA_SETTINGS = [
 ORIENTATIONS = {"as modelled": [], "rotate-x 90": ["--rotate-x", "90"],
                 "rotate-x 180": ["--rotate-x", "180"], "rotate-x -90": ["--rotate-x", "-90"],
                 "rotate-y 90": ["--rotate-y", "90"], "rotate-y -90": ["--rotate-y", "-90"]}
-#: The orientation that puts each axis direction of the part up (right-handed rotations:
-#: --rotate-x 90 takes +Y to +Z, --rotate-y -90 takes +X to +Z).
-ORIENTATION_FOR_UP = {(0, 0, 1): "as modelled", (0, 0, -1): "rotate-x 180", (0, 1, 0): "rotate-x 90",
-                      (0, -1, 0): "rotate-x -90", (1, 0, 0): "rotate-y -90", (-1, 0, 0): "rotate-y 90"}
 FILAMENT_AREA = math.pi * 1.75 ** 2 / 4.0
 
 
@@ -233,13 +226,10 @@ def plan_options() -> PlanOptions:
 def ours(shape, name: str):
     options = plan_options()
     started = time.perf_counter()
-    machine = load_machine(options.machine)
-    shape, plan, placement = reachable_plan(shape, lambda s: decompose(s, tool=options.tool),
-                                            lambda p: check_reach(machine, p))
-    result = run_job(shape, plan, options, part=name)
+    placed, plan = machine_plan(shape, options)
+    result = run_job(placed, plan, options, part=name)
     seconds = estimate_time(result.assembly.toolpath, ACCELERATION, JERK)
-    up = ORIENTATION_FOR_UP[tuple(int(round(c)) for c in placement.up)]
-    return result, seconds, time.perf_counter() - started, up
+    return result, seconds, time.perf_counter() - started
 
 
 def hms(seconds: float) -> str:
@@ -262,15 +252,14 @@ def main(names: list[str], roles: bool = False) -> int:
             best = min(with_support, key=lambda s: s.volume_cm3)
             bare = prusa_slice(stl, best.orientation, False, work)
             try:
-                result, our_time, wall, up = ours(shape, name)
+                result, our_time, wall = ours(shape, name)
             except ConformalError as exc:
                 print(f"{name}: no plan for {PlanOptions().machine}: {exc}", flush=True)
                 continue
-            same = bare if up == best.orientation else prusa_slice(stl, up, False, work)
             parts_dir = work / f"{name}_subparts"
             parts_dir.mkdir()
             pieces = prusa_on_subparts(result.plan, parts_dir)
-            rows.append((name, best, bare, result, our_time, wall, same, pieces))
+            rows.append((name, best, bare, result, our_time, pieces))
             print(f"{name}: {len(result.subparts)} sub-parts, planned in {wall:.1f} s", flush=True)
             if roles:
                 print_roles(name, prusa_roles(bare.gcode), our_roles(result))
@@ -286,17 +275,10 @@ def main(names: list[str], roles: bool = False) -> int:
               f"{ours_cm3 / best.volume_cm3:>11.3f} | {hms(best.seconds):>7} {hms(bare.seconds):>7} "
               f"{hms(our_time):>7} {our_time / bare.seconds:>8.3f} {our_time / best.seconds:>8.3f} | "
               f"{'none' if support <= 0 else f'{support:.0f} mm2':>11}")
-    print(f"\nPrusaSlicer without supports with the part placed as our plan's root (the same "
-          "geometry on the bed; what remains is the sub-parts built along their own axes):")
-    print(f"{'part':<10} {'orientation':<20} {'PS-sup cm3':>10} {'ours/PS':>8} | {'PS-sup':>7} {'t ours/PS':>9}")
-    for name, _, _, result, our_time, _, same, _ in rows:
-        print(f"{name:<10} {same.orientation:<20} {same.volume_cm3:>10.2f} "
-              f"{result.material_volume / 1000.0 / same.volume_cm3:>8.3f} | {hms(same.seconds):>7} "
-              f"{our_time / same.seconds:>9.3f}")
     print("\nPrusaSlicer without supports on each of our sub-parts, stood on its base (the same "
           "support-free geometry under the same rules; the difference is path planning):")
     print(f"{'part':<10} {'sub-parts':>9} {'PS cm3':>10} {'ours/PS':>8} | {'PS t':>7} {'t ours/PS':>9}")
-    for name, _, _, result, our_time, _, _, pieces in rows:
+    for name, _, _, result, our_time, pieces in rows:
         print(f"{name:<10} {len(result.plan.subparts):>9} {pieces.volume_cm3:>10.2f} "
               f"{result.material_volume / 1000.0 / pieces.volume_cm3:>8.3f} | {hms(pieces.seconds):>7} "
               f"{our_time / pieces.seconds:>9.3f}")

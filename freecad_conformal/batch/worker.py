@@ -42,11 +42,10 @@ def _load(path: Path, body: str):
 
 def plan_gcode(shape, options, part: str):
     """The plan command's pipeline (options checked first: it is quick) -> JobResult."""
-    from freecad_conformal.planning.decompose import decompose
-    from freecad_conformal.planning.job import check_options, run_job
+    from freecad_conformal.planning.job import check_options, machine_plan, run_job
 
     check_options(shape, options)
-    plan = decompose(shape, tool=options.tool)
+    shape, plan = machine_plan(shape, options)
     return run_job(shape, plan, options, part=part)
 
 

@@ -34,6 +34,9 @@ def add_plan_settings(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--tool", default="fdm_0p4", help="tool id in the library (default fdm_0p4)")
     parser.add_argument("--material", help="material of the tool's settings (default: its first)")
     parser.add_argument("--dialect", help="G-code dialect (default: the machine's)")
+    parser.add_argument("--root", default="auto",
+                        help="build direction of each solid's first sub-part: auto (as placed "
+                             "unless turning the solid leaves less overhang; default) or x,y,z")
     layers = parser.add_argument_group("layers")
     layers.add_argument("--layer", type=float, default=0.2, help="layer height in mm (default 0.2)")
     layers.add_argument("--layer-mode", choices=("uniform", "adaptive", "cusp"), default="uniform")
@@ -91,17 +94,34 @@ def options_from(args: argparse.Namespace):
                            max_cusp=args.max_cusp, tilt=args.tilt)
     paths = PathSettings(fill=fill, top_layers=args.solid_layers, bottom_layers=args.solid_layers)
     return PlanOptions(machine=args.machine, tool=args.tool, material=args.material, layers=layers,
-                       paths=paths, bead_width=args.bead_width, dialect=args.dialect)
+                       paths=paths, bead_width=args.bead_width, dialect=args.dialect,
+                       root=root_option(args.root))
+
+
+def root_option(text: str):
+    """`--root`: "auto" or a direction "x,y,z"."""
+    from freecad_conformal.errors import PlanError
+
+    if text == "auto":
+        return text
+    try:
+        vector = tuple(float(c) for c in text.split(","))
+    except ValueError:
+        vector = ()
+    if len(vector) != 3:
+        raise PlanError(f"--root must be auto or a direction x,y,z, got {text!r}")
+    return vector
 
 
 def plan_part(shape, name: str, options, output: str | Path, png: str | Path | None = None,
               summary: str | Path | None = None, toolpath: str | Path | None = None):
-    """Decompose (turning the part on the table when the machine cannot reach a sub-part
-    as placed), plan and write (G-code, PNG, summary, toolpath); returns (result, written)."""
-    from freecad_conformal.planning.job import check_options, decompose_reachable, run_job
+    """Decompose (each solid standing on the platform, the part turned on the table when
+    the machine cannot reach a sub-part as placed), plan and write (G-code, PNG, summary,
+    toolpath); returns (result, written)."""
+    from freecad_conformal.planning.job import check_options, machine_plan, run_job
 
     check_options(shape, options)
-    shape, plan = decompose_reachable(shape, options)
+    shape, plan = machine_plan(shape, options)
     result = run_job(shape, plan, options, part=name)
     png = png or Path(output).with_suffix(".png")
     written = result.write(output, png, summary)

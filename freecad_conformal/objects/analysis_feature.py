@@ -22,6 +22,20 @@ AXIS_PROPERTIES = [
 ]
 AXIS_OUTPUTS = ("AxisPoints", "AxisLinks", "BreakLinks")
 METHODS = ("true-direction", "published")
+#: Root build direction choices: "auto" as the command line's --root auto, or the part as placed.
+ROOTS = ("auto", "as placed")
+
+
+def root_property(group: str) -> tuple:
+    """The "Root" enumeration property spec, in `group`."""
+    return ("App::PropertyEnumeration", "Root", group,
+            "Root build direction: auto (as placed unless turning a solid leaves less overhang) "
+            "or as placed (+Z)", ROOTS)
+
+
+def root_direction(obj):
+    """The `Root` property as decompose's root_direction."""
+    return "auto" if obj.Root == "auto" else (0.0, 0.0, 1.0)
 
 
 def store_axes(obj, graphs) -> None:
@@ -97,6 +111,7 @@ class DecompositionFeature(StoredState):
             ("App::PropertyString", "Tool", "Decomposition",
              "Tool whose envelope is checked when ordering", "fdm_0p4"),
             ("App::PropertyInteger", "MaxSubParts", "Decomposition", "Stop splitting beyond", 12),
+            root_property("Decomposition"),
             ("App::PropertyInteger", "SubPartCount", "Result", "Sub-parts", 0),
             ("App::PropertyIntegerList", "BuildOrder", "Result", "Sub-part indices in build order", None),
             ("App::PropertyVectorList", "BuildDirections", "Result", "Build direction per sub-part", None),
@@ -116,7 +131,8 @@ class DecompositionFeature(StoredState):
 
         shape = source_shape(obj, "the decomposition")
         plan = decompose(shape, overhang_angle=math.radians(obj.OverhangAngle.Value),
-                         tool=obj.Tool, method=obj.Method, max_subparts=obj.MaxSubParts)
+                         tool=obj.Tool, method=obj.Method, max_subparts=obj.MaxSubParts,
+                         root_direction=root_direction(obj))
         store_axes(obj, plan.axes)
         obj.SubPartCount = len(plan.subparts)
         obj.BuildOrder = list(plan.order)

@@ -9,6 +9,7 @@ import tempfile
 import FreeCAD
 import numpy as np
 
+from freecad_conformal.objects.analysis_feature import root_direction, root_property
 from freecad_conformal.objects.properties import reports_errors, add_properties, source_shape
 from freecad_conformal.objects.toolpath_feature import (
     TOOLPATH_OUTPUTS, TOOLPATH_PROPERTIES, ToolpathFeature, store_toolpath)
@@ -35,6 +36,7 @@ JOB_PROPERTIES = [
     ("App::PropertyPercent", "Infill", GROUP, "Sparse infill density", 20),
     ("App::PropertyBool", "TiltLayers", GROUP, "Allow 3-D (tilted) layers (plan --tilt)", False),
     ("App::PropertyBool", "Decompose", GROUP, "Split into support-free sub-parts", True),
+    root_property(GROUP),
     ("App::PropertyString", "Dialect", GROUP, "G-code dialect (empty: the machine's)", ""),
     ("App::PropertyFileIncluded", "GcodeFile", "Result", "Posted G-code kept in the document", None),
     ("App::PropertyString", "Summary", "Result", "The plan summary (as the CLI prints it)", ""),
@@ -73,8 +75,8 @@ class JobFeature(ToolpathFeature):
     def execute(self, obj) -> None:
         from freecad_conformal.planning.job import run_job
 
-        shape = source_shape(obj, "a job")
-        result = run_job(shape, build_plan(obj, shape), plan_options(obj), part=obj.Source.Label)
+        shape, plan = build_plan(obj, source_shape(obj, "a job"))
+        result = run_job(shape, plan, plan_options(obj), part=obj.Source.Label)
         toolpath = result.assembly.toolpath
         store_toolpath(obj, toolpath,
                        segment_subparts(toolpath, [p.subpart for p in result.assembly.paths]))
@@ -93,14 +95,11 @@ class JobFeature(ToolpathFeature):
 
 
 def build_plan(obj, shape):
-    """Decomposed into sub-parts when asked (planning/decompose), else one per solid."""
-    from freecad_conformal.planning.job import single_plan
+    """(placed shape, plan) as the plan command makes it: decomposed into sub-parts when
+    asked, else one per solid; solids on the platform, the part turned if the machine needs."""
+    from freecad_conformal.planning.job import machine_plan
 
-    if obj.Decompose:
-        from freecad_conformal.planning.decompose import decompose
-
-        return decompose(shape, tool=obj.Tool)
-    return single_plan(shape)
+    return machine_plan(shape, plan_options(obj), split=obj.Decompose)
 
 
 def plan_options(obj):
@@ -116,7 +115,7 @@ def plan_options(obj):
     layers = LayerSettings(thickness=obj.LayerHeight.Value, tilt=obj.TiltLayers)
     return PlanOptions(machine=obj.Machine, tool=obj.Tool, material=obj.Material or None,
                        layers=layers, paths=PathSettings(fill=fill), bead_width=width,
-                       dialect=obj.Dialect or None)
+                       dialect=obj.Dialect or None, root=root_direction(obj))
 
 
 def create_job(doc, source, machine: str | None = None, name: str = "Job"):

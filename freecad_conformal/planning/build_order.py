@@ -24,7 +24,7 @@ def tool_envelope(tool):
 
 
 def build_order(subparts: list[SubPart], tool=None, notes: list[str] | None = None,
-                checker=None) -> list[int]:
+                checker=None, one_platform: bool = False) -> list[int]:
     """Indices of `subparts` in build order.
 
     Args:
@@ -32,6 +32,9 @@ def build_order(subparts: list[SubPart], tool=None, notes: list[str] | None = No
         tool: tool id / Tool / Envelope for the collision check; None skips the check.
         notes: receives a line when the order had to depart from the volume rule.
         checker: a prepared CollisionChecker (tests, reuse); built from `tool` otherwise.
+        one_platform: the solids of a compound stand side by side on one platform
+            (planning/layout.py), so what is built of the others is in the way too; by
+            default each solid is its own tree on its own bed, as decompose plans them.
     Raises:
         PlanError: no order builds every sub-part without a collision; the message names
             the sub-parts that could not be placed and what they hit.
@@ -44,7 +47,7 @@ def build_order(subparts: list[SubPart], tool=None, notes: list[str] | None = No
 
         checker = CollisionChecker([s.shape for s in subparts],
                                    [s.build_direction for s in subparts], tool_envelope(tool))
-    order, blocked = _search(subparts, checker)
+    order, blocked = _search(subparts, checker, one_platform)
     if order is None:
         detail = "; ".join(f"{subparts[i].name} (along {_dir(subparts[i])}) would hit "
                            + ", ".join(subparts[j].name for j in hits)
@@ -73,7 +76,8 @@ def _volume_order(subparts: list[SubPart]) -> list[int]:
     return done
 
 
-def _search(subparts: list[SubPart], checker) -> tuple[list[int] | None, dict[int, list[int]]]:
+def _search(subparts: list[SubPart], checker,
+            one_platform: bool) -> tuple[list[int] | None, dict[int, list[int]]]:
     """Depth-first search over orders, largest ready sub-part tried first."""
     blocked: dict[int, list[int]] = {}
     tried = 0
@@ -89,10 +93,11 @@ def _search(subparts: list[SubPart], checker) -> tuple[list[int] | None, dict[in
             tried += 1
             if tried > MAX_ORDERS_TRIED:
                 return None
-            # Each solid of a compound is its own tree on its own bed (decompose plans each
-            # root on the solid's lowest level), so only its own sub-parts are in the way.
-            hits = checker.hits(s.index, [i for i in done
-                                          if subparts[i].solid_index == s.solid_index])
+            # Unless laid out on one platform, each solid of a compound is its own tree on
+            # its own bed (decompose plans each root on the solid's lowest level), so only
+            # its own sub-parts are in the way.
+            hits = checker.hits(s.index, [i for i in done if one_platform
+                                          or subparts[i].solid_index == s.solid_index])
             if hits:
                 blocked.setdefault(s.index, sorted(set(blocked.get(s.index, [])) | set(hits)))
                 continue

@@ -31,7 +31,8 @@ DEPOSITION_KINDS = ("fdm_nozzle", "laser_nozzle")
 @dataclass
 class PlanOptions:
     """What the plan command takes: machine, tool (id), material (None: the tool's first),
-    layer and path settings (a bead width of None takes the material's width), dialect."""
+    layer and path settings (a bead width of None takes the material's width), dialect,
+    root direction."""
 
     machine: str = "trunnion_ac"
     tool: str = "fdm_0p4"
@@ -41,6 +42,9 @@ class PlanOptions:
     bead_width: float | None = None
     dialect: str | None = None
     jerk: float = DEFAULT_JERK
+    #: each solid's root build direction: "auto" (as placed unless turning the solid leaves
+    #: less overhang) or a 3-vector (planning/decompose.py)
+    root: str | tuple[float, float, float] = "auto"
 
 
 @dataclass
@@ -229,17 +233,38 @@ def _subpart_summary(sub, layers: list[Layer], assembly: Assembly, width: float,
         material=material, overhang_area=float(sub.overhang_area))
 
 
-def decompose_reachable(shape, options: PlanOptions, decompose=None):
-    """(placed shape, BuildPlan): the decomposition of the part as placed, or, when the
-    machine cannot reach one of its sub-parts, of the part turned so another axis direction
-    is up (`planning.placement`; the plan notes the turn)."""
+#: Least gap (mm) between solids laid out side by side on the platform; the tool's body
+#: diameter when wider, so the body fits between them (planning/layout.py).
+MIN_LAYOUT_GAP = 5.0
+
+
+def machine_plan(shape, options: PlanOptions, decompose=None, split: bool = True):
+    """(placed shape, BuildPlan) as the machine builds the part: decomposed with each
+    solid's root along `options.root` ("auto": as placed unless turning the solid leaves
+    less overhang), each solid standing on the platform (`planning/layout.py`), and the
+    whole part turned on the table when the machine cannot reach one of the sub-parts
+    (`planning/placement.py`; the plan notes every move). `split=False` builds each solid
+    in one piece along +Z instead of decomposing it."""
+    from freecad_conformal.planning.build_order import build_order
+    from freecad_conformal.planning.layout import lay_out
     from freecad_conformal.planning.placement import reachable_plan
 
     if decompose is None:
         from freecad_conformal.planning.decompose import decompose
+    tool, _, _ = resolve_tool(options.tool, options.material)
+    gap = max(MIN_LAYOUT_GAP, tool.envelope.body_diameter)
     machine = load_machine(options.machine)
-    placed, plan, _ = reachable_plan(shape, lambda s: decompose(s, tool=options.tool),
-                                     lambda p: check_reach(machine, p))
+
+    def planned(placed):
+        plan = decompose(placed, tool=options.tool, root_direction=options.root) if split else single_plan(placed)
+        laid = lay_out(plan, gap)
+        if len({sub.solid_index for sub in laid.subparts}) > 1:
+            # Side by side on one platform, each solid's tool meets what is built of the others.
+            laid.order = build_order(laid.subparts, tool=options.tool, notes=laid.notes,
+                                     one_platform=True)
+        return laid
+
+    placed, plan, _ = reachable_plan(shape, planned, lambda p: check_reach(machine, p))
     return placed, plan
 
 
@@ -251,5 +276,5 @@ def single_plan(shape, direction=(0.0, 0.0, 1.0)) -> BuildPlan:
     d = np.asarray(direction, dtype=float)
     d = d / np.linalg.norm(d)
     subparts = [SubPart(index=k, shape=solid, build_direction=d, volume=float(solid.Volume),
-                        name=f"solid {k}") for k, solid in enumerate(solids_of(shape))]
+                        name=f"solid {k}", solid_index=k) for k, solid in enumerate(solids_of(shape))]
     return BuildPlan(subparts=subparts, order=list(range(len(subparts))))

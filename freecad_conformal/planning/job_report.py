@@ -29,6 +29,8 @@ def summary_text(result) -> str:
                      f"{sub.layers:>6} {sub.thickness_min:>6.3f}-{sub.thickness_max:<6.3f} "
                      f"{sub.tilted_layers:>6} {sub.deposit_length / 1000:>8.2f} {sub.material / 1000:>8.3f}")
     plan = result.plan
+    support = ("none" if plan.support_area <= 0 else f"{plan.support_area:.1f} mm2 of overhang "
+               "beyond the allowed angle left (no cut found removes it: it needs support)")
     lines += [
         "",
         f"build order: {' -> '.join(str(i) for i in plan.order)}",
@@ -37,7 +39,7 @@ def summary_text(result) -> str:
         f"material: {result.material_volume / 1000:.3f} cm3 (bead cross-section x path length)",
         f"estimated time: {format_duration(result.time_s)} ({result.time_s:.0f} s; trapezoidal "
         f"acceleration {result.machine.acceleration:g} mm/s2, jerk-limited corners)",
-        f"support: {'none' if plan.support_area <= 0 else f'{plan.support_area:.1f} mm2 of overhang left unavoidable'}"
+        f"support: {support}"
         + (f" (a single direction would need {plan.support_area_single_direction:.1f} mm2)"
            if plan.support_area_single_direction > 0 else ""),
         f"safe moves between sub-parts checked against built material: {result.assembly.moves_checked}",

@@ -91,6 +91,16 @@ def test_crank_arm_plans_both_solids(parts_dir):
     check_reported_exactly(plan, shape)
     assert {s.solid_index for s in plan.subparts} == {0, 1}
     assert plan.support_area <= plan.support_area_single_direction + AREA_TOLERANCE
+    # On the machine the pin stands where it is and the arm, turned to its root direction,
+    # stands beside it on the same platform (as placed it hovers around the pin).
+    from freecad_conformal.planning.layout import lay_out
+    from tests.geometry.test_layout import check_standing, footprints_apart
+
+    laid = lay_out(plan, 10.0)
+    check_standing(laid, shape.BoundBox.ZMin)
+    assert footprints_apart(laid, 10.0)
+    assert laid.support_area == pytest.approx(plan.support_area, abs=AREA_TOLERANCE)
+    np.testing.assert_allclose(remaining(laid), remaining(plan), atol=1e-3)
 
 
 def test_table_trial_on_the_other_core_gives_the_sequential_plan(parts_dir, monkeypatch):

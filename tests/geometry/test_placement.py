@@ -6,7 +6,7 @@ import pytest
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry import samples
-from freecad_conformal.planning.job import PlanOptions, check_reach, decompose_reachable, run_job
+from freecad_conformal.planning.job import PlanOptions, check_reach, machine_plan, run_job
 from freecad_conformal.planning.placement import reachable_plan, turn_up
 from freecad_conformal.planning.subparts import BuildPlan, SubPart
 from freecad_conformal.post.machine import load_machine
@@ -27,7 +27,7 @@ def test_the_hinge_is_turned_until_the_trunnion_reaches_every_sub_part():
     """As modelled its lugs need the tool along −Z (A = 180°, beyond ±120°)."""
     hinge = samples.hinge()
     options = PlanOptions(machine="trunnion_ac")
-    placed, plan = decompose_reachable(hinge, options)
+    placed, plan = machine_plan(hinge, options)
     check_reach(load_machine("trunnion_ac"), plan)
     assert any("part placed with its" in note for note in plan.notes)
     assert placed.Volume == pytest.approx(hinge.Volume, rel=1e-6)

@@ -1,0 +1,96 @@
+"""Separate solids laid out on the platform, each standing on the base of its root."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from freecad_conformal.geometry.sections import extent_along
+from freecad_conformal.planning.decompose import decompose
+from freecad_conformal.planning.job import single_plan
+from freecad_conformal.planning.layout import lay_out
+
+UP = np.array([0.0, 0.0, 1.0])
+GAP = 6.0
+
+
+def footprints_apart(plan, gap: float) -> bool:
+    boxes = {}
+    for sub in plan.subparts:
+        box = sub.shape.BoundBox
+        old = boxes.get(sub.solid_index, (math.inf, -math.inf, math.inf, -math.inf))
+        boxes[sub.solid_index] = (min(old[0], box.XMin), max(old[1], box.XMax),
+                                  min(old[2], box.YMin), max(old[3], box.YMax))
+    items = list(boxes.values())
+    return all(a[1] + gap <= b[0] + 1e-9 or b[1] + gap <= a[0] + 1e-9
+               or a[3] + gap <= b[2] + 1e-9 or b[3] + gap <= a[2] + 1e-9
+               for i, a in enumerate(items) for b in items[i + 1:])
+
+
+def check_standing(plan, platform: float) -> None:
+    for sub in plan.subparts:
+        if sub.parent is None:
+            np.testing.assert_allclose(sub.build_direction, UP, atol=1e-12)
+            assert extent_along(sub.shape, UP)[0] == pytest.approx(platform, abs=1e-7)
+        axis, angle = sub.rotation_axis, sub.rotation_angle
+        assert angle == pytest.approx(math.acos(np.clip(sub.build_direction @ UP, -1, 1)), abs=1e-9)
+
+
+def test_a_part_of_one_solid_built_along_z_stays_as_placed(App, Part):
+    plan = single_plan(Part.makeBox(10, 10, 10, App.Vector(3, 4, 5)))
+    assert lay_out(plan, GAP) is plan
+
+
+def test_a_solid_hovering_over_another_is_set_down_beside_it(App, Part):
+    """A ring around a pin (CrankArm's arm around its pin) hovers: it is lowered onto the
+    platform and moved along +X clear of the pin; the pin keeps its place."""
+    pin = Part.makeCylinder(3, 40, App.Vector(0, 0, 0))
+    ring = Part.makeCylinder(10, 5, App.Vector(0, 0, 15)).cut(Part.makeCylinder(4, 5, App.Vector(0, 0, 15)))
+    plan = single_plan(Part.makeCompound([pin, ring]))
+    laid = lay_out(plan, GAP)
+    check_standing(laid, 0.0)
+    assert laid.subparts[0] is plan.subparts[0]
+    moved = laid.subparts[1].shape
+    assert moved.Volume == pytest.approx(ring.Volume, rel=1e-12)
+    assert moved.BoundBox.XMin == pytest.approx(3.0 + GAP)
+    assert footprints_apart(laid, GAP)
+    assert any("solid 2 laid out" in note for note in laid.notes)
+    assert not any("solid 1 laid out" in note for note in laid.notes)
+
+
+def test_a_turned_root_stands_up_with_its_children_turned_alike(App, Part):
+    """An L-block planned from −X: the whole solid turns so −X points up; the child's
+    direction turns with it, and the angle between the two directions stays."""
+    from freecad_conformal.geometry import samples
+
+    shape = samples.l_block()
+    plan = decompose(shape, root_direction=(-1.0, 0.0, 0.0), check_collisions=False)
+    laid = lay_out(plan, GAP)
+    low = extent_along(shape, UP)[0]
+    check_standing(laid, low)
+    for before, after in zip(plan.subparts, laid.subparts):
+        assert after.volume == before.volume
+        assert after.shape.Volume == pytest.approx(before.shape.Volume, rel=1e-12)
+        root_before = plan.subparts[0].build_direction
+        assert after.build_direction @ UP == pytest.approx(before.build_direction @ root_before, abs=1e-12)
+        if before.base_face is not None:
+            # The base stays under its sub-part: the face lies on the moved shape's boundary.
+            assert after.shape.distToShape(after.base_face)[0] < 1e-7
+    assert laid.support_area == pytest.approx(plan.support_area, abs=1e-9)
+    assert laid.axes[0].nodes[0].point is not plan.axes[0].nodes[0].point
+
+
+def test_the_plan_builds_every_solid_from_the_platform(App, Part):
+    """Through the plan command's pipeline: the ring's first layer is laid on the platform,
+    not 15 mm above it."""
+    from freecad_conformal.planning.job import PlanOptions, machine_plan, run_job
+
+    pin = Part.makeCylinder(3, 12, App.Vector(0, 0, 0))
+    ring = Part.makeCylinder(10, 2, App.Vector(0, 0, 5)).cut(Part.makeCylinder(4, 2, App.Vector(0, 0, 5)))
+    options = PlanOptions()
+    placed, plan = machine_plan(Part.makeCompound([pin, ring]), options)
+    result = run_job(placed, plan, options, part="pin and ring")
+    for sub in plan.subparts:
+        tips = np.vstack([path.points for path in result.assembly.paths if path.subpart == sub.index])
+        assert tips[:, 2].min() == pytest.approx(options.layers.thickness, abs=1e-9), sub.name
