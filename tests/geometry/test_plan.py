@@ -49,6 +49,8 @@ def test_summary_figures_agree_with_the_toolpath():
     (["--tool", "no_such_tool"], "no tool 'no_such_tool' in the library"),
     (["--tool", "endmill_6mm"], "is a end_mill"),
     (["--machine", "no_such_machine"], "unknown machine 'no_such_machine'"),
+    (["--root", "1,0"], "--root must be auto or a direction x,y,z, got '1,0'"),
+    (["--root", "0,0,0"], "root direction must be a non-zero 3-vector"),
 ])
 def test_bad_input_writes_nothing(tmp_path, capsys, arguments, message):
     out = tmp_path / "x.ngc"
