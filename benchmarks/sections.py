@@ -23,6 +23,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from freecad_conformal.freecad_env import import_freecad  # noqa: E402
+from freecad_conformal.geometry.loops import dense_area  # noqa: E402
 from freecad_conformal.geometry.sections import PlanarSlicer, planar_sections, uniform_heights  # noqa: E402
 
 PARTS = ("bottle.brep", "CrankArm.brep", "Pump_Nut.brep")
@@ -49,26 +50,10 @@ def trimesh_sections(stl: Path, heights: list[float]) -> tuple[float, list[float
     return time.perf_counter() - start, areas
 
 
-def dense_error(layer, samples: int = 2001) -> float:
+def dense_error(layer) -> float:
     """Relative difference between the layer's OCC area and the shoelace area of its own
-    wires sampled densely in parameter: checks the integration, not OCC against itself."""
-    total = 0.0
-    for face in layer.faces:
-        # The outer loop encloses the holes: the largest (`isSame` misses on some of the
-        # Boolean's faces).
-        areas = sorted((_shoelace(wire, layer.frame, samples) for wire in face.Wires), reverse=True)
-        total += areas[0] - sum(areas[1:])
-    return abs(total - layer.area) / layer.area
-
-
-def _shoelace(wire, frame, samples: int) -> float:
-    points = []
-    for edge in wire.OrderedEdges:
-        a, b = edge.ParameterRange
-        run = [tuple(edge.valueAt(t)) for t in np.linspace(a, b, samples)]
-        points.extend((run[::-1] if edge.Orientation == "Reversed" else run)[:-1])
-    uv = frame.to_2d(np.array(points))
-    return 0.5 * abs(np.dot(uv[:, 0], np.roll(uv[:, 1], -1)) - np.dot(uv[:, 1], np.roll(uv[:, 0], -1)))
+    wires sampled densely: checks the integration, not OCC against itself."""
+    return abs(dense_area(layer.faces, layer.frame) - layer.area) / layer.area
 
 
 def main() -> None:

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from freecad_conformal.geometry.face_cut import FaceCutter
+from freecad_conformal.geometry.loops import dense_area
 from freecad_conformal.geometry.sections import PlanarSlicer, uniform_heights
 from freecad_conformal.geometry.solids import load_shape
 from freecad_conformal.geometry.torus_cut import FIT_TOLERANCE, torus_plane_curves
@@ -91,27 +92,6 @@ def test_holes_and_islands_are_nested_by_depth(App, Part):
     assert np.allclose(section.centroid, [0, 0, 5], atol=1e-9)
 
 
-def _dense_area(section, samples: int = 2001) -> float:
-    """Area of the section's wires by the shoelace formula on dense parameter samples."""
-    total = 0.0
-    for face in section.faces:
-        # The outer loop encloses the holes: the largest (`isSame` misses on some of the
-        # Boolean's faces).
-        areas = sorted((_shoelace(wire, section.frame, samples) for wire in face.Wires), reverse=True)
-        total += areas[0] - sum(areas[1:])
-    return total
-
-
-def _shoelace(wire, frame, samples: int) -> float:
-    points = []
-    for edge in wire.OrderedEdges:
-        a, b = edge.ParameterRange
-        run = [tuple(edge.valueAt(t)) for t in np.linspace(a, b, samples)]
-        points.extend((run[::-1] if edge.Orientation == "Reversed" else run)[:-1])
-    uv = frame.to_2d(np.array(points))
-    return 0.5 * abs(np.dot(uv[:, 0], np.roll(uv[:, 1], -1)) - np.dot(uv[:, 1], np.roll(uv[:, 0], -1)))
-
-
 def _torus_points_error(curves, torus, n, height):
     centre = np.array(tuple(torus.Center))
     w = np.array(tuple(torus.Axis))
@@ -162,5 +142,5 @@ def test_torus_segment_sections_match_the_boolean_in_a_mirrored_frame_too(App, P
         for mine, reference in done:
             # OCC's area of the Boolean's faces (walked curves) is off by up to 2.6e-4 of
             # a dense polygon on its own wires; ours agrees with that polygon to 1e-7.
-            assert mine.area == pytest.approx(_dense_area(reference), rel=5e-6, abs=1e-9)
+            assert mine.area == pytest.approx(dense_area(reference.faces, reference.frame), rel=5e-6, abs=1e-9)
             assert len(mine.faces) == len(reference.faces)
