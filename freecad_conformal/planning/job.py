@@ -256,7 +256,10 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool = True
     machine = load_machine(options.machine)
 
     def planned(placed):
-        plan = decompose(placed, tool=options.tool, root_direction=options.root) if split else single_plan(placed)
+        if split:
+            plan = decompose(placed, tool=options.tool, root_direction=options.root)
+        else:
+            plan = single_plan(placed)
         laid = lay_out(plan, gap)
         if len({sub.solid_index for sub in laid.subparts}) > 1:
             # Side by side on one platform, each solid's tool meets what is built of the others.
