@@ -21,7 +21,7 @@ import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.sections import extent_along
-from freecad_conformal.planning.rotation import rotation_to
+from freecad_conformal.planning.rotation import rodrigues_matrix, rotation_to
 from freecad_conformal.planning.subparts import BuildPlan
 
 UP = np.array([0.0, 0.0, 1.0])
@@ -48,11 +48,8 @@ class SolidMove:
         return self.rotate(np.asarray(point, dtype=float) - self.pivot) + self.pivot + self.shift
 
     def rotate(self, vector: np.ndarray) -> np.ndarray:
-        """Rodrigues' rotation of a vector (or rows of vectors)."""
-        k, angle = self.axis, self.angle
-        v = np.asarray(vector, dtype=float)
-        return (v * math.cos(angle) + np.cross(k, v) * math.sin(angle)
-                + np.outer(v @ k, k).reshape(v.shape) * (1.0 - math.cos(angle)))
+        """A vector (or rows of vectors) turned by the move's rotation."""
+        return np.asarray(vector, dtype=float) @ rodrigues_matrix(self.axis, self.angle).T
 
     def shape(self, shape):
         """A moved copy of a FreeCAD shape."""
