@@ -1,4 +1,5 @@
-"""Planar sections on several cores: heights cut in this process and in forked workers.
+"""Planar sections of a `PlanarSlicer`, on one core or several: heights cut in this
+process and in forked workers.
 
 OCC does its work in C++, but FreeCAD's Python bindings do not release the GIL,
 so threads do not help; processes do. Workers are forked after the slicer is built, so they
@@ -40,9 +41,9 @@ def _as_brep(items: list | None):
     return text, [(item.area, item.centroid) for item in items]
 
 
-def _cut(solid_index: int, heights: np.ndarray, boolean: bool) -> list:
-    cut = _WORKER_SLICER.cut_boolean if boolean else _WORKER_SLICER.cut_faces
-    return cut(solid_index, heights)
+def _cut(solid_index: int, heights: np.ndarray, boolean: bool, slicer=None) -> list:
+    slicer = slicer if slicer is not None else _WORKER_SLICER
+    return (slicer.cut_boolean if boolean else slicer.cut_faces)(solid_index, heights)
 
 
 def _worker(jobs: list, boolean: bool, counter, results) -> None:
@@ -72,10 +73,10 @@ def _from_brep(text: str, props: list) -> list[SectionFace]:
     return [SectionFace(face, area, centroid) for face, (area, centroid) in zip(shape.Faces, props)]
 
 
-def parallel_sections(slicer, heights: Sequence[float], workers: int,
-                      progress: Callable[[int, int], None] | None = None) -> list:
-    """Like `slicer.sections(heights)`, with the work spread over `workers` processes
-    (this one included).
+def cut_sections(slicer, heights: Sequence[float], workers: int = 1,
+                 progress: Callable[[int, int], None] | None = None) -> list:
+    """`slicer`'s sections at `heights` (any order, in the order given), the work spread
+    over `workers` processes (this one included).
 
     First every height is cut face by face in small jobs (they cost about the same each,
     so small jobs keep both cores busy to the end); then the layers that path left go to
@@ -88,7 +89,7 @@ def parallel_sections(slicer, heights: Sequence[float], workers: int,
     size = max(JOB_MIN, min(slicer.CHUNK, -(-len(levels) // (JOBS_PER_WORKER * workers))))
     jobs = [(solid_index, chunk) for solid_index in range(len(slicer.solids))
             for chunk in slicer._chunks(solid_index, levels, size)]
-    if slicer.face_by_face:
+    if slicer.face_by_face and workers > 1:
         # Built here, the cutters (and their faces' parameter domains) are inherited by the
         # forked workers instead of being built again in each.
         for solid_index in range(len(slicer.solids)):
@@ -129,6 +130,13 @@ def _shared(slicer, levels: np.ndarray, jobs: list, boolean: bool, workers: int,
     if not jobs:
         return []
     work = [(solid_index, levels[chunk]) for solid_index, chunk in jobs]
+    if workers == 1 or len(jobs) == 1:
+        results = []
+        for done, job in enumerate(work, start=1):
+            results.append(_cut(*job, boolean, slicer))
+            if report is not None:
+                report(done)
+        return results
     results: list = [None] * len(jobs)
     context = multiprocessing.get_context("fork")
     counter = context.Value("i", 0)
@@ -141,7 +149,7 @@ def _shared(slicer, levels: np.ndarray, jobs: list, boolean: bool, workers: int,
             process.start()
             processes.append(process)
         while (index := _claim(counter)) < len(jobs):
-            results[index] = _cut(*work[index], boolean)
+            results[index] = _cut(*work[index], boolean, slicer)
             if report is not None:
                 report(index + 1)
         running = len(processes)

@@ -22,6 +22,7 @@ from freecad_conformal.errors import GeometryError
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.face_cut import FaceCutter
 from freecad_conformal.geometry.planar_faces import SectionFace
+from freecad_conformal.geometry.section_pool import cut_sections
 from freecad_conformal.geometry.frames import LayerFrame
 from freecad_conformal.geometry.loops import Loop, loops_of_faces, polygons_of_loops
 from freecad_conformal.geometry.solids import solids_of
@@ -190,37 +191,15 @@ class PlanarSlicer:
     def section(self, height: float) -> PlanarSection:
         return self.sections([height])[0]
 
-    def sections(self, heights: Sequence[float],
-                 progress: ProgressCallback | None = None) -> list[PlanarSection]:
-        """Sections at `heights` (any order), in the order given.
+    def sections(self, heights: Sequence[float], progress: ProgressCallback | None = None,
+                 workers: int = 1) -> list[PlanarSection]:
+        """Sections at `heights` (any order), in the order given, on `workers` processes.
 
         Every height is cut face by face first; the layers that path leaves go to the
-        Boolean afterwards, up to `CHUNK` of them (per solid) in one Boolean.
+        Boolean afterwards, up to `CHUNK` of them (per solid) in one Boolean
+        (`section_pool.cut_sections`).
         """
-        levels = np.asarray(heights, dtype=float).reshape(-1)
-        bad = levels[~np.isfinite(levels)]
-        if bad.size:
-            raise GeometryError(f"section heights must be finite, got {bad[0]!r}")
-        # Repeated heights are cut once: two coincident planes in one Boolean would share faces.
-        distinct, where = np.unique(levels, return_inverse=True)
-        faces_at: list[list[SectionFace]] = [[] for _ in distinct]
-        chunks = [(solid_index, chunk) for solid_index in range(len(self.solids))
-                  for chunk in self._chunks(solid_index, distinct)]
-        left: dict[int, list[int]] = {}
-        for done, (solid_index, chunk) in enumerate(chunks, start=1):
-            for index, faces in zip(chunk, self.cut_faces(solid_index, distinct[chunk])):
-                if faces is None:
-                    left.setdefault(solid_index, []).append(index)
-                else:
-                    faces_at[index].extend(faces)
-            if progress is not None:
-                progress(int(len(distinct) * done / len(chunks)), len(distinct))
-        for solid_index, indices in left.items():
-            for start in range(0, len(indices), self.CHUNK):
-                chunk = np.array(indices[start:start + self.CHUNK])
-                for index, faces in zip(chunk, self.cut_boolean(solid_index, distinct[chunk])):
-                    faces_at[index].extend(faces)
-        return [self._make_section(levels[i], list(faces_at[k])) for i, k in enumerate(where)]
+        return cut_sections(self, heights, workers, progress)
 
     def _chunks(self, solid_index: int, levels: np.ndarray, size: int | None = None) -> list[np.ndarray]:
         """Indices of `levels` that meet the solid's box, grouped into chunks of `size`."""
@@ -237,9 +216,6 @@ class PlanarSlicer:
         else:
             cutter = self.cutter(solid_index)
             result = [cutter.section_faces(float(h)) for h in heights]
-        fallbacks = sum(faces is None for faces in result)
-        self.counts["face_by_face"] += len(heights) - fallbacks
-        self.counts["boolean"] += fallbacks
         return [None if faces is None else [item for item in faces if item.area > MIN_SECTION_AREA]
                 for faces in result]
 
@@ -326,10 +302,6 @@ def planar_sections(shape, direction: Sequence[float] = (0.0, 0.0, 1.0), *,
         levels = uniform_heights(shape, slicer.frame.n, float(layer))
     else:
         levels = [float(h) for h in heights]
-    if workers > 1 and len(levels) > PlanarSlicer.CHUNK:
-        from freecad_conformal.geometry.section_pool import parallel_sections
-
-        layers = parallel_sections(slicer, levels, workers, progress)
-        return SectionStack(frame=slicer.frame, layers=layers, chord_tolerance=chord_tolerance)
-    layers = slicer.sections(levels, progress)
+    # Forking costs more than a chunk of layers takes.
+    layers = slicer.sections(levels, progress, workers if len(levels) > PlanarSlicer.CHUNK else 1)
     return SectionStack(frame=slicer.frame, layers=layers, chord_tolerance=chord_tolerance)

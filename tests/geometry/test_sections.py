@@ -155,9 +155,11 @@ def test_parallel_sections_share_the_work_and_the_boolean_fallbacks(App, Part):
     serial_slicer = PlanarSlicer(steps, (0, 0, 1))
     serial = serial_slicer.sections(heights)
     seen = []
-    parallel = planar_sections(steps, heights=heights, workers=2, progress=lambda d, t: seen.append((d, t)))
+    parallel_slicer = PlanarSlicer(steps, (0, 0, 1))
+    parallel = parallel_slicer.sections(heights, lambda d, t: seen.append((d, t)), workers=2)
     assert serial_slicer.counts["boolean"] == 14
-    for a, b in zip(serial, parallel.layers):
+    assert parallel_slicer.counts == serial_slicer.counts
+    for a, b in zip(serial, parallel):
         assert a.height == b.height
         assert a.area == pytest.approx(b.area, rel=1e-12)
         assert len(a.faces) == len(b.faces)
