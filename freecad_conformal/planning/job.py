@@ -256,13 +256,16 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool = True
     machine = load_machine(options.machine)
 
     def planned(placed):
+        # Side by side on one platform, each solid's tool meets what is built of the others:
+        # the order of several solids is searched once, after they are laid out.
+        several = len(placed.Solids) > 1
         if split:
-            plan = decompose(placed, tool=options.tool, root_direction=options.root)
+            plan = decompose(placed, tool=options.tool, root_direction=options.root,
+                             check_collisions=not several)
         else:
             plan = single_plan(placed)
         laid = lay_out(plan, gap)
-        if len({sub.solid_index for sub in laid.subparts}) > 1:
-            # Side by side on one platform, each solid's tool meets what is built of the others.
+        if several:
             laid.order = build_order(laid.subparts, tool=options.tool, notes=laid.notes,
                                      one_platform=True)
         return laid
