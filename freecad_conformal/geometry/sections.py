@@ -145,9 +145,34 @@ def extent_along(shape, direction: np.ndarray) -> tuple[float, float]:
     size = 4 * box.DiagonalLength + 2.0
     far_low = _plane_face(Part, App, -reach, n, size, box)
     far_high = _plane_face(Part, App, reach, n, size, box)
-    low = -reach + far_low.distToShape(shape)[0]
-    high = reach - far_high.distToShape(shape)[0]
+    low = -reach + far_low.distToShape(_faces_reaching(Part, shape, -n))[0]
+    high = reach - far_high.distToShape(_faces_reaching(Part, shape, n))[0]
     return float(low), float(high)
+
+
+def _faces_reaching(Part, shape, n: np.ndarray):
+    """The faces that may hold the shape's extreme along `n`, as one shape: a face whose box
+    ends below the highest vertex cannot. Extrema against a few faces instead of all
+    (B-spline pieces: 0.1 s → 0.01 s). The box is OCC's optimal one from the geometry, not
+    `BoundBox`: that one is read off a triangulation when the face has one and can fall
+    short of a curved face; the optimal box only errs on the large side."""
+    faces = shape.Faces
+    if len(faces) <= 2:
+        return shape
+    highest = max(float(np.array(tuple(v.Point)) @ n) for v in shape.Vertexes) \
+        if shape.Vertexes else -np.inf
+    reaching = [face for face in faces
+                if _box_reach(face.optimalBoundingBox(False), n) >= highest - BOX_MARGIN]
+    return Part.makeCompound(reaching) if reaching else shape
+
+
+#: Slack (mm) on the box test: boxes already enlarge by tolerances, this only guards rounding.
+BOX_MARGIN = 1e-6
+
+
+def _box_reach(box, n: np.ndarray) -> float:
+    return float(sum(max(lo * c, hi * c) for lo, hi, c in
+                     ((box.XMin, box.XMax, n[0]), (box.YMin, box.YMax, n[1]), (box.ZMin, box.ZMax, n[2]))))
 
 
 def _plane_face(Part, App, height: float, direction: Sequence[float], size: float, box):
