@@ -73,8 +73,9 @@ def _into_face(face, point: np.ndarray, tangent: np.ndarray, normal: np.ndarray,
     return side if inside <= outside else -side
 
 
-def edge_angles(solid) -> list[EdgeAngle]:
-    """Inner angle of every edge shared by exactly two faces of `solid` (seams skipped)."""
+def edge_angles(solid, only=None) -> list[EdgeAngle]:
+    """Inner angle of every edge shared by exactly two faces of `solid` (seams skipped);
+    with `only`, of the edges for which `only(edge)` is true."""
     App, Part = import_freecad()
     faces = list(solid.Faces)
     edges = list(solid.Edges)
@@ -95,6 +96,8 @@ def edge_angles(solid) -> list[EdgeAngle]:
             continue
         edge = edges[edge_index]
         if edge.Length <= 0 or edge.isSeam(faces[pair[0]]):
+            continue
+        if only is not None and not only(edge):
             continue
         angle = _cached_angle(App, edge, faces[pair[0]], faces[pair[1]])
         result.append(EdgeAngle(edge_index, (pair[0], pair[1]), angle, edge))
@@ -147,6 +150,42 @@ def _inner_angle(App, edge, face1, face2) -> float:
     return float(np.median(angles))
 
 
-def concave_edges(solid) -> list[EdgeAngle]:
-    """The concave edges of `solid` (inner angle over 180° + SMOOTH_ANGLE)."""
-    return [e for e in edge_angles(solid) if e.concave]
+def concave_edges(solid, within: list[EdgeAngle] | None = None) -> list[EdgeAngle]:
+    """The concave edges of `solid` (inner angle over 180° + SMOOTH_ANGLE).
+
+    `within`: the concave edges of a solid that `solid` was cut from by planes. A planar cut
+    leaves material on one side of its plane only, so every edge it makes is convex or flat,
+    and the other edges keep the two surfaces they had: the concave edges of a piece lie on
+    its ancestor's. Only those are measured (CrankArm's pieces: ~40 of ~600 edges). They
+    are measured again, not copied: a cut in the plane of one of the two faces flattens
+    the edge."""
+    if within is None:
+        return [e for e in edge_angles(solid) if e.concave]
+    if not within:
+        return []
+    return [e for e in edge_angles(solid, only=lambda edge: _lies_on_any(edge, within))
+            if e.concave]
+
+
+#: A point lies on an edge's curve within this (mm): sub-edges of a split keep their curve,
+#: so their points are on it to rounding; far below any feature.
+ON_CURVE = 1e-5
+
+
+def _lies_on_any(edge, known: list[EdgeAngle]) -> bool:
+    """Whether `edge` lies on the curve of one of the `known` edges (tested at two interior
+    points; a point of the same curve outside the known edge passes too, which only costs
+    one exact measurement)."""
+    if any(k.edge.isSame(edge) for k in known):
+        return True
+    first, last = edge.ParameterRange
+    points = [edge.valueAt(first + f * (last - first)) for f in (1 / 3, 2 / 3)]
+    for k in known:
+        box = k.edge.BoundBox
+        box.enlarge(10 * ON_CURVE)
+        if not all(box.isInside(p) for p in points):
+            continue
+        curve = k.edge.Curve
+        if all((curve.value(curve.parameter(p)) - p).Length < ON_CURVE for p in points):
+            return True
+    return False

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from freecad_conformal.geometry import samples
@@ -43,3 +44,51 @@ def test_cylinder_on_a_plate_meets_it_concavely_all_round(Part, App):
     concave = concave_edges(plate.fuse(peg).removeSplitter())
     assert concave
     assert all(math.degrees(e.inner_angle) == pytest.approx(270.0, abs=0.5) for e in concave)
+
+
+def _halves(solid, point, normal):
+    from freecad_conformal.geometry.splitting_faces import plane_through, split_solid
+
+    return split_solid(solid, [plane_through(np.asarray(point, float), np.asarray(normal, float),
+                                             solid.BoundBox)])
+
+
+def _indices(edges) -> list[int]:
+    return sorted(e.edge_index for e in edges)
+
+
+@pytest.mark.parametrize("name, point, normal", [
+    # the L's concave edge lies in this plane: the cut flattens it on both pieces
+    ("l_block", (0, 0, 30), (0, 0, 1)),
+    ("l_block", (5, 0, 0), (1, 0, 0)),
+    ("t_block", (0, 0, 20), (0, 0, 1)),
+    ("hinge", (30, 0, 0), (1, 0, 0)),
+    ("hinge", (0, 30, 0), (0, 1, 0)),
+    ("hinge", (0, 0, 20), (0.3, 0.2, 0.93)),
+])
+def test_pieces_concave_edges_are_found_among_their_ancestors(name, point, normal):
+    """Measuring only the edges on the uncut solid's concave edges finds every concave edge
+    of a piece (the decomposition relies on it), including the cut that flattens one."""
+    solid = samples.SAMPLES[name]()
+    ancestor = concave_edges(solid)
+    pieces = _halves(solid, point, normal)
+    assert len(pieces) >= 2
+    for piece in pieces:
+        assert _indices(concave_edges(piece, within=ancestor)) == _indices(concave_edges(piece))
+    if name == "l_block" and normal == (0, 0, 1):
+        assert ancestor and all(concave_edges(p) == [] for p in pieces)
+
+
+def test_pieces_of_a_free_form_part_keep_their_concave_edges(parts_dir):
+    from freecad_conformal.geometry.solids import load_shape
+
+    arm = max(load_shape(parts_dir / "CrankArm.brep").Solids, key=lambda s: s.Volume)
+    ancestor = concave_edges(arm)
+    centre = np.array(tuple(arm.BoundBox.Center))
+    found = 0
+    for normal in ((1, 0, 0), (0, 1, 0), (0, 0, 1)):
+        for piece in _halves(arm, centre, normal):
+            own = concave_edges(piece)
+            assert _indices(concave_edges(piece, within=ancestor)) == _indices(own)
+            found += len(own)
+    assert found > 0
