@@ -17,16 +17,18 @@ pays for its axis (13 s of CrankArm's arm).
 from __future__ import annotations
 
 import math
-from typing import Callable
+from typing import Callable, Iterator
 
 import numpy as np
 
 from freecad_conformal.geometry.concave_edges import concave_edges
 from freecad_conformal.geometry.splitting_faces import SplitCandidate
 
-#: Candidate cuts split exactly per refinement step, best estimated saving first: the
-#: estimate ranks well enough that the winner is among the first few, and each exact split
-#: is a Boolean plus an overhang evaluation of every piece.
+#: Candidate cuts split exactly per refinement step at most, best estimated saving first,
+#: stopping at the first that saves overhang: the estimate ranks well enough that the best
+#: estimate usually wins (CrankArm's turned arm: the same 185.4 mm² left in 4.3 s instead of
+#: 6.2 s as best of three), and each exact split is a Boolean plus an overhang evaluation of
+#: every piece.
 MAX_EXACT_CUTS = 3
 
 #: Area-jump planes (largest ∂ first) whose saving is estimated: the mesh profile and the
@@ -96,10 +98,15 @@ class SavingEstimate:
         return max(sides.values())
 
 
+#: One plane's candidates: its estimated saving and a function computing its regions.
+PlaneCandidates = tuple[float, Callable[[], list[SplitCandidate]]]
+
+
 def area_jump_candidates(shape, direction: np.ndarray, estimate: SavingEstimate,
-                         needed: float) -> list[SplitCandidate]:
-    """Regions of the area-jump planes whose estimated saving is worth a cut; the planes are
-    ranked before their regions are computed."""
+                         needed: float) -> Iterator[PlaneCandidates]:
+    """(estimated saving, regions) for the best MAX_EXACT_CUTS area-jump planes worth a
+    cut, best first: the planes are ranked before their regions are computed, and a plane's
+    regions (a section Boolean) are computed only when `regions()` is called."""
     from freecad_conformal.geometry.area_jumps import area_jump_planes, plane_candidates
 
     planes = []
@@ -108,33 +115,26 @@ def area_jump_candidates(shape, direction: np.ndarray, estimate: SavingEstimate,
         if saving > needed:
             planes.append((saving, point, normal))
     planes.sort(key=lambda item: -item[0])
-    candidates: list[SplitCandidate] = []
-    for _, point, normal in planes[:MAX_EXACT_CUTS]:
-        candidates.extend(plane_candidates(shape, point, normal))
-    return candidates
+    # The best few only, ties or not: a staircase of area jumps (CrankArm's curved end)
+    # ties dozens of planes, each worth a Boolean.
+    for saving, point, normal in planes[:MAX_EXACT_CUTS]:
+        yield saving, lambda point=point, normal=normal: plane_candidates(shape, point, normal)
 
 
-def face_candidates(shape, estimate: SavingEstimate, needed: float) -> list[SplitCandidate]:
-    """Concave-face regions worth an exact cut, best estimated saving first. Regions are
-    computed only for the best planes, enough to fill the exact cuts the decomposition
-    makes (all regions of planes tied at that limit)."""
+def face_candidates(shape, estimate: SavingEstimate, needed: float,
+                    concave: list | None = None) -> Iterator[PlaneCandidates]:
+    """(estimated saving, regions) for the planes of splitting faces worth a cut, best
+    first, as `area_jump_candidates`. `concave`: the shape's concave edges when known."""
     from freecad_conformal.geometry.splitting_faces import candidate_planes, plane_regions
 
+    if concave is None:
+        concave = concave_edges(shape)
     planes = [(estimate.saving(plane.probe()), order, plane) for order, plane
-              in enumerate(candidate_planes(shape, concave_edges(shape)))]
+              in enumerate(candidate_planes(shape, concave))]
     planes = sorted((p for p in planes if p[0] > needed), key=lambda item: (-item[0], item[1]))
-    found: list[tuple[float, SplitCandidate]] = []
-    last = None
     for saving, _, plane in planes:
-        if len(found) >= MAX_EXACT_CUTS and saving < last - SAVING_TIE:
-            break
-        regions = plane_regions(shape, plane)
-        found.extend((saving, region) for region in regions)
-        if regions:
-            last = saving
-    order = sorted(range(len(found)), key=lambda i: (
-        -found[i][0], found[i][1].face_index if found[i][1].face_index is not None else -1, i))
-    return [found[i][1] for i in order]
+        yield saving, lambda plane=plane: sorted(plane_regions(shape, plane),
+                                                 key=lambda r: r.face_index)
 
 
 def axis_first(trials: list, axis: LazyAxis | None, tolerance: float) -> list:

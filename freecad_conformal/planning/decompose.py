@@ -14,15 +14,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Sequence
+from typing import Iterable, Iterator, Sequence
 
 import numpy as np
 
 from freecad_conformal.errors import GeometryError, PlanError
+from freecad_conformal.geometry.concave_edges import concave_edges
 from freecad_conformal.geometry.solids import solids_of
 from freecad_conformal.geometry.splitting_faces import SplitCandidate, repaired, split_solid
 from freecad_conformal.planning.cuts import (MAX_EXACT_CUTS, SAVING_TIE, LazyAxis,
-                                             SavingEstimate, area_jump_candidates, axis_first,
+                                             PlaneCandidates, SavingEstimate, area_jump_candidates, axis_first,
                                              face_candidates)
 from freecad_conformal.planning.rotation import rotation_to
 from freecad_conformal.planning.trial import Trial, can_fork, worth_a_trial
@@ -63,6 +64,17 @@ class _Piece:
     solid_index: int = 0
     rule: str = "root"
     overhang: float = 0.0
+    #: concave edges of the piece this one was cut from (its own lie on them), None for
+    #: an uncut solid
+    ancestor_concave: list | None = None
+    _concave: list | None = None
+    _report: object = None
+
+    def concave(self) -> list:
+        """The piece's concave edges (measured once)."""
+        if self._concave is None:
+            self._concave = concave_edges(self.shape, within=self.ancestor_concave)
+        return self._concave
 
 
 def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: str = "fdm_0p4",
@@ -262,14 +274,14 @@ def _refine(piece: _Piece, angle: float, axis, budget: int, notes: list[str]) ->
         return _members(piece, angle, axis, budget, notes)
     needed = max(MIN_SAVING, MIN_SAVING_FRACTION * piece.overhang)
     estimate = SavingEstimate(piece.shape, angle, report)
-    best = _best_cut(piece, face_candidates(piece.shape, estimate, needed), angle, estimate,
-                     axis)
-    if best is None or best[0] > piece.overhang - needed:
+    best = _best_cut(piece, face_candidates(piece.shape, estimate, needed, piece.concave()),
+                     angle, axis)
+    if best is None:
         # Section 4's area-jump rule only where no splitting face helps: its sections along
         # three axes cost more than everything else here.
         best = _best_cut(piece, area_jump_candidates(piece.shape, piece.direction, estimate,
-                                                     needed), angle, estimate)
-    if best is None or best[0] > piece.overhang - needed:
+                                                     needed), angle)
+    if best is None:
         return _members(piece, angle, axis, budget, notes)
     _, keeper, children = best
     result = _refine(keeper, angle, axis, budget - len(children), notes)
@@ -294,34 +306,51 @@ def _members(piece: _Piece, angle: float, axis, budget: int, notes: list[str]) -
 
 
 def _report(piece: _Piece, angle: float):
-    return overhang_report(piece.shape, piece.direction, angle, piece.base_faces,
-                           on_bed=piece.rule == "root")
+    """The piece's overhang report (kept: a cut's pieces are read when the cut is tried and
+    again when the winner is refined)."""
+    if piece._report is None or piece._report.angle != angle:
+        piece._report = overhang_report(piece.shape, piece.direction, angle, piece.base_faces,
+                                        on_bed=piece.rule == "root")
+    return piece._report
 
 
-def _best_cut(piece: _Piece, candidates: list[SplitCandidate], angle: float,
-              estimate: SavingEstimate, axis: LazyAxis | None = None):
-    """The candidate cut leaving the least total overhang: (total, keeper, children).
+def _best_cut(piece: _Piece, planes: Iterable[PlaneCandidates], angle: float,
+              axis: LazyAxis | None = None):
+    """The cut leaving the least total overhang: (total, keeper, children), or None when
+    none saves overhang.
 
-    Candidates are ranked first by the overhang they could save (read from the piece's
-    overhanging faces, no Boolean) and only the best few (and any tied with the last of
-    them) are split exactly; among tied ones, those meeting the axis criteria come first.
+    `planes` come best estimated saving first (read from the piece's overhanging faces, no
+    Boolean); their regions are computed (a section Boolean each) and split exactly until
+    MAX_EXACT_CUTS regions have been tried, finishing the tie of estimated saving the last
+    belongs to. Among tied candidates, those meeting the axis criteria come first.
     """
     needed = max(MIN_SAVING, MIN_SAVING_FRACTION * piece.overhang)
-    ranked = sorted(((estimate.saving(c), i, c) for i, c in enumerate(candidates)),
-                    key=lambda item: (-item[0], item[1]))
-    ranked = [r for r in ranked if r[0] > needed]
-    chosen = ranked[:MAX_EXACT_CUTS]
-    for item in ranked[MAX_EXACT_CUTS:]:
-        if item[0] < chosen[-1][0] - SAVING_TIE:
+    trials = []
+    for tie in _ties(planes, needed):
+        if len(trials) >= MAX_EXACT_CUTS:
             break
-        chosen.append(item)
-    trials = [(saving, candidate, _try_cut(piece, candidate, angle))
-              for saving, _, candidate in chosen]
+        trials.extend((saving, candidate, _try_cut(piece, candidate, angle))
+                      for saving, regions in tie for candidate in regions())
     best = None
     for _, _, trial in axis_first(trials, axis, MIN_SAVING):
         if trial is not None and (best is None or trial[0] < best[0] - MIN_SAVING):
             best = trial
-    return best
+    return best if best is not None and best[0] <= piece.overhang - needed else None
+
+
+def _ties(planes: Iterable[PlaneCandidates], needed: float) -> Iterator[list]:
+    """Groups of planes of equal estimated saving (best first), those estimated to save
+    more than `needed`."""
+    group: list = []
+    for item in planes:
+        if item[0] <= needed:
+            break
+        if group and group[0][0] - item[0] > SAVING_TIE:
+            yield group
+            group = []
+        group.append(item)
+    if group:
+        yield group
 
 
 def _try_cut(piece: _Piece, candidate: SplitCandidate, angle: float,
@@ -342,7 +371,8 @@ def _try_cut(piece: _Piece, candidate: SplitCandidate, angle: float,
     if len(on_base) != 1:
         return None
     keeper_shape = on_base[0]
-    keeper = _Piece(keeper_shape, d, piece.base_faces, piece.solid_index, piece.rule)
+    keeper = _Piece(keeper_shape, d, piece.base_faces, piece.solid_index, piece.rule,
+                    ancestor_concave=piece.concave())
     total = _overhang(keeper, angle)
     children = []
     for shape in pieces:
@@ -355,7 +385,8 @@ def _try_cut(piece: _Piece, candidate: SplitCandidate, angle: float,
         base = regions if len(regions) == 1 else [r for r in regions if _touch_area(shape, r) > 0]
         if not base:
             return None
-        child = _Piece(shape, direction, base, piece.solid_index, candidate.rule)
+        child = _Piece(shape, direction, base, piece.solid_index, candidate.rule,
+                       ancestor_concave=piece.concave())
         total += _overhang(child, angle)
         children.append(child)
     return total, keeper, children

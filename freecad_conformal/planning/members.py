@@ -22,7 +22,6 @@ from typing import Callable
 
 import numpy as np
 
-from freecad_conformal.geometry.concave_edges import concave_edges
 from freecad_conformal.geometry.splitting_faces import (candidate_planes, faces_on_plane,
                                                         plane_regions)
 
@@ -45,7 +44,7 @@ def member_split(piece, angle: float, budget: int, cut: Callable):
     """(base piece, member pieces) or None; `cut` is the decomposition's exact split
     (piece, candidate, angle, regions=, same_direction=) -> (total, keeper, children)."""
     d = np.asarray(piece.direction, dtype=float)
-    planes = [p for p in candidate_planes(piece.shape, concave_edges(piece.shape))
+    planes = [p for p in candidate_planes(piece.shape, piece.concave())
               if abs(float(p.normal @ d)) > math.cos(MEMBER_ANGLE)]
     # Nearest the base first: members are cut where they leave it.
     planes.sort(key=lambda p: float(p.point @ d))

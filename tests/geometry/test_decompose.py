@@ -108,3 +108,30 @@ def test_stool_turned_over_is_seat_then_each_leg_on_it():
 def test_one_column_on_a_base_stays_whole():
     plan = decompose(_stool(1), root_direction=(0, 0, -1))
     assert len(plan.subparts) == 1
+
+
+@pytest.mark.parametrize("name", ["t_block", "hinge"])
+def test_regions_are_computed_only_for_planes_whose_cuts_are_tried(name, monkeypatch):
+    """A plane's interior regions cost a section Boolean each: the search computes them
+    only for the planes it goes on to split exactly."""
+    import freecad_conformal.geometry.splitting_faces as splitting
+    import freecad_conformal.planning.decompose as module
+
+    computed: list[list] = []
+    tried: set[int] = set()
+    plane_regions, try_cut = splitting.plane_regions, module._try_cut
+
+    def counted_regions(solid, plane):
+        regions = plane_regions(solid, plane)
+        computed.append(regions)
+        return regions
+
+    def counted_cut(piece, candidate, angle, **options):
+        tried.add(id(candidate))
+        return try_cut(piece, candidate, angle, **options)
+
+    monkeypatch.setattr(splitting, "plane_regions", counted_regions)
+    monkeypatch.setattr(module, "_try_cut", counted_cut)
+    plan = decompose(samples.SAMPLES[name]())
+    assert len(plan.subparts) > 1 and computed
+    assert all(any(id(region) in tried for region in regions) for regions in computed if regions)
