@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.boxes import optimal_box
 from freecad_conformal.geometry.plane_curves import (ON_CURVE, VERTEX_CLEARANCE, closed_piece,
                                                      curve_spans, edge_crosser, surface_curves)
 from freecad_conformal.geometry.planar_faces import Piece, SectionFace, faces_from_pieces
@@ -93,8 +94,7 @@ class FaceCutter:
             data.domain.prepare()
 
     def _span(self, shape) -> tuple[float, float]:
-        # Not `BoundBox`: taken from a triangulation it can fall short of a curved face.
-        box = shape.optimalBoundingBox(False)
+        box = optimal_box(shape)  # not `BoundBox`: see boxes.py
         corners = np.array([[x, y, z] for x in (box.XMin, box.XMax) for y in (box.YMin, box.YMax)
                             for z in (box.ZMin, box.ZMax)]) @ self.n
         slack = shape.getTolerance(1) + VERTEX_CLEARANCE

@@ -20,6 +20,7 @@ import numpy as np
 
 from freecad_conformal.errors import GeometryError
 from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.boxes import box_reach, optimal_box
 from freecad_conformal.geometry.face_cut import FaceCutter
 from freecad_conformal.geometry.planar_faces import SectionFace
 from freecad_conformal.geometry.section_pool import cut_sections
@@ -153,26 +154,19 @@ def extent_along(shape, direction: np.ndarray) -> tuple[float, float]:
 def _faces_reaching(Part, shape, n: np.ndarray):
     """The faces that may hold the shape's extreme along `n`, as one shape: a face whose box
     ends below the highest vertex cannot. Extrema against a few faces instead of all
-    (B-spline pieces: 0.1 s → 0.01 s). The box is OCC's optimal one from the geometry, not
-    `BoundBox`: that one is read off a triangulation when the face has one and can fall
-    short of a curved face; the optimal box only errs on the large side."""
+    (B-spline pieces: 0.1 s → 0.01 s). The box is OCC's optimal one (`boxes.py`), which only
+    errs on the large side."""
     faces = shape.Faces
     if len(faces) <= 2:
         return shape
     highest = max(float(np.array(tuple(v.Point)) @ n) for v in shape.Vertexes) \
         if shape.Vertexes else -np.inf
-    reaching = [face for face in faces
-                if _box_reach(face.optimalBoundingBox(False), n) >= highest - BOX_MARGIN]
+    reaching = [face for face in faces if box_reach(optimal_box(face), n) >= highest - BOX_MARGIN]
     return Part.makeCompound(reaching) if reaching else shape
 
 
 #: Slack (mm) on the box test: boxes already enlarge by tolerances, this only guards rounding.
 BOX_MARGIN = 1e-6
-
-
-def _box_reach(box, n: np.ndarray) -> float:
-    return float(sum(max(lo * c, hi * c) for lo, hi, c in
-                     ((box.XMin, box.XMax, n[0]), (box.YMin, box.YMax, n[1]), (box.ZMin, box.ZMax, n[2]))))
 
 
 def _plane_face(Part, App, height: float, direction: Sequence[float], size: float, box):
