@@ -4,34 +4,20 @@
 is taken from one when the shape has it, and can then fall short of a curved face); it
 only errs on the large side. It costs ~0.3 ms per B-spline face, and the face-by-face
 sections, the centroidal axis and the decomposition ask again and again for faces that a
-Boolean left untouched (same TShape).
+Boolean left untouched (cached by identity: `shape_cache.py`).
 """
 from __future__ import annotations
 
 import numpy as np
 
-#: Boxes by shape hash. Entries keep their shape alive, so its address cannot be recycled
-#: for another shape while cached; a hit is confirmed with `isSame` (same TShape and
-#: location, which fix the box).
-_BOXES: dict[int, list[tuple[object, object]]] = {}
-_CACHED = [0]
-MAX_CACHED_BOXES = 20000
+from freecad_conformal.geometry.shape_cache import ShapeCache
+
+_BOXES = ShapeCache(limit=20000, oriented=False)
 
 
 def optimal_box(shape):
     """The shape's optimal bounding box (do not modify it: it is shared)."""
-    bucket = _BOXES.setdefault(shape.hashCode(), [])
-    for known, box in bucket:
-        if known.isSame(shape):
-            return box
-    if _CACHED[0] >= MAX_CACHED_BOXES:
-        _BOXES.clear()
-        _CACHED[0] = 0
-        bucket = _BOXES.setdefault(shape.hashCode(), [])
-    box = shape.optimalBoundingBox(False)
-    bucket.append((shape, box))
-    _CACHED[0] += 1
-    return box
+    return _BOXES.get((shape,), lambda: shape.optimalBoundingBox(False))
 
 
 def box_reach(box, n: np.ndarray) -> float:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.shape_cache import ShapeCache
 
 #: Faces meeting with normals closer than this (rad) are tangent (fillet runs, seams): 0.5°
 #: is above the normal noise of B-spline fits and below any deliberate corner.
@@ -104,29 +105,14 @@ def edge_angles(solid, only=None) -> list[EdgeAngle]:
     return result
 
 
-#: Inner angles already measured, by edge identity: the decomposition asks again for every
-#: piece, and a split leaves most edges and their faces untouched (same TShapes). Entries
-#: keep their shapes alive (no recycled addresses); a hit needs the same edge and faces
-#: (`isSame`) in the same orientations, which fix the normals the angle is read from.
-_ANGLES: dict[int, list[tuple[tuple, float]]] = {}
-MAX_CACHED_ANGLES = 20000
-
-
-def _same(a, b) -> bool:
-    return a.isSame(b) and a.Orientation == b.Orientation
+#: Inner angles already measured, by edge and faces (`shape_cache.py`): the decomposition
+#: asks again for every piece, and a split leaves most edges and their faces untouched. The
+#: orientations count: they fix the normals the angle is read from.
+_ANGLES: ShapeCache[float] = ShapeCache(limit=20000, oriented=True)
 
 
 def _cached_angle(App, edge, face1, face2) -> float:
-    bucket = _ANGLES.setdefault(edge.hashCode(), [])
-    for (e, f1, f2), angle in bucket:
-        if _same(e, edge) and _same(f1, face1) and _same(f2, face2):
-            return angle
-    if sum(len(b) for b in _ANGLES.values()) >= MAX_CACHED_ANGLES:
-        _ANGLES.clear()
-        bucket = _ANGLES.setdefault(edge.hashCode(), [])
-    angle = _inner_angle(App, edge, face1, face2)
-    bucket.append(((edge, face1, face2), angle))
-    return angle
+    return _ANGLES.get((edge, face1, face2), lambda: _inner_angle(App, edge, face1, face2))
 
 
 def _inner_angle(App, edge, face1, face2) -> float:

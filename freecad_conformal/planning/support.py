@@ -17,6 +17,7 @@ import numpy as np
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.shape_cache import ShapeCache
 
 #: Default allowed overhang from the build direction (the common 45° self-support rule of FDM).
 DEFAULT_OVERHANG_ANGLE = math.radians(45.0)
@@ -102,14 +103,9 @@ class FaceMesh:
         return float(self.areas @ fraction)
 
 
-#: Meshes of faces already read, by face identity: a split leaves most faces of a piece
-#: untouched (same TShape), and the same pieces are evaluated several times while cuts are
-#: compared. Entries keep their face alive, so its TShape address cannot be recycled for
-#: another face while cached; a hit is confirmed with `isSame` (same TShape and location)
-#: and the orientation, which is exact and far cheaper than comparing areas or boxes.
-_MESHES: dict[int, list[tuple[object, "FaceMesh"]]] = {}
-_CACHED = [0]
-MAX_CACHED_MESHES = 4096
+#: Meshes of faces already read (`geometry/shape_cache.py`): a split leaves most faces of
+#: a piece untouched, and the same pieces are evaluated several times while cuts are compared.
+_MESHES: ShapeCache[FaceMesh] = ShapeCache(limit=4096, oriented=True)
 
 #: Tessellation points and the triangulation's UV nodes are matched by position rounded to
 #: this (mm): far below the mesh spacing, far above the 1e-12 scatter of one evaluation.
@@ -118,18 +114,7 @@ NODE_MATCH = 1e-6
 
 def face_mesh(face) -> FaceMesh:
     """The triangulation of a curved face with OCC's exact normals at its nodes."""
-    bucket = _MESHES.setdefault(face.hashCode(), [])
-    for known, mesh in bucket:
-        if known.isSame(face) and known.Orientation == face.Orientation:
-            return mesh
-    if _CACHED[0] >= MAX_CACHED_MESHES:
-        _MESHES.clear()
-        _CACHED[0] = 0
-        bucket = _MESHES.setdefault(face.hashCode(), [])
-    mesh = _build_mesh(face)
-    bucket.append((face, mesh))
-    _CACHED[0] += 1
-    return mesh
+    return _MESHES.get((face,), lambda: _build_mesh(face))
 
 
 def _empty_mesh() -> FaceMesh:

@@ -1,4 +1,4 @@
-"""Cached optimal boxes: a cached box belongs to the same face in the same place."""
+"""Cached optimal boxes and the shape-identity cache behind them."""
 from __future__ import annotations
 
 import pytest
@@ -32,3 +32,28 @@ def test_box_reach_is_the_highest_corner_along_a_direction(Part):
     assert box_reach(box, np.array([0, -1.0, 0])) == pytest.approx(0)
     n = np.array([1.0, 1.0, 0]) / np.sqrt(2)
     assert box_reach(box, n) == pytest.approx(30 / np.sqrt(2))
+
+
+def test_shape_cache_tells_orientation_apart_when_asked():
+    from freecad_conformal.geometry.shape_cache import ShapeCache
+
+    face = samples.l_block().Faces[0]
+    reversed_face = face.reversed()
+    oriented, plain = ShapeCache(limit=10, oriented=True), ShapeCache(limit=10, oriented=False)
+    assert oriented.get((face,), lambda: 1) == 1
+    assert oriented.get((reversed_face,), lambda: 2) == 2
+    assert oriented.get((face,), lambda: 3) == 1
+    assert plain.get((face,), lambda: 1) == 1
+    assert plain.get((reversed_face,), lambda: 2) == 1
+
+
+def test_shape_cache_starts_over_at_its_limit():
+    from freecad_conformal.geometry.shape_cache import ShapeCache
+
+    faces = samples.hinge().Faces[:3]
+    cache = ShapeCache(limit=2, oriented=False)
+    for i, face in enumerate(faces):
+        assert cache.get((face,), lambda i=i: i) == i
+    # The third entry cleared the first two: they are computed again.
+    assert cache.get((faces[0],), lambda: "again") == "again"
+    assert cache.get((faces[2],), lambda: "stale") == 2

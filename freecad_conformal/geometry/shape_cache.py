@@ -1,0 +1,44 @@
+"""Values computed from OCC shapes, cached by shape identity.
+
+The decomposition and the centroidal axis cut pieces again and again; a Boolean leaves most
+faces and edges of a piece untouched (same TShape), so what was computed from them (face
+meshes, edge angles, boxes) can be reused. Entries keep their shapes alive, so a TShape's
+address cannot be recycled for another shape while cached; a hit is confirmed with `isSame`
+(same TShape and location), and the orientation when the value depends on it: exact, and
+far cheaper than comparing areas or boxes.
+"""
+from __future__ import annotations
+
+from typing import Callable, Generic, TypeVar
+
+Value = TypeVar("Value")
+
+
+class ShapeCache(Generic[Value]):
+    """`get(shapes, compute)`: the value for this tuple of shapes, computed once. Cleared
+    whole when `limit` entries are reached (a long session must not grow without bound)."""
+
+    def __init__(self, limit: int, oriented: bool) -> None:
+        self.limit, self.oriented = limit, oriented
+        self._buckets: dict[tuple, list[tuple[tuple, Value]]] = {}
+        self._count = 0
+
+    def _same(self, a, b) -> bool:
+        return a.isSame(b) and (not self.oriented or a.Orientation == b.Orientation)
+
+    def get(self, shapes: tuple, compute: Callable[[], Value]) -> Value:
+        key = tuple(shape.hashCode() for shape in shapes)
+        for known, value in self._buckets.get(key, []):
+            if all(self._same(a, b) for a, b in zip(known, shapes)):
+                return value
+        if self._count >= self.limit:
+            self._buckets.clear()
+            self._count = 0
+        value = compute()
+        self._buckets.setdefault(key, []).append((shapes, value))
+        self._count += 1
+        return value
+
+    def clear(self) -> None:
+        self._buckets.clear()
+        self._count = 0
