@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.boxes import optimal_box
 from freecad_conformal.geometry.shape_cache import ShapeCache
 
 #: Faces meeting with normals closer than this (rad) are tangent (fillet runs, seams): 0.5°
@@ -142,7 +143,7 @@ def concave_edges(solid, within: list[EdgeAngle] | None = None) -> list[EdgeAngl
     `within`: the concave edges of a solid that `solid` was cut from by planes. A planar cut
     leaves material on one side of its plane only, so every edge it makes is convex or flat,
     and the other edges keep the two surfaces they had: the concave edges of a piece lie on
-    its ancestor's. Only those are measured (CrankArm's pieces: ~40 of ~600 edges). They
+    its ancestor's. Only those are measured (CrankArm's turned arm: 198 of 634). They
     are measured again, not copied: a cut in the plane of one of the two faces flattens
     the edge."""
     if within is None:
@@ -167,11 +168,16 @@ def _lies_on_any(edge, known: list[EdgeAngle]) -> bool:
     first, last = edge.ParameterRange
     points = [edge.valueAt(first + f * (last - first)) for f in (1 / 3, 2 / 3)]
     for k in known:
-        box = k.edge.BoundBox
-        box.enlarge(10 * ON_CURVE)
-        if not all(box.isInside(p) for p in points):
+        if not all(_in_box(optimal_box(k.edge), p, 10 * ON_CURVE) for p in points):
             continue
         curve = k.edge.Curve
         if all((curve.value(curve.parameter(p)) - p).Length < ON_CURVE for p in points):
             return True
     return False
+
+
+def _in_box(box, p, margin: float) -> bool:
+    """Whether point p lies in the box grown by `margin` (the box itself is shared)."""
+    return (box.XMin - margin <= p.x <= box.XMax + margin
+            and box.YMin - margin <= p.y <= box.YMax + margin
+            and box.ZMin - margin <= p.z <= box.ZMax + margin)

@@ -23,8 +23,8 @@ from freecad_conformal.geometry.concave_edges import concave_edges
 from freecad_conformal.geometry.solids import solids_of
 from freecad_conformal.geometry.splitting_faces import SplitCandidate, repaired, split_solid
 from freecad_conformal.planning.cuts import (MAX_EXACT_CUTS, SAVING_TIE, LazyAxis,
-                                             PlaneCandidates, SavingEstimate, area_jump_candidates, axis_first,
-                                             face_candidates)
+                                             PlaneCandidates, SavingEstimate,
+                                             area_jump_candidates, axis_first, face_candidates)
 from freecad_conformal.planning.rotation import rotation_to
 from freecad_conformal.planning.trial import Trial, can_fork, worth_a_trial
 from freecad_conformal.planning.subparts import BuildPlan, SubPart
