@@ -86,6 +86,8 @@ def edge_angles(solid, only=None) -> list[EdgeAngle]:
         face_ids.setdefault(face.hashCode(), []).append(face_index)
     owners: dict[int, list[int]] = {}
     for edge_index, edge in enumerate(edges):
+        if only is not None and not only(edge):
+            continue  # before the ancestor search: on a piece most edges are left out
         found = []
         for ancestor in solid.ancestorsOfType(edge, Part.Face):
             for face_index in face_ids.get(ancestor.hashCode(), []):
@@ -98,8 +100,6 @@ def edge_angles(solid, only=None) -> list[EdgeAngle]:
             continue
         edge = edges[edge_index]
         if edge.Length <= 0 or edge.isSeam(faces[pair[0]]):
-            continue
-        if only is not None and not only(edge):
             continue
         angle = _cached_angle(App, edge, faces[pair[0]], faces[pair[1]])
         result.append(EdgeAngle(edge_index, (pair[0], pair[1]), angle, edge))
