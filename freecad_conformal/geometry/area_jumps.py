@@ -58,10 +58,17 @@ class MeshProfile:
     """Section areas of a solid along any axis from one triangulation of its boundary."""
 
     def __init__(self, shape) -> None:
-        deflection = max(MESH_RELATIVE_DEFLECTION * shape.BoundBox.DiagonalLength, 1e-4)
-        points, triangles = shape.tessellate(deflection, True)
-        self.points = np.array([tuple(p) for p in points]).reshape(-1, 3)
-        self.triangles = np.asarray(triangles, dtype=int).reshape(-1, 3)
+        from freecad_conformal.geometry.surface_mesh import surface_mesh
+
+        mesh = surface_mesh(shape)  # the decomposition's trial cuts read the same mesh
+        if mesh is not None:
+            self.points, self.triangles = mesh.points, mesh.triangles
+        else:
+            deflection = max(MESH_RELATIVE_DEFLECTION * shape.BoundBox.DiagonalLength, 1e-4)
+            # On a copy: re-meshing the shape itself would undo the surface mesh's sharing.
+            points, triangles = shape.copy().tessellate(deflection, True)
+            self.points = np.array([tuple(p) for p in points]).reshape(-1, 3)
+            self.triangles = np.asarray(triangles, dtype=int).reshape(-1, 3)
         a, b, c = (self.points[self.triangles[:, k]] for k in range(3))
         #: each triangle's area vector (outward normal × area)
         self.area_vectors = 0.5 * np.cross(b - a, c - a)

@@ -39,6 +39,14 @@ class ShapeCache(Generic[Value]):
         self._count += 1
         return value
 
+    def peek(self, shapes: tuple) -> Value | None:
+        """The value cached for these shapes, None when there is none (nothing computed)."""
+        key = tuple(shape.hashCode() for shape in shapes)
+        for known, value in self._buckets.get(key, []):
+            if all(self._same(a, b) for a, b in zip(known, shapes)):
+                return value
+        return None
+
     def clear(self) -> None:
         self._buckets.clear()
         self._count = 0

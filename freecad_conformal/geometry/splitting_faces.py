@@ -32,6 +32,8 @@ class SplitCandidate:
     region: object
     rule: str
     face_index: int | None = None
+    #: points of the region's outline when `region` is not an exact face (a mesh trial)
+    boundary: np.ndarray | None = None
 
     @property
     def level(self) -> float:

@@ -39,7 +39,9 @@ SAMPLE_DEFLECTION = 0.05
 
 def surface_points(shape, spacing: float = MIN_SPACING) -> np.ndarray:
     """Points (N, 3) spread over the shape's surface no farther than ~`spacing` apart."""
-    points, triangles = shape.tessellate(SAMPLE_DEFLECTION, True)
+    # On a copy: re-meshing the shape itself would leave its faces' edges unlike their
+    # neighbours' in other meshes of it (geometry/surface_mesh.py).
+    points, triangles = shape.copy().tessellate(SAMPLE_DEFLECTION, True)
     if not triangles:
         return np.array([tuple(v.Point) for v in shape.Vertexes], dtype=float).reshape(-1, 3)
     pts = np.array([tuple(p) for p in points])

@@ -17,6 +17,7 @@ pays for its axis (13 s of CrankArm's arm).
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, field
 from typing import Callable, Iterator
 
 import numpy as np
@@ -57,7 +58,9 @@ class LazyAxis:
 
     def supports(self, candidate: SplitCandidate) -> bool:
         """Criteria 1 and 3 (METHODS section 3) for the candidate's region."""
-        return self.get().supports_split(candidate.normal, boundary_points(candidate.region))
+        points = (candidate.boundary if candidate.boundary is not None
+                  else boundary_points(candidate.region))
+        return self.get().supports_split(candidate.normal, points)
 
 
 def boundary_points(face) -> np.ndarray:
@@ -97,15 +100,46 @@ class SavingEstimate:
         return max(sides.values())
 
 
-#: One plane's candidates: its estimated saving and a function computing its regions.
-PlaneCandidates = tuple[float, Callable[[], list[SplitCandidate]]]
+@dataclass
+class PlaneCandidates:
+    """One plane worth a cut: its estimated saving, and its interior regions (restricted to
+    those touching `edges` [(face index, concave edges)] when given), read exactly (a
+    section Boolean, computed once when first asked) or on the piece's mesh (cheap)."""
+
+    saving: float
+    point: np.ndarray
+    normal: np.ndarray
+    rule: str
+    exact: Callable[[], list[SplitCandidate]]
+    edges: list | None = None
+    _regions: list[SplitCandidate] | None = field(default=None, repr=False)
+
+    def regions(self) -> list[SplitCandidate]:
+        """The exact regions, as cut candidates."""
+        if self._regions is None:
+            self._regions = self.exact()
+        return self._regions
+
+    def mesh_regions(self, mesh) -> list:
+        """The regions on `mesh` (planning/mesh_cut.py), in the order of `regions()`."""
+        from freecad_conformal.planning.mesh_cut import mesh_regions
+
+        touching = None if self.edges is None else [
+            (index, [edge_points(e.edge) for e in edge_list]) for index, edge_list in self.edges]
+        found = mesh_regions(mesh, self.point, self.normal, touching)
+        return sorted(found, key=lambda r: -1 if r.face_index is None else r.face_index)
+
+
+def edge_points(edge) -> np.ndarray:
+    """Points along an edge, at its vertices and 32 steps between."""
+    return np.array([tuple(p) for p in edge.discretize(Number=33)])
 
 
 def area_jump_candidates(shape, direction: np.ndarray, estimate: SavingEstimate,
                          needed: float) -> Iterator[PlaneCandidates]:
-    """(estimated saving, regions) for the best MAX_EXACT_CUTS area-jump planes worth a
-    cut, best first: the planes are ranked before their regions are computed, and a plane's
-    regions (a section Boolean) are computed only when `regions()` is called."""
+    """The best MAX_EXACT_CUTS area-jump planes worth a cut, best first: the planes are
+    ranked before their regions are computed, and a plane's exact regions (a section
+    Boolean) are computed only when `regions()` is called."""
     from freecad_conformal.geometry.area_jumps import area_jump_planes, plane_candidates
 
     planes = []
@@ -117,13 +151,13 @@ def area_jump_candidates(shape, direction: np.ndarray, estimate: SavingEstimate,
     # The best few only, ties or not: a staircase of area jumps (CrankArm's curved end)
     # ties dozens of planes, each worth a Boolean.
     for saving, point, normal in planes[:MAX_EXACT_CUTS]:
-        yield saving, lambda point=point, normal=normal: plane_candidates(shape, point, normal)
+        yield PlaneCandidates(saving, point, normal, "area-jump",
+                              lambda point=point, normal=normal: plane_candidates(shape, point, normal))
 
 
 def face_candidates(shape, estimate: SavingEstimate, needed: float,
                     concave: list | None = None) -> Iterator[PlaneCandidates]:
-    """(estimated saving, regions) for the planes of splitting faces worth a cut, best
-    first, as `area_jump_candidates`. `concave`: the shape's concave edges when known."""
+    """The planes of splitting faces worth a cut, best first, as `area_jump_candidates`. `concave`: the shape's concave edges when known."""
     from freecad_conformal.geometry.splitting_faces import candidate_planes, plane_regions
 
     if concave is None:
@@ -132,8 +166,10 @@ def face_candidates(shape, estimate: SavingEstimate, needed: float,
               in enumerate(candidate_planes(shape, concave))]
     planes = sorted((p for p in planes if p[0] > needed), key=lambda item: (-item[0], item[1]))
     for saving, _, plane in planes:
-        yield saving, lambda plane=plane: sorted(plane_regions(shape, plane),
-                                                 key=lambda r: r.face_index)
+        yield PlaneCandidates(saving, plane.point, plane.normal, "concave-face",
+                              lambda plane=plane: sorted(plane_regions(shape, plane),
+                                                         key=lambda r: r.face_index),
+                              plane.faces)
 
 
 def axis_first(trials: list, axis: LazyAxis | None, tolerance: float) -> list:

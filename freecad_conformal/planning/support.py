@@ -113,8 +113,22 @@ NODE_MATCH = 1e-6
 
 
 def face_mesh(face) -> FaceMesh:
-    """The triangulation of a curved face with OCC's exact normals at its nodes."""
-    return _MESHES.get((face,), lambda: _build_mesh(face))
+    """The triangulation of a curved face with OCC's exact normals at its nodes (the face's
+    part of its solid's mesh when the decomposition made one: geometry/surface_mesh.py)."""
+    return _MESHES.get((face,), lambda: _from_part(face) or _build_mesh(face))
+
+
+def _from_part(face) -> FaceMesh | None:
+    from freecad_conformal.geometry.surface_mesh import known_part
+
+    part = known_part(face)
+    if part is None:
+        return None
+    points, triangles, corners, _, ratio = part
+    a, b, c = (points[triangles[:, k]] for k in range(3))
+    areas = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1) * ratio
+    return FaceMesh(np.asarray(corners).reshape(-1, 3), np.arange(3 * len(triangles)).reshape(-1, 3),
+                    areas)
 
 
 def _empty_mesh() -> FaceMesh:
@@ -161,8 +175,10 @@ def _vector(point: np.ndarray):
 def _build_mesh(face) -> FaceMesh:
     box = face.BoundBox
     deflection = max(RELATIVE_DEFLECTION * box.DiagonalLength, 1e-3)
-    # Forced: OCC keeps a finer mesh from earlier calls otherwise, and the area would
-    # depend on what else tessellated the face before.
+    # On a copy, forced: OCC keeps a finer mesh from earlier calls otherwise (the area would
+    # depend on what else meshed the face before), and re-meshing the face itself would
+    # leave its edges unlike its neighbours' in the solid's mesh (geometry/surface_mesh.py).
+    face = face.copy()
     points, triangles = face.tessellate(deflection, True)
     if not triangles:
         return _empty_mesh()

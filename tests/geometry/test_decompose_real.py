@@ -91,6 +91,10 @@ def test_crank_arm_plans_both_solids(parts_dir):
     check_reported_exactly(plan, shape)
     assert {s.solid_index for s in plan.subparts} == {0, 1}
     assert plan.support_area <= plan.support_area_single_direction + AREA_TOLERANCE
+    # The search keeps cutting the arm's curved end: 185.4 of 2828.6 mm² remain (a mesh
+    # trial that took a part reaching the base on a curved face for a second base
+    # stopped it at 595.5).
+    assert plan.support_area <= 0.1 * plan.support_area_single_direction
     # On the machine the pin stands where it is and the arm, turned to its root direction,
     # stands beside it on the same platform (as placed it hovers around the pin).
     from freecad_conformal.planning.layout import lay_out

@@ -1,0 +1,169 @@
+"""A solid's closed triangle mesh with OCC's exact normals at the corners.
+
+The decomposition tries many cuts of one piece and keeps few (planning/mesh_cut.py): each
+trial on this mesh is a few array operations where the exact one is a section Boolean and a
+split. The mesh is meshed once per piece on a copy of the shape: BRepMesh then meshes every
+edge once for both of its faces (so nodes on shared edges coincide and the mesh is closed),
+and the faces of the piece itself keep the triangulations other code asked for.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from freecad_conformal.geometry.shape_cache import ShapeCache
+
+#: Linear deflection relative to the shape's bounding-box diagonal: 0.1 % (0.16 mm on
+#: CrankArm's 160 mm arm) keeps section outlines well inside the 1e-3 mm² cut decisions'
+#: scale once normals are exact at the corners; BRepMesh's angular default (0.5 rad) bounds
+#: the rest.
+RELATIVE_DEFLECTION = 1e-3
+
+#: Nodes of two faces on a shared edge are merged when equal after rounding to this (mm):
+#: BRepMesh places them at one 3D point, so any scale far above 1e-12 and far below the
+#: mesh spacing works.
+NODE_MERGE = 1e-6
+
+
+@dataclass
+class SurfaceMesh:
+    """A closed, outward-oriented triangle mesh of one solid.
+
+    points (N, 3); triangles (M, 3) into points; normals (M, 3, 3), the outward unit normal
+    of each triangle's own face at each corner (nodes on an edge have one per face); faces
+    (M,), the index in `shape.Faces`; planar (M,), whether that face is a plane; scale (M,),
+    the face's exact area over its meshed area (chord error), to apply to areas; vertices,
+    the nodes at the shape's vertices (its lowest level is read from them, as
+    `support.lowest_level` does)."""
+
+    points: np.ndarray
+    triangles: np.ndarray
+    normals: np.ndarray
+    faces: np.ndarray
+    planar: np.ndarray
+    scale: np.ndarray
+    deflection: float
+    vertices: np.ndarray
+
+
+_MESHES: ShapeCache[SurfaceMesh | None] = ShapeCache(limit=256, oriented=True)
+
+
+def mesh_deflection(shape) -> float:
+    """The linear deflection for meshing `shape` and the pieces cut from it (mm)."""
+    return max(RELATIVE_DEFLECTION * shape.BoundBox.DiagonalLength, 1e-4)
+
+
+def surface_mesh(shape, deflection: float | None = None) -> SurfaceMesh | None:
+    """The shape's mesh (the one made first, whatever its deflection; default
+    `mesh_deflection(shape)`), or None when BRepMesh's result is not a closed 2-manifold
+    (callers then work on the exact shape)."""
+    return _MESHES.get((shape,), lambda: _build(shape, deflection or mesh_deflection(shape)))
+
+
+def _build(shape, deflection: float) -> SurfaceMesh | None:
+    # The shape's own triangulation first: faces a cut left untouched keep theirs, so
+    # BRepMesh meshes only the new faces. Other code may have re-meshed a face on its own
+    # (its edges then no longer match its neighbours'); a fresh copy is meshed whole then.
+    shape.tessellate(deflection)
+    mesh = _read(shape, deflection)
+    if mesh is None:
+        copy = shape.copy()
+        copy.tessellate(deflection)
+        mesh = _read(copy, deflection)
+    return mesh
+
+
+#: Each face's part of a mesh, by face identity: a cut leaves most faces of a piece (and
+#: their triangulations) untouched. A face re-meshed meanwhile leaves a stale part whose
+#: edges no longer meet its neighbours': the mesh is then not closed and is made afresh.
+_FACES: ShapeCache[tuple | None] = ShapeCache(limit=8192, oriented=True)
+
+
+def _face_part(face, deflection: float) -> tuple | None:
+    """(points, triangles, corner normals, planar, exact / meshed area) of one face."""
+    from freecad_conformal.planning.support import _node_normals, plane_normal
+
+    pts, tris = face.tessellate(deflection)
+    if not tris:
+        return None
+    p = np.array([tuple(v) for v in pts])
+    t = np.asarray(tris, dtype=int)
+    normal = plane_normal(face)
+    if normal is not None:
+        corner = np.broadcast_to(normal, (len(t), 3, 3))
+    else:
+        corner = _node_normals(face, p)[t]
+    a, b, c = p[t[:, 0]], p[t[:, 1]], p[t[:, 2]]
+    meshed = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1).sum()
+    return p, t, corner, normal is not None, float(face.Area) / meshed if meshed > 0 else 1.0
+
+
+def known_part(face) -> tuple | None:
+    """The face's part of a solid's mesh already made, if any (nothing is computed):
+    (node points, triangles, node normals per corner (M, 3, 3), planar, area ratio)."""
+    return _FACES.peek((face,))
+
+
+def _read(shape, deflection: float) -> SurfaceMesh | None:
+    """The mesh from the faces' current triangulations, None unless closed and connected."""
+    points, triangles, normals, faces, planar, scale = [], [], [], [], [], []
+    offset = 0
+    for index, face in enumerate(shape.Faces):
+        part = _FACES.get((face,), lambda: _face_part(face, deflection))
+        if part is None:
+            continue
+        p, t, corner, is_plane, ratio = part
+        points.append(p)
+        triangles.append(t + offset)
+        normals.append(corner)
+        faces.append(np.full(len(t), index))
+        planar.append(np.full(len(t), is_plane))
+        scale.append(np.full(len(t), ratio))
+        offset += len(p)
+    if not triangles:
+        return None
+    all_points = np.concatenate(points)
+    keys = np.round(all_points / NODE_MERGE).astype(np.int64)
+    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    tri = inverse.reshape(-1)[np.concatenate(triangles)]
+    node_of = {tuple(key): index for index, key in enumerate(keys[first].tolist())}
+    corners = np.round(np.array([tuple(v.Point) for v in shape.Vertexes]).reshape(-1, 3)
+                       / NODE_MERGE).astype(np.int64)
+    vertices = np.array([node_of[k] for k in map(tuple, corners.tolist()) if k in node_of],
+                        dtype=int)
+    mesh = SurfaceMesh(all_points[first], tri, np.concatenate(normals).copy(),
+                       np.concatenate(faces), np.concatenate(planar), np.concatenate(scale),
+                       deflection, vertices)
+    return mesh if _closed(mesh) and _connected(mesh) else None
+
+
+def _connected(mesh: SurfaceMesh) -> bool:
+    """One piece of surface: a solid with a void has two, and a trial cut reads each part of
+    the surface as bounded by the cut (planning/mesh_cut.py)."""
+    from freecad_conformal.geometry.components import connected_labels
+
+    t = mesh.triangles
+    labels = connected_labels(len(mesh.points), np.concatenate([t[:, 0], t[:, 1]]),
+                              np.concatenate([t[:, 1], t[:, 2]]))
+    count = int(labels.max()) + 1 if len(labels) else 0
+    return count == 1
+
+
+def _closed(mesh: SurfaceMesh) -> bool:
+    """Every directed edge once and its reverse once: closed, manifold, consistently oriented
+    (and outward: the enclosed volume is positive)."""
+    t = mesh.triangles
+    if np.any((t[:, 0] == t[:, 1]) | (t[:, 1] == t[:, 2]) | (t[:, 2] == t[:, 0])):
+        return False
+    directed = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
+    n = len(mesh.points)
+    forward = directed[:, 0] * n + directed[:, 1]
+    backward = directed[:, 1] * n + directed[:, 0]
+    if len(np.unique(forward)) != len(forward):
+        return False
+    if not np.array_equal(np.sort(forward), np.sort(backward)):
+        return False
+    a, b, c = (mesh.points[t[:, k]] for k in range(3))
+    return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum()) > 0.0
