@@ -72,6 +72,7 @@ class _Piece:
     deflection: float | None = None
     _concave: list | None = None
     _report: object = None
+    _factor: tuple | None = None
 
     def concave(self) -> list:
         """The piece's concave edges (measured once)."""
@@ -383,9 +384,15 @@ def _mesh_trial(piece: _Piece, mesh, region, angle: float):
 def _keeper_factor(piece: _Piece, angle: float) -> np.ndarray:
     """Per face, the share of its overhang the piece keeps in its own direction: below 1
     for planar faces resting (partly) on the bed or the base faces."""
+    report = _report(piece, angle)
+    if piece._factor is None or piece._factor[0] is not report:
+        piece._factor = (report, _factor_of(piece, report, angle))
+    return piece._factor[1]
+
+
+def _factor_of(piece: _Piece, report, angle: float) -> np.ndarray:
     from freecad_conformal.planning.support import plane_normal
 
-    report = _report(piece, angle)
     overhang = dict(report.faces)
     threshold = math.sin(angle)
     factor = np.ones(len(piece.shape.Faces))
