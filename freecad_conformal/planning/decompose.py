@@ -132,6 +132,8 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
         plan = _Planner(solid, solid_index, overhang_angle, method, axis_step, budget)
         trial = None
         if auto:
+            # Its mesh first: the overhang in six directions then reads faces from it.
+            plan.root_mesh()
             direction, area = best_single_direction(solid, overhang_angle)
             turn = _angle(direction, root) > SAME_DIRECTION
             if (turn and worth_a_trial(solid) and can_fork()
@@ -197,11 +199,17 @@ class _Planner:
         return LazyAxis(lambda: centroidal_axis(self.solid, method=self.method,
                                                 step=self.axis_step, start_direction=root))
 
+    def root_mesh(self):
+        """The solid's mesh (geometry/surface_mesh.py), as its pieces' are made."""
+        from freecad_conformal.geometry.surface_mesh import mesh_deflection, surface_mesh
+
+        return surface_mesh(self.solid, mesh_deflection(self.solid))
+
     def __call__(self, root: np.ndarray, notes: list[str]):
         """(axis, refined pieces) from `root`."""
-        axis = self.axis(root)
         from freecad_conformal.geometry.surface_mesh import mesh_deflection
 
+        axis = self.axis(root)
         start = _Piece(self.solid, root, [], self.solid_index, "root",
                        deflection=mesh_deflection(self.solid))
         return axis, _refine(start, self.angle, axis, budget=self.budget, notes=notes)
@@ -244,8 +252,12 @@ def _best_single(solids: list, angle: float) -> tuple[np.ndarray, float]:
 
 def _subpart(index: int, piece: _Piece, parent: int | None, angle: float) -> SubPart:
     axis, rotation = rotation_to(piece.direction, BUILD_AXIS)
-    report = overhang_report(piece.shape, piece.direction, angle, piece.base_faces,
-                             on_bed=parent is None)
+    on_bed = parent is None
+    if piece._report is not None and piece._report.angle == angle and on_bed == (piece.rule == "root"):
+        report = piece._report  # read while planning, with the same base faces
+    else:
+        report = overhang_report(piece.shape, piece.direction, angle, piece.base_faces,
+                                 on_bed=on_bed)
     base = piece.base_faces[0] if piece.base_faces else _bed_face(piece.shape, piece.direction)
     # Layers and paths cut the sub-part again: it must pass OCC's check.
     return SubPart(index=index, shape=repaired(piece.shape), build_direction=piece.direction,

@@ -65,7 +65,7 @@ def _from_text(text: str):
 def _dump(pieces: list) -> list[dict]:
     return [{"shape": _to_text(p.shape), "direction": p.direction,
              "base_faces": [_to_text(f) for f in p.base_faces], "solid_index": p.solid_index,
-             "rule": p.rule, "overhang": p.overhang} for p in pieces]
+             "rule": p.rule, "overhang": p.overhang, "report": p._report} for p in pieces]
 
 
 def _load(data: list[dict], make_piece: Callable) -> list:
@@ -76,6 +76,8 @@ def _load(data: list[dict], make_piece: Callable) -> list:
         faces = [_from_text(text).Faces[0] for text in item["base_faces"]]
         piece = make_piece(solid, item["direction"], faces, item["solid_index"], item["rule"])
         piece.overhang = item["overhang"]
+        # Face indices survive the BREP text: the report needs no second reading.
+        piece._report = item["report"]
         pieces.append(piece)
     return pieces
 

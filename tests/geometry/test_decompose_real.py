@@ -10,8 +10,10 @@ from freecad_conformal.geometry.solids import load_shape
 from freecad_conformal.planning.decompose import decompose
 from freecad_conformal.planning.support import overhang_report
 
-#: Overhang areas are compared to this (mm²): the plan and the check read the same faces.
-AREA_TOLERANCE = 1e-6
+#: Overhang areas are compared to this (mm²). The plan reads a curved face from its solid's
+#: mesh (geometry/surface_mesh.py), and the check meshes the face alone. The two
+#: triangulations differ, and so do the integrals, by ~1e-5 mm² on CrankArm's 185 mm².
+AREA_TOLERANCE = 1e-4
 
 
 def remaining(plan) -> list[float]:
