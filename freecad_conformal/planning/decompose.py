@@ -131,17 +131,22 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
         budget = max_subparts - len(pieces)
         plan = _Planner(solid, solid_index, overhang_angle, method, axis_step, budget)
         trial = None
-        if auto:
-            # Its mesh first: the overhang in six directions then reads faces from it.
-            plan.root_mesh()
-            direction, area = best_single_direction(solid, overhang_angle)
-            turn = _angle(direction, root) > SAME_DIRECTION
-            if (turn and worth_a_trial(solid) and can_fork()
-                    and overhang_area(solid, root, overhang_angle) > area + MIN_SAVING):
-                # The as-placed plan may keep more overhang than turning the solid whole:
-                # plan from that direction on the other core meanwhile (planning/trial.py).
-                trial = Trial(plan, direction)
         try:
+            if auto:
+                if worth_a_trial(solid) and can_fork():
+                    trial = Trial()  # starting up while the direction is found
+                # Its mesh first: the overhang in six directions then reads faces from it.
+                plan.root_mesh()
+                direction, area = best_single_direction(solid, overhang_angle)
+                turn = _angle(direction, root) > SAME_DIRECTION
+                if (trial is not None and turn
+                        and overhang_area(solid, root, overhang_angle) > area + MIN_SAVING):
+                    # The as-placed plan may keep more overhang than turning the solid
+                    # whole: plan from that direction on the other core meanwhile.
+                    trial.plan(plan, direction)
+                elif trial is not None:
+                    trial.stop()
+                    trial = None
             axis, refined = plan(root, notes)
             if auto and _total(refined) > area + MIN_SAVING and turn:
                 # The part as placed keeps more overhang than turning it whole would: plan

@@ -83,14 +83,12 @@ def _load(data: list[dict], make_piece: Callable) -> list:
 
 
 class Trial:
-    """`planner.pieces(direction)` running in a child Python: `result()` waits for it,
-    `stop()` ends it. `planner` is decompose's _Planner (its solid goes over as BREP)."""
+    """`planner.pieces(direction)` running in a child Python. The child starts (interpreter,
+    FreeCAD, this package) when the Trial is made, so that it is ready by the time the
+    parent knows which direction to ask for: `plan()` sends the solid (as BREP) and the
+    direction, `result()` waits for the pieces, `stop()` ends it (also unasked)."""
 
-    def __init__(self, planner, direction) -> None:
-        spec = {"solid": _to_text(planner.solid), "solid_index": planner.solid_index,
-                "angle": planner.angle, "method": planner.method,
-                "axis_step": planner.axis_step, "budget": planner.budget,
-                "direction": [float(c) for c in direction]}
+    def __init__(self) -> None:
         env = dict(os.environ)
         env["PYTHONPATH"] = os.pathsep.join(
             [str(PACKAGE_ROOT)] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
@@ -100,7 +98,15 @@ class Trial:
                 stdin=subprocess.PIPE, stdout=subprocess.PIPE, env=env)
         except OSError:
             self._process = None  # no interpreter to start: result() says so
+
+    def plan(self, planner, direction) -> None:
+        """Ask the child for `planner`'s pieces from `direction` (decompose's _Planner)."""
+        if self._process is None:
             return
+        spec = {"solid": _to_text(planner.solid), "solid_index": planner.solid_index,
+                "angle": planner.angle, "method": planner.method,
+                "axis_step": planner.axis_step, "budget": planner.budget,
+                "direction": [float(c) for c in direction]}
         try:
             self._process.stdin.write(pickle.dumps(spec))
         except OSError:
@@ -134,7 +140,11 @@ class Trial:
             return
         if self._process.poll() is None:
             self._process.kill()
-        self._process.stdout.close()
+        for stream in (self._process.stdin, self._process.stdout):
+            try:
+                stream.close()
+            except OSError:
+                pass  # a pipe the killed child left unread
         self._process.wait()
 
 
@@ -144,10 +154,20 @@ def _child() -> None:
 
     out = os.fdopen(os.dup(1), "wb")
     os.dup2(2, 1)  # anything FreeCAD prints goes to stderr, not into the result stream
-    spec = pickle.load(sys.stdin.buffer)
     try:
+        # Before the spec arrives: the parent is still deciding what to ask.
         from freecad_conformal.planning.decompose import _Planner
-
+    except Exception as exc:
+        failure = exc
+    else:
+        failure = None
+    try:
+        spec = pickle.load(sys.stdin.buffer)
+    except EOFError:
+        return  # not needed after all
+    try:
+        if failure is not None:
+            raise failure
         solid = _from_text(spec["solid"]).Solids[0]
         planner = _Planner(solid, spec["solid_index"], spec["angle"], spec["method"],
                            spec["axis_step"], spec["budget"])
