@@ -124,11 +124,8 @@ def area_jump_planes(shape, build_direction: np.ndarray, d: float | None = None,
     the areas from a triangulation (see the module docstring).
     """
     jumps = []
-    # Extents first: OCC's bounding box tightens once the shape is finely triangulated, and
-    # the heights must be those the exact sections would use.
-    extents = {i: extent_along(shape, axis) for i, axis in enumerate(AXES[:3])}
     mesh = None if exact else MeshProfile(shape)
-    for i, axis in enumerate(AXES[:3]):
+    for axis in AXES[:3]:
         if abs(float(axis @ build_direction)) > 1 - 1e-9:
             continue
         if skip is not None and skip(axis):
@@ -136,7 +133,9 @@ def area_jump_planes(shape, build_direction: np.ndarray, d: float | None = None,
         if mesh is None:
             heights, areas, step = _area_profile(shape, axis, d)
         else:
-            heights, areas, step = _mesh_area_profile(mesh, extents[i], axis, d)
+            # Exact extents (OCC's extrema, whatever the shape's triangulation): the heights
+            # are those the exact sections would use.
+            heights, areas, step = _mesh_area_profile(mesh, extent_along(shape, axis), axis, d)
         jumps.extend((rate, height, axis) for height, rate in _jumps(heights, areas, step))
         jumps.extend((rate, -height, -axis)
                      for height, rate in _jumps(-heights[::-1], areas[::-1], step))
