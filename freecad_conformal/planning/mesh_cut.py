@@ -141,22 +141,29 @@ def _straddling(side: np.ndarray, triangles: np.ndarray):
     return crossing, order, abc
 
 
+def _cut_points(mesh: SurfaceMesh, s: np.ndarray, abc: np.ndarray):
+    """Where the edges a–b and c–a of the straddling triangles `abc` (a alone) meet s = 0:
+    one point per mesh edge (both triangles on it read the same), and per triangle the
+    index of its point on a–b and on c–a."""
+    n = len(mesh.points)
+    a, b, c = abc[:, 0], abc[:, 1], abc[:, 2]
+    on_ab = np.minimum(a, b) * n + np.maximum(a, b)
+    on_ca = np.minimum(c, a) * n + np.maximum(c, a)
+    keys, inverse = np.unique(np.concatenate([on_ab, on_ca]), return_inverse=True)
+    i, j = keys // n, keys % n
+    t = s[i] / (s[i] - s[j])
+    points = mesh.points[i] + t[:, None] * (mesh.points[j] - mesh.points[i])
+    return points, inverse[:len(abc)], inverse[len(abc):]
+
+
 def _section(mesh: SurfaceMesh, s: np.ndarray, origin, u, v):
     """The material's section where s = 0 (no node exactly there), as shapely geometry."""
     side = s > 0
     _, _, abc = _straddling(side, mesh.triangles)
     if not len(abc):
         return Polygon()
-    n = len(mesh.points)
-    a, b, c = abc[:, 0], abc[:, 1], abc[:, 2]
-    start = np.minimum(a, b) * n + np.maximum(a, b)
-    end = np.minimum(c, a) * n + np.maximum(c, a)
-    keys, inverse = np.unique(np.concatenate([start, end]), return_inverse=True)
-    i, j = keys // n, keys % n
-    t = s[i] / (s[i] - s[j])
-    xyz = mesh.points[i] + t[:, None] * (mesh.points[j] - mesh.points[i])
+    xyz, first, second = _cut_points(mesh, s, abc)
     xy = np.column_stack([(xyz - origin) @ u, (xyz - origin) @ v])
-    first, second = inverse[:len(abc)], inverse[len(abc):]
     neighbours: dict[int, list[int]] = {}
     for p, q in zip(first.tolist(), second.tolist()):
         neighbours.setdefault(p, []).append(q)
@@ -292,13 +299,9 @@ def _piece_sides(mesh: SurfaceMesh, split: "_Split", s: np.ndarray, side: np.nda
 def _overhang(area, normals, mask, d, threshold, factor) -> float:
     """Σ area where n·d < −threshold over the masked sub-triangles, n linear between the
     corners and the triangle clipped at the limit (as `support.FaceMesh.overhang`)."""
-    g = np.sort(normals[mask] @ d + threshold, axis=1)
-    g0, g1, g2 = g[:, 0], g[:, 1], g[:, 2]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        one = np.where((g0 < 0) & (g1 >= 0), g0 * g0 / ((g0 - g1) * (g0 - g2)), 0.0)
-        two = np.where((g1 < 0) & (g2 >= 0), 1 - g2 * g2 / ((g2 - g0) * (g2 - g1)), 0.0)
-    fraction = np.where(g2 < 0, 1.0, np.nan_to_num(one) + np.nan_to_num(two))
-    weights = area[mask] * fraction
+    from freecad_conformal.planning.support import below_fraction
+
+    weights = area[mask] * below_fraction(normals[mask] @ d + threshold)
     if not np.isscalar(factor):
         weights = weights * factor[mask]
     return float(weights.sum())
@@ -333,14 +336,9 @@ def _split(mesh: SurfaceMesh, s: np.ndarray, side: np.ndarray) -> _Split:
     whole = np.ones(m, bool)
     whole[crossing] = False
     a, b, c = abc[:, 0], abc[:, 1], abc[:, 2]
-    ab = np.minimum(a, b) * n + np.maximum(a, b)
-    ca = np.minimum(c, a) * n + np.maximum(c, a)
-    keys, inverse = np.unique(np.concatenate([ab, ca]), return_inverse=True)
-    lo, hi = keys // n, keys % n
-    t = s[lo] / (s[lo] - s[hi])
-    cut_points = mesh.points[lo] + t[:, None] * (mesh.points[hi] - mesh.points[lo])
+    cut_points, on_ab, on_ca = _cut_points(mesh, s, abc)
     corners = np.concatenate([mesh.points, cut_points])
-    x_ab, x_ca = n + inverse[:len(a)], n + inverse[len(a):]
+    x_ab, x_ca = n + on_ab, n + on_ca
     nrm = np.take_along_axis(mesh.normals[crossing], order[:, :, None], axis=1)
     na, nb, nc = nrm[:, 0], nrm[:, 1], nrm[:, 2]
     t_ab = (s[a] / (s[a] - s[b]))[:, None]

@@ -93,14 +93,18 @@ class FaceMesh:
         boundary is found to second order instead of to a whole triangle."""
         if not len(self.areas):
             return 0.0
-        g = (self.normals @ d + threshold)[self.triangles]
-        g.sort(axis=1)
-        g0, g1, g2 = g[:, 0], g[:, 1], g[:, 2]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            one_below = np.where((g0 < 0) & (g1 >= 0), g0 * g0 / ((g0 - g1) * (g0 - g2)), 0.0)
-            two_below = np.where((g1 < 0) & (g2 >= 0), 1 - g2 * g2 / ((g2 - g0) * (g2 - g1)), 0.0)
-        fraction = np.where(g2 < 0, 1.0, np.nan_to_num(one_below) + np.nan_to_num(two_below))
-        return float(self.areas @ fraction)
+        return float(self.areas @ below_fraction((self.normals @ d + threshold)[self.triangles]))
+
+
+def below_fraction(g: np.ndarray) -> np.ndarray:
+    """Per triangle, the fraction of its area where a function linear over it, with values
+    g (K, 3) at its corners, is negative."""
+    g = np.sort(g, axis=1)
+    g0, g1, g2 = g[:, 0], g[:, 1], g[:, 2]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        one_below = np.where((g0 < 0) & (g1 >= 0), g0 * g0 / ((g0 - g1) * (g0 - g2)), 0.0)
+        two_below = np.where((g1 < 0) & (g2 >= 0), 1 - g2 * g2 / ((g2 - g0) * (g2 - g1)), 0.0)
+    return np.where(g2 < 0, 1.0, np.nan_to_num(one_below) + np.nan_to_num(two_below))
 
 
 #: Meshes of faces already read (`geometry/shape_cache.py`): a split leaves most faces of
