@@ -25,7 +25,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from freecad_conformal.errors import ConformalError  # noqa: E402
 from freecad_conformal.geometry import samples  # noqa: E402
-from freecad_conformal.geometry.centroidal_axis import DEFAULT_STEPS, centroidal_axis  # noqa: E402
+from freecad_conformal.geometry.centroidal_axis import centroidal_axis, default_step  # noqa: E402
 from freecad_conformal.geometry.sections import planar_sections, extent_along  # noqa: E402
 from freecad_conformal.geometry.solids import load_shape  # noqa: E402
 from freecad_conformal.planning.decompose import decompose  # noqa: E402
@@ -61,8 +61,9 @@ def main() -> int:
     for name, shape in parts:
         import numpy as np
 
-        low, high = extent_along(shape, np.array([0.0, 0.0, 1.0]))
-        step = (high - low) / DEFAULT_STEPS
+        up = np.array([0.0, 0.0, 1.0])
+        low, high = extent_along(shape, up)
+        step = default_step(shape, up, (low, high))
         _, peer = timed(lambda: planar_sections(shape, heights=list(np.arange(low + step / 2, high, step))))
         _, axis_time = timed(lambda: centroidal_axis(shape))
         try:

@@ -33,7 +33,9 @@ METHODS = ("true-direction", "published")
 
 #: Restart offset after a turn, as in the published method (mm).
 RESTART_EPSILON = 1e-3
-#: Default number of steps over the part's extent along the start direction.
+#: Default number of steps over the part's largest extent along X, Y, Z (or along the start
+#: direction, if larger): a part laid flat and searched from +Z is stepped at its length's
+#: scale, not its thickness' (CrankArm's arm: 0.6 mm steps along its 150 mm, 13 s).
 DEFAULT_STEPS = 40
 #: A piece is a turn when its centre is farther than this many steps from the lower loop.
 TURN_FACTOR = 2.0
@@ -80,7 +82,7 @@ def centroidal_axis(shape, *, method: str = "true-direction", step: float | None
     direction = unit(start_direction, "start direction")
     low, high = extent_along(shape, direction)
     if step is None:
-        step = (high - low) / DEFAULT_STEPS
+        step = default_step(shape, direction, (low, high))
     if not (math.isfinite(step) and step > 0):
         raise GeometryError(f"centroidal axis step must be a positive length, got {step!r}")
     graph = AxisGraph(method=method, step=float(step))
@@ -88,6 +90,17 @@ def centroidal_axis(shape, *, method: str = "true-direction", step: float | None
     for solid in solids:
         search.explore(solid, direction, low + RESTART_EPSILON, None)
     return graph
+
+
+def default_step(shape, direction: np.ndarray, extent: tuple[float, float] | None = None) -> float:
+    """The axis step when none is given: the shape's largest extent along X, Y, Z or
+    `direction` (exact, `extent_along`; `extent` along `direction` when known), over
+    DEFAULT_STEPS."""
+    direction = np.asarray(direction, dtype=float)
+    low, high = extent if extent is not None else extent_along(shape, direction)
+    sizes = [high - low] + [float(np.subtract(*extent_along(shape, axis)[::-1]))
+                            for axis in AXES[:3] if abs(float(axis @ direction)) < 1 - 1e-12]
+    return max(sizes) / DEFAULT_STEPS
 
 
 class _Search:

@@ -46,3 +46,14 @@ def test_wide_cap_on_a_column_is_flagged_as_a_blind_spot(Part, App):
 
 def test_plain_column_has_no_blind_spot(Part):
     assert centroidal_axis(Part.makeBox(10, 10, 30)).blind_spots() == []
+
+
+def test_a_part_laid_flat_is_stepped_at_its_length_not_its_thickness(App, Part):
+    # A 100 × 20 × 5 mm bar with a 20 mm lug standing at one end, searched from +Z: the
+    # step is 100/40 mm (5/40 mm would take 800 sections to run its length).
+    bar = Part.makeBox(100, 20, 5).fuse(Part.makeBox(10, 20, 20, App.Vector(90, 0, 5)))
+    axis = centroidal_axis(bar.removeSplitter())
+    assert axis.step == pytest.approx(100 / 40)
+    # Up through the bar and the lug (25 mm) in 2.5 mm steps, ending in the lug.
+    assert len(axis.nodes) <= 12
+    assert axis.nodes[-1].point[0] == pytest.approx(95.0, abs=1e-6)
