@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Iterable, Iterator, Sequence
+from typing import Sequence
 
 import numpy as np
 
@@ -22,9 +22,9 @@ from freecad_conformal.errors import GeometryError, PlanError
 from freecad_conformal.geometry.concave_edges import concave_edges
 from freecad_conformal.geometry.solids import solids_of
 from freecad_conformal.geometry.splitting_faces import SplitCandidate, repaired, split_solid
-from freecad_conformal.planning.cuts import (MAX_EXACT_CUTS, SAVING_TIE, LazyAxis,
-                                             PlaneCandidates, SavingEstimate,
-                                             area_jump_candidates, axis_first, face_candidates)
+from freecad_conformal.planning.cut_search import CutSearch, best_cut
+from freecad_conformal.planning.cuts import (LazyAxis, SavingEstimate, area_jump_candidates,
+                                             face_candidates)
 from freecad_conformal.planning.rotation import rotation_to
 from freecad_conformal.planning.trial import Trial, can_fork, worth_a_trial
 from freecad_conformal.planning.subparts import BuildPlan, SubPart
@@ -302,15 +302,16 @@ def _refine(piece: _Piece, angle: float, axis, budget: int, notes: list[str]) ->
             notes.append(f"stopped splitting at the sub-part limit with {piece.overhang:.3f} mm² "
                          "of overhang left")
         return _members(piece, angle, axis, budget, notes)
-    needed = max(MIN_SAVING, MIN_SAVING_FRACTION * piece.overhang)
+    search = _search()
+    needed = search.needed(piece.overhang)
     estimate = SavingEstimate(piece.shape, angle, report)
-    best = _best_cut(piece, face_candidates(piece.shape, estimate, needed, piece.concave()),
-                     angle, axis)
+    best = best_cut(piece, face_candidates(piece.shape, estimate, needed, piece.concave()),
+                    angle, search, axis)
     if best is None:
         # Section 4's area-jump rule only where no splitting face helps: its sections along
         # three axes cost more than everything else here.
-        best = _best_cut(piece, area_jump_candidates(piece.shape, piece.direction, estimate,
-                                                     needed), angle)
+        best = best_cut(piece, area_jump_candidates(piece.shape, piece.direction, estimate,
+                                                    needed), angle, search)
     if best is None:
         return _members(piece, angle, axis, budget, notes)
     _, keeper, children = best
@@ -335,6 +336,14 @@ def _members(piece: _Piece, angle: float, axis, budget: int, notes: list[str]) -
     return result
 
 
+def _search() -> CutSearch:
+    """How `best_cut` reads and cuts pieces (looked up at each call, so a test may count
+    the exact cuts)."""
+    return CutSearch(try_cut=_try_cut, report=_report, min_saving=MIN_SAVING,
+                     min_fraction=MIN_SAVING_FRACTION, level_tolerance=LEVEL_TOLERANCE,
+                     same_direction=SAME_DIRECTION)
+
+
 def _report(piece: _Piece, angle: float):
     """The piece's overhang report (kept: a cut's pieces are read when the cut is tried and
     again when the winner is refined)."""
@@ -344,142 +353,6 @@ def _report(piece: _Piece, angle: float):
         piece._report = overhang_report(piece.shape, piece.direction, angle, piece.base_faces,
                                         on_bed=piece.rule == "root")
     return piece._report
-
-
-def _best_cut(piece: _Piece, planes: Iterable[PlaneCandidates], angle: float,
-              axis: LazyAxis | None = None):
-    """The cut leaving the least total overhang: (total, keeper, children), or None when
-    none saves overhang.
-
-    `planes` come best estimated saving first (read from the piece's overhanging faces, no
-    Boolean). Their regions are tried, until MAX_EXACT_CUTS have been, finishing the tie of
-    estimated saving the last belongs to; among tied candidates, those meeting the axis
-    criteria come first. Trials run on the piece's mesh (planning/mesh_cut.py) when it has
-    one: only the cuts the mesh ranks best are then made exactly, and none when the mesh
-    says no cut saves anything.
-    """
-    needed = max(MIN_SAVING, MIN_SAVING_FRACTION * piece.overhang)
-    mesh = piece.mesh()
-    trials = []
-    for tie in _ties(planes, needed):
-        if len(trials) >= MAX_EXACT_CUTS:
-            break
-        for plane in tie:
-            if mesh is None:
-                trials.extend((plane.saving, candidate, _try_cut(piece, candidate, angle))
-                              for candidate in plane.regions())
-                continue
-            for region in plane.mesh_regions(mesh):
-                candidate = SplitCandidate(plane.point, plane.normal, None, plane.rule,
-                                           region.face_index, region.boundary_points())
-                trial = _mesh_trial(piece, mesh, region, angle)
-                trials.append((plane.saving, candidate,
-                               None if trial is None else (trial.total, plane, region)))
-    ordered = axis_first(trials, axis, MIN_SAVING)
-    if mesh is not None:
-        ordered = _made_exactly(piece, mesh, ordered, angle, needed)
-    best = None
-    for _, _, trial in ordered:
-        if trial is not None and (best is None or trial[0] < best[0] - MIN_SAVING):
-            best = trial
-    return best if best is not None and best[0] <= piece.overhang - needed else None
-
-
-#: Mesh trials whose totals lie within this fraction of the piece's overhang (and
-#: MIN_SAVING) of the best are all made exactly, the exact totals deciding: the mesh reads
-#: CrankArm's cuts within 0.02 % (0.5 mm² of 2726), symmetric cuts tie exactly.
-MESH_MARGIN = 5e-3
-
-
-def _mesh_trial(piece: _Piece, mesh, region, angle: float):
-    from freecad_conformal.planning.mesh_cut import mesh_trial
-
-    return mesh_trial(mesh, region, piece.direction, math.sin(angle), _keeper_factor(piece, angle),
-                      lowest_level(piece.shape, piece.direction), LEVEL_TOLERANCE, SAME_DIRECTION)
-
-
-def _keeper_factor(piece: _Piece, angle: float) -> np.ndarray:
-    """Per face, the share of its overhang the piece keeps in its own direction: below 1
-    for planar faces resting (partly) on the bed or the base faces."""
-    report = _report(piece, angle)
-    if piece._factor is None or piece._factor[0] is not report:
-        piece._factor = (report, _factor_of(piece, report, angle))
-    return piece._factor[1]
-
-
-def _factor_of(piece: _Piece, report, angle: float) -> np.ndarray:
-    from freecad_conformal.planning.support import plane_normal
-
-    overhang = dict(report.faces)
-    threshold = math.sin(angle)
-    factor = np.ones(len(piece.shape.Faces))
-    for index, face in enumerate(piece.shape.Faces):
-        normal = plane_normal(face)
-        if normal is not None and normal @ piece.direction < -threshold:
-            factor[index] = overhang.get(index, 0.0) / max(float(face.Area), 1e-300)
-    return factor
-
-
-def _made_exactly(piece: _Piece, mesh, ordered: list, angle: float, needed: float) -> list:
-    """The mesh trials `ordered` [(saving, candidate, (mesh total, plane, region) | None)]
-    with the best made exactly: [(saving, exact candidate, exact trial)] in the same order.
-    Empty when the mesh says no cut saves `needed` (against the mesh's own reading of the
-    uncut piece, so that both carry the same error)."""
-    from freecad_conformal.planning.mesh_cut import mesh_overhang
-
-    valid = [item for item in ordered if item[2] is not None]
-    if not valid:
-        return []
-    uncut = mesh_overhang(mesh, piece.direction, math.sin(angle), _keeper_factor(piece, angle))
-    best = min(item[2][0] for item in valid)
-    if best > uncut - needed:
-        return []
-    margin = max(MIN_SAVING, MESH_MARGIN * piece.overhang)
-    near = [item for item in valid if item[2][0] <= best + margin]
-    rest = sorted((item for item in valid if item[2][0] > best + margin), key=lambda i: i[2][0])
-    made = []
-    for saving, candidate, (_, plane, region) in near + rest:
-        if len(made) >= len(near) and any(t is not None and t[0] <= piece.overhang - needed
-                                          for _, _, t in made):
-            break
-        if len(made) >= MAX_EXACT_CUTS and len(made) >= len(near):
-            break
-        exact = _exact_region(plane, region, mesh)
-        if exact is None:
-            continue
-        exact.rule = candidate.rule
-        made.append((saving, exact, _try_cut(piece, exact, angle)))
-    return made
-
-
-def _exact_region(plane: PlaneCandidates, region, mesh) -> SplitCandidate | None:
-    """The exact region of the plane holding the mesh region's inner point."""
-    from freecad_conformal.freecad_env import import_freecad
-
-    App, _ = import_freecad()
-    inner = region.polygon.buffer(-2.0 * mesh.deflection)
-    probe = region.inner_point() if inner.is_empty else region.to_3d(
-        [inner.representative_point().x, inner.representative_point().y])[0]
-    point = App.Vector(*(float(c) for c in probe))
-    for candidate in plane.regions():
-        if candidate.region.isInside(point, 1e-6, True):
-            return candidate
-    return None
-
-
-def _ties(planes: Iterable[PlaneCandidates], needed: float) -> Iterator[list]:
-    """Groups of planes of equal estimated saving (best first), those estimated to save
-    more than `needed`."""
-    group: list = []
-    for item in planes:
-        if item.saving <= needed:
-            break
-        if group and group[0].saving - item.saving > SAVING_TIE:
-            yield group
-            group = []
-        group.append(item)
-    if group:
-        yield group
 
 
 def _try_cut(piece: _Piece, candidate: SplitCandidate, angle: float,

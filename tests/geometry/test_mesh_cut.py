@@ -12,7 +12,7 @@ from freecad_conformal.geometry.concave_edges import concave_edges
 from freecad_conformal.geometry.solids import load_shape
 from freecad_conformal.geometry.splitting_faces import candidate_planes, plane_regions, split_solid
 from freecad_conformal.geometry.surface_mesh import _read, mesh_deflection, surface_mesh
-from freecad_conformal.planning import decompose as planner
+from freecad_conformal.planning import cut_search, decompose as planner
 from freecad_conformal.planning.cuts import PlaneCandidates
 from freecad_conformal.planning.support import overhang_report
 
@@ -43,9 +43,9 @@ def _trials(solid, direction):
         regions = candidates.mesh_regions(mesh)
         assert len(regions) == len(candidates.regions())
         for region in regions:
-            exact = planner._exact_region(candidates, region, mesh)
+            exact = cut_search._exact_region(candidates, region, mesh)
             assert exact is not None
-            pairs.append((planner._mesh_trial(piece, mesh, region, ANGLE),
+            pairs.append((cut_search._mesh_trial(piece, mesh, region, ANGLE, planner._search()),
                           planner._try_cut(piece, exact, ANGLE)))
     return pairs
 
