@@ -98,9 +98,12 @@ def default_step(shape, direction: np.ndarray, extent: tuple[float, float] | Non
     DEFAULT_STEPS."""
     direction = np.asarray(direction, dtype=float)
     low, high = extent if extent is not None else extent_along(shape, direction)
-    sizes = [high - low] + [float(np.subtract(*extent_along(shape, axis)[::-1]))
-                            for axis in AXES[:3] if abs(float(axis @ direction)) < 1 - 1e-12]
-    return max(sizes) / DEFAULT_STEPS
+    size = high - low
+    for axis in AXES[:3]:
+        if abs(float(axis @ direction)) < 1 - 1e-12:
+            axis_low, axis_high = extent_along(shape, axis)
+            size = max(size, axis_high - axis_low)
+    return float(size) / DEFAULT_STEPS
 
 
 class _Search:

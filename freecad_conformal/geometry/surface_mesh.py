@@ -2,9 +2,10 @@
 
 The decomposition tries many cuts of one piece and keeps few (planning/mesh_cut.py): each
 trial on this mesh is a few array operations where the exact one is a section Boolean and a
-split. The mesh is meshed once per piece on a copy of the shape: BRepMesh then meshes every
-edge once for both of its faces (so nodes on shared edges coincide and the mesh is closed),
-and the faces of the piece itself keep the triangulations other code asked for.
+split. The mesh is the piece's own triangulation: BRepMesh meshes every edge once for both
+of its faces (so nodes on shared edges coincide and the mesh is closed), and a face a cut
+left alone keeps its triangles, so only new faces are meshed. Other code meshes faces on
+copies; when the triangulation is found broken anyway, a fresh copy is meshed whole.
 """
 from __future__ import annotations
 
@@ -133,7 +134,7 @@ def _read(shape, deflection: float) -> SurfaceMesh | None:
                        / NODE_MERGE).astype(np.int64)
     vertices = np.array([node_of[k] for k in map(tuple, corners.tolist()) if k in node_of],
                         dtype=int)
-    mesh = SurfaceMesh(all_points[first], tri, np.concatenate(normals).copy(),
+    mesh = SurfaceMesh(all_points[first], tri, np.concatenate(normals),
                        np.concatenate(faces), np.concatenate(planar), np.concatenate(scale),
                        deflection, vertices)
     return mesh if _closed(mesh) and _connected(mesh) else None

@@ -157,7 +157,8 @@ def area_jump_candidates(shape, direction: np.ndarray, estimate: SavingEstimate,
 
 def face_candidates(shape, estimate: SavingEstimate, needed: float,
                     concave: list | None = None) -> Iterator[PlaneCandidates]:
-    """The planes of splitting faces worth a cut, best first, as `area_jump_candidates`. `concave`: the shape's concave edges when known."""
+    """The planes of splitting faces worth a cut, best first, as `area_jump_candidates`.
+    `concave`: the shape's concave edges when known."""
     from freecad_conformal.geometry.splitting_faces import candidate_planes, plane_regions
 
     if concave is None:

@@ -75,8 +75,7 @@ class MeshTrial:
 def mesh_overhang(mesh: SurfaceMesh, direction: np.ndarray, threshold: float,
                   factor: np.ndarray) -> float:
     """The uncut mesh's overhang in `direction` (as a trial reads it, for comparing)."""
-    a, b, c = (mesh.points[mesh.triangles[:, k]] for k in range(3))
-    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1) * mesh.scale
+    area = _areas(mesh)
     return _overhang(area, mesh.normals, np.ones(len(area), bool), direction, threshold,
                      factor[mesh.faces])
 
@@ -211,7 +210,8 @@ def mesh_trial(mesh: SurfaceMesh, region: MeshRegion, direction: np.ndarray, thr
     s = (mesh.points - p) @ n
     side = s > ON_PLANE
     split = _split(mesh, s, side)
-    pieces, corners, normals, tri_of, edges = split
+    pieces, corners, normals = split.pieces, split.corners, split.normals
+    tri_of, edges = split.tri_of, split.edges
     upper = _piece_sides(mesh, split, s, side, n)
     on_plane = np.concatenate([np.abs(s) <= ON_PLANE, np.ones(len(corners) - len(mesh.points), bool)])
     # Edges lying in the plane inside the region are where the cut separates the surface.
@@ -324,9 +324,6 @@ class _Split:
     whole: np.ndarray
     crossing: np.ndarray
     lone_above: np.ndarray
-
-    def __iter__(self):
-        return iter((self.pieces, self.corners, self.normals, self.tri_of, self.edges))
 
 
 def _split(mesh: SurfaceMesh, s: np.ndarray, side: np.ndarray) -> _Split:
