@@ -23,10 +23,10 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
-from freecad_conformal.batch.run import run_batch  # noqa: E402
+from freecad_conformal.jobs.batch.run import run_batch  # noqa: E402
 from freecad_conformal.geometry import samples  # noqa: E402
-from freecad_conformal.planning.job import PlanOptions  # noqa: E402
-from freecad_conformal.planning.layers import LayerSettings  # noqa: E402
+from freecad_conformal.jobs.plan import PlanOptions  # noqa: E402
+from freecad_conformal.layers.model import LayerSettings  # noqa: E402
 
 
 def generate_parts(folder: Path, count: int) -> list[str]:

@@ -50,8 +50,8 @@ from freecad_conformal.paths.assemble import Feeds, PathSettings  # noqa: E402
 from freecad_conformal.paths.fill2d import FillSettings  # noqa: E402
 from freecad_conformal.paths.timing import (estimate_time, junction_speeds, move_seconds,  # noqa: E402
                                             move_times)
-from freecad_conformal.planning.job import PlanOptions, machine_plan, run_job  # noqa: E402
-from freecad_conformal.planning.layers import LayerSettings  # noqa: E402
+from freecad_conformal.jobs.plan import PlanOptions, machine_plan, run_job  # noqa: E402
+from freecad_conformal.layers.model import LayerSettings  # noqa: E402
 from freecad_conformal.toolpath import KINDS  # noqa: E402
 
 PARTS_DIR = ROOT.parent / "shared" / "parts"

@@ -25,7 +25,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))   # run from anywhere
 
-from freecad_conformal.planning.rotary import (  # noqa: E402
+from freecad_conformal.jobs.mandrel import (  # noqa: E402
     PRINT_FEED, TRAVEL_FEED, band_inclination, plan_mandrel, spring_solid)
 
 FILAMENT = 1.75

@@ -28,7 +28,7 @@ from freecad_conformal.geometry import samples  # noqa: E402
 from freecad_conformal.geometry.centroidal_axis import centroidal_axis, default_step  # noqa: E402
 from freecad_conformal.geometry.sections import planar_sections, extent_along  # noqa: E402
 from freecad_conformal.geometry.solids import load_shape  # noqa: E402
-from freecad_conformal.planning.decompose import decompose  # noqa: E402
+from freecad_conformal.decomposition.decompose import decompose  # noqa: E402
 
 REAL_PARTS = ("MODERN_Table_1.brep", "screw.step", "CrankArm.brep")
 

@@ -56,8 +56,8 @@ def plan_options(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace) -> int:
-    from freecad_conformal.batch.report import table
-    from freecad_conformal.batch.run import run_batch
+    from freecad_conformal.jobs.batch.report import table
+    from freecad_conformal.jobs.batch.run import run_batch
     from freecad_conformal.errors import ConformalError
     from freecad_conformal.progress import Progress
 

@@ -25,8 +25,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from freecad_conformal.planning.decompose import decompose
-    from freecad_conformal.planning.plan_export import load_part, plan_table, write_plan
+    from freecad_conformal.decomposition.decompose import decompose
+    from freecad_conformal.jobs.export import load_part, plan_table, write_plan
 
     shape = load_part(args.part)
     plan = decompose(shape, overhang_angle=math.radians(args.overhang), tool=args.tool,

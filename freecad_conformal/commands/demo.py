@@ -23,8 +23,8 @@ def run(args: argparse.Namespace) -> int:
     from freecad_conformal.errors import ConformalError
     from freecad_conformal.geometry import samples
     from freecad_conformal.geometry.report import section_report
-    from freecad_conformal.planning.job import PlanOptions
-    from freecad_conformal.planning.layers import LayerSettings
+    from freecad_conformal.jobs.plan import PlanOptions
+    from freecad_conformal.layers.model import LayerSettings
 
     if args.sample not in samples.SAMPLES:
         raise ConformalError(f"unknown sample {args.sample!r}; choose from {', '.join(samples.SAMPLES)}")

@@ -63,7 +63,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _parse_factor(spec: str):
-    from freecad_conformal.process.doe_design import Factor
+    from freecad_conformal.process.doe.design import Factor
 
     parts = spec.split(":")
     if len(parts) < 3 or len(parts) > 5:
@@ -84,9 +84,9 @@ def _parse_factor(spec: str):
 
 def _design(args: argparse.Namespace) -> int:
     from freecad_conformal.fileio import write_text_atomic
-    from freecad_conformal.process.doe_design import Design
-    from freecad_conformal.process.doe_sheet import run_sheet_text, write_run_sheet
-    from freecad_conformal.process.doe_words import roman
+    from freecad_conformal.process.doe.design import Design
+    from freecad_conformal.process.doe.sheet import run_sheet_text, write_run_sheet
+    from freecad_conformal.process.doe.words import roman
 
     if args.factor:
         factors = [_parse_factor(spec) for spec in args.factor]
@@ -134,11 +134,11 @@ def _terms(text: str):
 
 
 def _analyze(args: argparse.Namespace) -> int:
-    from freecad_conformal.process.doe_analysis import analyze
-    from freecad_conformal.process.doe_design import Design
-    from freecad_conformal.process.doe_effects import RunData
-    from freecad_conformal.process.doe_report import effects_table
-    from freecad_conformal.process.doe_sheet import read_table
+    from freecad_conformal.process.doe.analysis import analyze
+    from freecad_conformal.process.doe.design import Design
+    from freecad_conformal.process.doe.effects import RunData
+    from freecad_conformal.process.doe.report import effects_table
+    from freecad_conformal.process.doe.sheet import read_table
 
     design = None
     if args.design:
@@ -163,7 +163,7 @@ def _analyze(args: argparse.Namespace) -> int:
                      args.target, args.alpha, design, args.response_scale, args.response_unit)
     plot = None
     if not args.no_plot:
-        from freecad_conformal.process.doe_plot import write_half_normal_png
+        from freecad_conformal.process.doe.plot import write_half_normal_png
 
         plot = args.plot or args.results.with_name(args.results.stem + "_halfnormal.png")
         write_half_normal_png(result, plot)
@@ -181,7 +181,7 @@ def _analyze(args: argparse.Namespace) -> int:
 
 
 def _save_tool(args: argparse.Namespace, result, design) -> None:
-    from freecad_conformal.process.doe_to_tool import save_optimum
+    from freecad_conformal.process.doe.to_tool import save_optimum
     from freecad_conformal.process.library import ToolLibrary
 
     if not args.material:

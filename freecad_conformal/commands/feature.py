@@ -5,7 +5,6 @@ any file is written: on an error nothing is written."""
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 
 KINDS = ("rods", "shell", "pattern", "channels")

@@ -36,7 +36,7 @@ def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from freecad_conformal.geometry.solids import load_shape
-    from freecad_conformal.planning.rotary import plan_mandrel
+    from freecad_conformal.jobs.mandrel import plan_mandrel
     from freecad_conformal.progress import Progress
 
     shape = load_shape(args.part)

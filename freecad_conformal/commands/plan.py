@@ -77,8 +77,8 @@ def options_from(args: argparse.Namespace):
     from freecad_conformal.errors import PlanError
     from freecad_conformal.paths.assemble import PathSettings
     from freecad_conformal.paths.fill2d import FillSettings
-    from freecad_conformal.planning.job import PlanOptions
-    from freecad_conformal.planning.layers import LayerSettings
+    from freecad_conformal.jobs.plan import PlanOptions
+    from freecad_conformal.layers.model import LayerSettings
 
     if not 0.0 <= args.infill <= 100.0:
         raise PlanError(f"--infill {args.infill:g} must be a percentage 0..100")
@@ -118,7 +118,7 @@ def plan_part(shape, name: str, options, output: str | Path, png: str | Path | N
     """Decompose (each solid standing on the platform, the part turned on the table when
     the machine cannot reach a sub-part as placed), plan and write (G-code, PNG, summary,
     toolpath); returns (result, written)."""
-    from freecad_conformal.planning.job import check_options, machine_plan, run_job
+    from freecad_conformal.jobs.plan import check_options, machine_plan, run_job
 
     check_options(shape, options)
     shape, plan = machine_plan(shape, options)
@@ -133,7 +133,7 @@ def plan_part(shape, name: str, options, output: str | Path, png: str | Path | N
 
 def run_mandrel(args: argparse.Namespace) -> int:
     """`plan --mandrel`: the same planner as the `mandrel` command."""
-    from freecad_conformal.planning.rotary import plan_mandrel
+    from freecad_conformal.jobs.mandrel import plan_mandrel
 
     shape, name = load_part(args.part)
     machine = "rotary_mandrel" if args.machine == "trunnion_ac" else args.machine

@@ -18,6 +18,7 @@ import numpy as np
 from freecad_conformal.errors import GeometryError
 from freecad_conformal.geometry.sections import PlanarSlicer, extent_along
 from freecad_conformal.geometry.splitting_faces import SplitCandidate, interior_regions
+from freecad_conformal.geometry.surface_mesh import below_fraction, mesh_deflection, surface_mesh
 
 #: Sections per axis when `d` is not given (the jump test only needs to see the steps).
 DEFAULT_SLICES = 40
@@ -47,24 +48,15 @@ def _area_profile(shape, axis: np.ndarray, d: float | None) -> tuple[np.ndarray,
     return heights, areas, step
 
 
-#: Triangulation deflection for mesh profiles, relative to the shape's bounding-box
-#: diagonal: section areas within ~0.3 % of the exact ones on CrankArm (the same at 2e-4:
-#: OCC's angular limit governs there), ~0.1 s per piece. Finer is no better and explodes on
-#: small spheres (a 10 mm ball at 2e-4: 80 000 nodes, 4 s; at 1e-3: 0.2 s).
-MESH_RELATIVE_DEFLECTION = 1e-3
-
-
 class MeshProfile:
     """Section areas of a solid along any axis from one triangulation of its boundary."""
 
     def __init__(self, shape) -> None:
-        from freecad_conformal.geometry.surface_mesh import surface_mesh
-
         mesh = surface_mesh(shape)  # the decomposition's trial cuts read the same mesh
         if mesh is not None:
             self.points, self.triangles = mesh.points, mesh.triangles
         else:
-            deflection = max(MESH_RELATIVE_DEFLECTION * shape.BoundBox.DiagonalLength, 1e-4)
+            deflection = mesh_deflection(shape)
             # On a copy: re-meshing the shape itself would undo the surface mesh's sharing.
             points, triangles = shape.copy().tessellate(deflection, True)
             self.points = np.array([tuple(p) for p in points]).reshape(-1, 3)
@@ -79,12 +71,7 @@ class MeshProfile:
         g = np.sort((self.points @ axis)[self.triangles], axis=1)
         result = np.zeros(len(heights))
         for k, h in enumerate(heights):
-            g0, g1, g2 = (g - h).T
-            with np.errstate(divide="ignore", invalid="ignore"):
-                one = np.where((g0 < 0) & (g1 >= 0), g0 * g0 / ((g0 - g1) * (g0 - g2)), 0.0)
-                two = np.where((g1 < 0) & (g2 >= 0), 1 - g2 * g2 / ((g2 - g0) * (g2 - g1)), 0.0)
-            below = np.where(g2 < 0, 1.0, np.nan_to_num(one) + np.nan_to_num(two))
-            result[k] = -float(projected @ below)
+            result[k] = -float(projected @ below_fraction(g - h))
         return result
 
 

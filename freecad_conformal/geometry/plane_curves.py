@@ -12,7 +12,7 @@ from typing import Iterator
 import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
-from freecad_conformal.geometry.torus_cut import torus_plane_curves
+from freecad_conformal.geometry.torus_sections import torus_plane_curves
 
 #: A vertex closer than this (mm) to the plane sends the layer to the Boolean: the plane
 #: passes through an edge end, where curve pieces of several faces meet at one point.

@@ -21,7 +21,7 @@ import numpy as np
 from freecad_conformal.errors import GeometryError
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.boxes import box_reach, optimal_box
-from freecad_conformal.geometry.face_cut import FaceCutter
+from freecad_conformal.geometry.face_sections import FaceCutter
 from freecad_conformal.geometry.planar_faces import SectionFace
 from freecad_conformal.geometry.section_pool import cut_sections
 from freecad_conformal.geometry.frames import LayerFrame

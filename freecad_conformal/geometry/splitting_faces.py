@@ -91,7 +91,7 @@ ON_FACE = 1e-7
 
 def faces_on_plane(solid, point: np.ndarray, normal: np.ndarray) -> list:
     """The solid's planar faces lying in the plane through `point` normal to `normal`."""
-    from freecad_conformal.planning.support import plane_normal
+    from freecad_conformal.geometry.face_normals import plane_normal
 
     faces = []
     for face in solid.Faces:
@@ -131,7 +131,7 @@ class CandidatePlane:
 
 def candidate_planes(solid, concave: list[EdgeAngle]) -> list[CandidatePlane]:
     """Planes of the planar faces that carry a concave edge, one per distinct plane."""
-    from freecad_conformal.planning.support import plane_normal
+    from freecad_conformal.geometry.face_normals import plane_normal
 
     faces = list(solid.Faces)
     edges_of: dict[int, list[EdgeAngle]] = {}

@@ -1,6 +1,6 @@
 """A solid's closed triangle mesh with OCC's exact normals at the corners.
 
-The decomposition tries many cuts of one piece and keeps few (planning/mesh_cut.py): each
+The decomposition tries many cuts of one piece and keeps few (decomposition/mesh_cut.py): each
 trial on this mesh is a few array operations where the exact one is a section Boolean and a
 split. The mesh is the piece's own triangulation: BRepMesh meshes every edge once for both
 of its faces (so nodes on shared edges coincide and the mesh is closed), and a face a cut
@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from freecad_conformal.geometry.face_normals import node_normals, plane_normal
 from freecad_conformal.geometry.shape_cache import ShapeCache
 
 #: Linear deflection relative to the shape's bounding-box diagonal: 0.1 % (0.16 mm on
@@ -36,7 +37,7 @@ class SurfaceMesh:
     (M,), the index in `shape.Faces`; planar (M,), whether that face is a plane; scale (M,),
     the face's exact area over its meshed area (chord error), to apply to areas; vertices,
     the nodes at the shape's vertices (its lowest level is read from them, as
-    `support.lowest_level` does)."""
+    `overhang.lowest_level` does)."""
 
     points: np.ndarray
     triangles: np.ndarray
@@ -76,16 +77,56 @@ def _build(shape, deflection: float) -> SurfaceMesh | None:
     return mesh
 
 
+@dataclass
+class FacePart:
+    """One face's part of a mesh: node points (N, 3), triangles (M, 3) into them, the
+    outward unit normal at each corner (M, 3, 3; OCC's exact normal, the plane's for a
+    planar face), whether the face is planar, and each triangle's area scaled so they sum
+    to the exact Face.Area (the chord error then does not bias a total)."""
+
+    points: np.ndarray
+    triangles: np.ndarray
+    corner_normals: np.ndarray
+    planar: bool
+    areas: np.ndarray
+    #: exact face area over meshed area
+    area_ratio: float
+
+    def below(self, d: np.ndarray, threshold: float) -> float:
+        """Area where n·d < −threshold, n taken linear over each triangle between its exact
+        corner values and the triangle clipped where it crosses the limit (the cap boundary
+        is found to second order instead of to a whole triangle)."""
+        if not len(self.areas):
+            return 0.0
+        return float(self.areas @ below_fraction(self.corner_normals @ d + threshold))
+
+
+def below_fraction(g: np.ndarray) -> np.ndarray:
+    """Per triangle, the fraction of its area where a function linear over it, with values
+    g (K, 3) at its corners, is negative."""
+    g = np.sort(g, axis=1)
+    g0, g1, g2 = g[:, 0], g[:, 1], g[:, 2]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        one_below = np.where((g0 < 0) & (g1 >= 0), g0 * g0 / ((g0 - g1) * (g0 - g2)), 0.0)
+        two_below = np.where((g1 < 0) & (g2 >= 0), 1 - g2 * g2 / ((g2 - g0) * (g2 - g1)), 0.0)
+    return np.where(g2 < 0, 1.0, np.nan_to_num(one_below) + np.nan_to_num(two_below))
+
+
 #: Each face's part of a mesh, by face identity: a cut leaves most faces of a piece (and
-#: their triangulations) untouched. A face re-meshed meanwhile leaves a stale part whose
-#: edges no longer meet its neighbours': the mesh is then not closed and is made afresh.
-_FACES: ShapeCache[tuple | None] = ShapeCache(limit=8192, oriented=True)
+#: their triangulations) untouched, and the same pieces are read several times while cuts
+#: are compared. A face re-meshed meanwhile leaves a stale part whose edges no longer meet
+#: its neighbours': the solid's mesh is then not closed and is made afresh.
+_FACES: ShapeCache[FacePart | None] = ShapeCache(limit=8192, oriented=True)
 
 
-def _face_part(face, deflection: float) -> tuple | None:
-    """(points, triangles, corner normals, planar, exact / meshed area) of one face."""
-    from freecad_conformal.planning.support import _node_normals, plane_normal
+def face_part(face, deflection: float) -> FacePart | None:
+    """The face's part of its solid's mesh: the one already made (whatever its deflection),
+    else the face's own triangulation at `deflection` (`mesh_deflection` of its solid).
+    None for a face BRepMesh gives no triangle."""
+    return _FACES.get((face,), lambda: _face_part(face, deflection))
 
+
+def _face_part(face, deflection: float) -> FacePart | None:
     pts, tris = face.tessellate(deflection)
     if not tris:
         return None
@@ -95,16 +136,12 @@ def _face_part(face, deflection: float) -> tuple | None:
     if normal is not None:
         corner = np.broadcast_to(normal, (len(t), 3, 3))
     else:
-        corner = _node_normals(face, p)[t]
+        corner = node_normals(face, p, t)[t]
     a, b, c = p[t[:, 0]], p[t[:, 1]], p[t[:, 2]]
-    meshed = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1).sum()
-    return p, t, corner, normal is not None, float(face.Area) / meshed if meshed > 0 else 1.0
-
-
-def known_part(face) -> tuple | None:
-    """The face's part of a solid's mesh already made, if any (nothing is computed):
-    (node points, triangles, node normals per corner (M, 3, 3), planar, area ratio)."""
-    return _FACES.peek((face,))
+    areas = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    meshed = float(areas.sum())
+    ratio = float(face.Area) / meshed if meshed > 0 else 1.0
+    return FacePart(p, t, corner, normal is not None, areas * ratio, ratio)
 
 
 def _read(shape, deflection: float) -> SurfaceMesh | None:
@@ -112,17 +149,16 @@ def _read(shape, deflection: float) -> SurfaceMesh | None:
     points, triangles, normals, faces, planar, scale = [], [], [], [], [], []
     offset = 0
     for index, face in enumerate(shape.Faces):
-        part = _FACES.get((face,), lambda: _face_part(face, deflection))
+        part = face_part(face, deflection)
         if part is None:
             continue
-        p, t, corner, is_plane, ratio = part
-        points.append(p)
-        triangles.append(t + offset)
-        normals.append(corner)
-        faces.append(np.full(len(t), index))
-        planar.append(np.full(len(t), is_plane))
-        scale.append(np.full(len(t), ratio))
-        offset += len(p)
+        points.append(part.points)
+        triangles.append(part.triangles + offset)
+        normals.append(part.corner_normals)
+        faces.append(np.full(len(part.triangles), index))
+        planar.append(np.full(len(part.triangles), part.planar))
+        scale.append(np.full(len(part.triangles), part.area_ratio))
+        offset += len(part.points)
     if not triangles:
         return None
     all_points = np.concatenate(points)
@@ -142,7 +178,7 @@ def _read(shape, deflection: float) -> SurfaceMesh | None:
 
 def _connected(mesh: SurfaceMesh) -> bool:
     """One piece of surface: a solid with a void has two, and a trial cut reads each part of
-    the surface as bounded by the cut (planning/mesh_cut.py)."""
+    the surface as bounded by the cut (decomposition/mesh_cut.py)."""
     from freecad_conformal.geometry.components import connected_labels
 
     t = mesh.triangles

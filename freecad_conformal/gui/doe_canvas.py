@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from freecad_conformal.errors import ProcessError
 from freecad_conformal.gui.qt import QtWidgets
-from freecad_conformal.process.doe_analysis import Analysis
+from freecad_conformal.process.doe.analysis import Analysis
 
 #: Figure size (inches) of one panel; the canvas scales it to the dock's width.
 PANEL_SIZE = (4.0, 3.2)
@@ -35,7 +35,7 @@ def draw_half_normal(canvas, result: Analysis) -> None:
     if not hasattr(canvas, "figure"):
         raise ProcessError("matplotlib is not installed: no half-normal plot")
     # the panel drawing is the command line's (doe_plot), shared rather than copied
-    from freecad_conformal.process.doe_plot import _panel
+    from freecad_conformal.process.doe.plot import _panel
 
     figure = canvas.figure
     figure.clear()

@@ -13,13 +13,13 @@ import numpy as np
 
 from freecad_conformal.errors import ProcessError
 from freecad_conformal.fileio import write_text_atomic
-from freecad_conformal.process.doe_analysis import Analysis, analyze
-from freecad_conformal.process.doe_design import Design, Factor
-from freecad_conformal.process.doe_effects import RunData
-from freecad_conformal.process.doe_sheet import Table, read_table, run_sheet_text
-from freecad_conformal.process.doe_to_tool import save_optimum
+from freecad_conformal.process.doe.analysis import Analysis, analyze
+from freecad_conformal.process.doe.design import Design, Factor
+from freecad_conformal.process.doe.effects import RunData
+from freecad_conformal.process.doe.sheet import Table, read_table, run_sheet_text
+from freecad_conformal.process.doe.to_tool import save_optimum
 from freecad_conformal.process.library import ToolLibrary
-from freecad_conformal.process.settings import ProcessSettings
+from freecad_conformal.process.process_settings import ProcessSettings
 
 GOALS = ("larger", "smaller", "nominal")
 #: Drawn seeds stay below this so they read well in the form and in the saved design.

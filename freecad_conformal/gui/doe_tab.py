@@ -11,7 +11,7 @@ from freecad_conformal.gui import doe_canvas
 from freecad_conformal.gui.doe_session import GOALS, DoeSession, FactorRow
 from freecad_conformal.gui.qt import QtCore, QtWidgets, translate
 from freecad_conformal.gui.widgets import MessageLine
-from freecad_conformal.process.doe_report import effects_table
+from freecad_conformal.process.doe.report import effects_table
 
 FACTOR_COLUMNS = ("Name", "Label", "Low", "High", "Unit")
 DEFAULT_FACTORS = (FactorRow("A", "power", "231", "495", "mW"),

@@ -127,7 +127,7 @@ class DecompositionFeature(StoredState):
     def execute(self, obj) -> None:
         import Part
 
-        from freecad_conformal.planning.decompose import decompose
+        from freecad_conformal.decomposition.decompose import decompose
 
         shape = source_shape(obj, "the decomposition")
         plan = decompose(shape, overhang_angle=math.radians(obj.OverhangAngle.Value),

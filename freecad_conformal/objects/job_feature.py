@@ -73,7 +73,7 @@ class JobFeature(ToolpathFeature):
 
     @reports_errors
     def execute(self, obj) -> None:
-        from freecad_conformal.planning.job import run_job
+        from freecad_conformal.jobs.plan import run_job
 
         shape, plan = build_plan(obj, source_shape(obj, "a job"))
         result = run_job(shape, plan, plan_options(obj), part=obj.Source.Label)
@@ -97,7 +97,7 @@ class JobFeature(ToolpathFeature):
 def build_plan(obj, shape):
     """(placed shape, plan) as the plan command makes it: decomposed into sub-parts when
     asked, else one per solid; solids on the platform, the part turned if the machine needs."""
-    from freecad_conformal.planning.job import machine_plan
+    from freecad_conformal.jobs.plan import machine_plan
 
     return machine_plan(shape, plan_options(obj), split=obj.Decompose)
 
@@ -106,8 +106,8 @@ def plan_options(obj):
     """PlanOptions from the properties, as `plan`'s options_from builds them from flags."""
     from freecad_conformal.paths.assemble import PathSettings
     from freecad_conformal.paths.fill2d import FillSettings
-    from freecad_conformal.planning.job import PlanOptions
-    from freecad_conformal.planning.layers import LayerSettings
+    from freecad_conformal.jobs.plan import PlanOptions
+    from freecad_conformal.layers.model import LayerSettings
 
     width = obj.BeadWidth.Value or None
     fill = FillSettings(bead_width=width or 0.4, perimeters=obj.Perimeters,

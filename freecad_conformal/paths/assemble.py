@@ -26,8 +26,8 @@ from freecad_conformal.paths.approach import (SAFE_MARGIN, bounding_sphere, chec
                                               exit_distance, transition)
 from freecad_conformal.paths.fill2d import FillSettings, fill_layer
 from freecad_conformal.paths.map3d import Path3D, map_paths, skin_regions
-from freecad_conformal.planning.layers import Layer
-from freecad_conformal.planning.subparts import BuildPlan
+from freecad_conformal.layers.model import Layer
+from freecad_conformal.decomposition.subparts import BuildPlan
 from freecad_conformal.toolpath import Toolpath, ToolpathBuilder
 
 #: Perimeter loops this short (mm) are printed at `Feeds.small_perimeter`: PrusaSlicer's
@@ -118,7 +118,7 @@ SAME_LEVEL = 1e-6
 def together(plan: BuildPlan, layers: dict[int, list[Layer]]) -> list[list]:
     """The plan's sub-parts in order, consecutive ones built in one direction from one base
     level grouped (see `planning.collision.concurrent`); sub-parts without layers dropped."""
-    from freecad_conformal.planning.collision import concurrent
+    from freecad_conformal.geometry.collision import concurrent
 
     groups: list[list] = []
     for sub in plan.ordered():

@@ -15,7 +15,7 @@ import shapely
 from shapely.geometry import MultiPolygon
 
 from freecad_conformal.paths.fill2d import Path2D
-from freecad_conformal.planning.layers import Layer, as_multipolygon
+from freecad_conformal.layers.model import Layer, as_multipolygon
 
 
 @dataclass

@@ -16,7 +16,7 @@ from typing import Iterable, Iterator
 from freecad_conformal import RESOURCES
 from freecad_conformal.errors import ProcessError
 from freecad_conformal.fileio import write_text_atomic
-from freecad_conformal.process import schema
+from freecad_conformal.process import json_fields as schema
 from freecad_conformal.process.tools import ID_PATTERN, Tool
 
 FORMAT = "conformal-tools"

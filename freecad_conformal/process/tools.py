@@ -14,8 +14,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from freecad_conformal.errors import ProcessError
-from freecad_conformal.process import schema
-from freecad_conformal.process.settings import ProcessSettings
+from freecad_conformal.process import json_fields as schema
+from freecad_conformal.process.process_settings import ProcessSettings
 
 KINDS = ("uv_light_guide", "fdm_nozzle", "laser_nozzle", "end_mill")
 HEADS = ("straight", "angled")

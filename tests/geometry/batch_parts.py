@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from freecad_conformal.batch.fcstd import make_workbench_types_loadable
+from freecad_conformal.jobs.batch.fcstd import make_workbench_types_loadable
 from freecad_conformal.freecad_env import import_freecad
 
 #: part name in the report -> layers at --layer 1 (the part's height in mm).

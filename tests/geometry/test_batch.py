@@ -79,7 +79,7 @@ class _Recorder:
 
 
 def test_all_good_parts_exit_zero_and_progress_counts_every_part(parts, tmp_path):
-    from freecad_conformal.batch.run import run_batch
+    from freecad_conformal.jobs.batch.run import run_batch
     from freecad_conformal.commands.batch import plan_options
 
     bars = []

@@ -5,8 +5,8 @@ import math
 
 import pytest
 
-from freecad_conformal.batch.fcstd import body_shape, make_workbench_types_loadable, solid_bodies
-from freecad_conformal.batch.jobs import expand_inputs
+from freecad_conformal.jobs.batch.fcstd import body_shape, make_workbench_types_loadable, solid_bodies
+from freecad_conformal.jobs.batch.jobs import expand_inputs
 from freecad_conformal.errors import GeometryError
 from tests.geometry.batch_parts import make_parts
 

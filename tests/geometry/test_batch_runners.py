@@ -9,11 +9,11 @@ from pathlib import Path
 
 import pytest
 
-from freecad_conformal.batch import runners
-from freecad_conformal.batch.report import new_row
-from freecad_conformal.batch.run import run_batch
+from freecad_conformal.jobs.batch import runners
+from freecad_conformal.jobs.batch.report import new_row
+from freecad_conformal.jobs.batch.run import run_batch
 from freecad_conformal.errors import ConformalError
-from freecad_conformal.planning.job import PlanOptions
+from freecad_conformal.jobs.plan import PlanOptions
 from tests.geometry.batch_parts import EXPECTED_LAYERS, make_parts
 
 #: Exit status of the simulated crash (a segfault in OCC would end the worker the same way).
@@ -96,8 +96,8 @@ def test_dask_local_cluster_runs_the_same_jobs(parts, tmp_path):
 
 def test_jobs_with_data_never_read_their_path(parts, tmp_path):
     """What a remote Dask worker does: the part comes as bytes, its path does not exist there."""
-    from freecad_conformal.batch.jobs import expand_inputs
-    from freecad_conformal.batch.worker import load_part
+    from freecad_conformal.jobs.batch.jobs import expand_inputs
+    from freecad_conformal.jobs.batch.worker import load_part
 
     for job in expand_inputs([str(parts["box"]), str(parts["two"])]).jobs:
         remote = replace(job.with_data(), path=str(tmp_path / "elsewhere" / Path(job.path).name))

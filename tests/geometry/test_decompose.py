@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from freecad_conformal.geometry import samples
-from freecad_conformal.planning.decompose import decompose
+from freecad_conformal.decomposition.decompose import decompose
 
 
 def directions(plan):
@@ -115,11 +115,11 @@ def test_regions_are_computed_only_for_planes_whose_cuts_are_tried(name, monkeyp
     """A plane's interior regions cost a section Boolean each: the search computes them
     only for the planes it goes on to split exactly."""
     import freecad_conformal.geometry.splitting_faces as splitting
-    import freecad_conformal.planning.decompose as module
+    import freecad_conformal.decomposition.planner as module
 
     computed: list[list] = []
     tried: set[int] = set()
-    plane_regions, try_cut = splitting.plane_regions, module._try_cut
+    plane_regions, try_cut = splitting.plane_regions, module.try_cut
 
     def counted_regions(solid, plane):
         regions = plane_regions(solid, plane)
@@ -131,7 +131,7 @@ def test_regions_are_computed_only_for_planes_whose_cuts_are_tried(name, monkeyp
         return try_cut(piece, candidate, angle, **options)
 
     monkeypatch.setattr(splitting, "plane_regions", counted_regions)
-    monkeypatch.setattr(module, "_try_cut", counted_cut)
+    monkeypatch.setattr(module, "try_cut", counted_cut)
     plan = decompose(samples.SAMPLES[name]())
     assert len(plan.subparts) > 1 and computed
     assert all(any(id(region) in tried for region in regions) for regions in computed if regions)

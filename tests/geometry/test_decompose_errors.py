@@ -7,8 +7,8 @@ import pytest
 
 from freecad_conformal.errors import GeometryError, PlanError
 from freecad_conformal.geometry import samples
-from freecad_conformal.planning.build_order import build_order
-from freecad_conformal.planning.decompose import decompose
+from freecad_conformal.decomposition.build_order import build_order
+from freecad_conformal.decomposition.decompose import decompose
 from freecad_conformal.process.tools import Envelope
 
 

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from freecad_conformal.geometry.solids import load_shape
-from freecad_conformal.planning.decompose import decompose
-from freecad_conformal.planning.support import overhang_report
+from freecad_conformal.decomposition.decompose import decompose
+from freecad_conformal.geometry.overhang import overhang_report
 
 #: Overhang areas are compared to this (mm²). The plan reads a curved face from its solid's
 #: mesh (geometry/surface_mesh.py), and the check meshes the face alone. The two
@@ -99,7 +99,7 @@ def test_crank_arm_plans_both_solids(parts_dir):
     assert plan.support_area <= 0.1 * plan.support_area_single_direction
     # On the machine the pin stands where it is and the arm, turned to its root direction,
     # stands beside it on the same platform (as placed it hovers around the pin).
-    from freecad_conformal.planning.layout import lay_out
+    from freecad_conformal.decomposition.layout import lay_out
     from tests.geometry.test_layout import check_standing, footprints_apart
 
     laid = lay_out(plan, 10.0)
@@ -110,14 +110,14 @@ def test_crank_arm_plans_both_solids(parts_dir):
 
 
 def test_table_trial_on_the_other_core_gives_the_sequential_plan(parts_dir, monkeypatch):
-    import freecad_conformal.planning.decompose as module
+    import freecad_conformal.decomposition.decompose as module
 
     shape = load_shape(parts_dir / "MODERN_Table_1.brep")
     # The table is analytic (too quick to plan for a child to pay): force the trial.
     monkeypatch.setattr(module, "worth_a_trial", lambda solid: True)
-    monkeypatch.setattr(module, "can_fork", lambda: True)
+    monkeypatch.setattr(module, "can_start_child", lambda: True)
     forked = decompose(shape, root_direction="auto", check_collisions=False)
-    monkeypatch.setattr(module, "can_fork", lambda: False)
+    monkeypatch.setattr(module, "can_start_child", lambda: False)
     sequential = decompose(shape, root_direction="auto", check_collisions=False)
     assert forked.notes == sequential.notes
     for a, b in zip(forked.subparts, sequential.subparts, strict=True):
@@ -130,11 +130,11 @@ def test_table_trial_on_the_other_core_gives_the_sequential_plan(parts_dir, monk
 def test_table_plans_here_when_the_trial_child_cannot_start(parts_dir, monkeypatch):
     import sys
 
-    import freecad_conformal.planning.decompose as module
+    import freecad_conformal.decomposition.decompose as module
 
     shape = load_shape(parts_dir / "MODERN_Table_1.brep")
     monkeypatch.setattr(module, "worth_a_trial", lambda solid: True)
-    monkeypatch.setattr(module, "can_fork", lambda: True)
+    monkeypatch.setattr(module, "can_start_child", lambda: True)
     monkeypatch.setattr(sys, "executable", "/bin/false")   # the child exits at once
     plan = decompose(shape, root_direction="auto", check_collisions=False)
     assert len(plan.subparts) == 5
@@ -142,7 +142,7 @@ def test_table_plans_here_when_the_trial_child_cannot_start(parts_dir, monkeypat
 
 
 def test_only_free_form_solids_are_worth_a_trial_child(parts_dir):
-    from freecad_conformal.planning.trial import worth_a_trial
+    from freecad_conformal.decomposition.trial import worth_a_trial
 
     table = load_shape(parts_dir / "MODERN_Table_1.brep")
     pin, arm = load_shape(parts_dir / "CrankArm.brep").Solids

@@ -6,11 +6,11 @@ import math
 import numpy as np
 import pytest
 
-from freecad_conformal.geometry.face_cut import FaceCutter
+from freecad_conformal.geometry.face_sections import FaceCutter
 from freecad_conformal.geometry.loops import dense_area
 from freecad_conformal.geometry.sections import PlanarSlicer, uniform_heights
 from freecad_conformal.geometry.solids import load_shape
-from freecad_conformal.geometry.torus_cut import FIT_TOLERANCE, torus_plane_curves
+from freecad_conformal.geometry.torus_sections import FIT_TOLERANCE, torus_plane_curves
 
 #: OCC integrates the area of faces bounded by high-degree B-splines to about this
 #: (measured up to 3.7e-4 on the Boolean's own CrankArm faces against a dense polygon).

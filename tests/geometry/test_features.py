@@ -8,7 +8,7 @@ import pytest
 
 from freecad_conformal.cli import main
 from freecad_conformal.errors import PlanError
-from freecad_conformal.geometry.faces import face_kind, normals_at, parameters_of, points_at
+from freecad_conformal.geometry.faces import face_kind, normals_at, points_at
 from freecad_conformal.paths.features import channels, patterns, rods, shells
 from freecad_conformal.paths.features.outlines import region_from_rings, svg_path_rings, text_rings
 from freecad_conformal.post.machine import load_machine

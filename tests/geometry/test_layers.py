@@ -8,9 +8,10 @@ import pytest
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry import samples
-from freecad_conformal.planning.layers import (LayerSettings, check_thickness, plan_layers,
-                                               thickness_report, volume_difference)
-from freecad_conformal.planning.subparts import SubPart
+from freecad_conformal.layers.model import LayerSettings, check_thickness, thickness_report
+from freecad_conformal.layers.plan import plan_layers
+from freecad_conformal.layers.planar import volume_difference
+from freecad_conformal.decomposition.subparts import SubPart
 
 
 def _sub(shape, direction=(0, 0, 1)):

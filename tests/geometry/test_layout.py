@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from freecad_conformal.geometry.sections import extent_along
-from freecad_conformal.planning.decompose import decompose
-from freecad_conformal.planning.job import single_plan
-from freecad_conformal.planning.layout import lay_out
+from freecad_conformal.decomposition.decompose import decompose
+from freecad_conformal.jobs.plan import single_plan
+from freecad_conformal.decomposition.layout import lay_out
 
 UP = np.array([0.0, 0.0, 1.0])
 GAP = 6.0
@@ -33,7 +33,7 @@ def check_standing(plan, platform: float) -> None:
         if sub.parent is None:
             np.testing.assert_allclose(sub.build_direction, UP, atol=1e-12)
             assert extent_along(sub.shape, UP)[0] == pytest.approx(platform, abs=1e-7)
-        axis, angle = sub.rotation_axis, sub.rotation_angle
+        _axis, angle = sub.rotation_axis, sub.rotation_angle
         assert angle == pytest.approx(math.acos(np.clip(sub.build_direction @ UP, -1, 1)), abs=1e-9)
 
 
@@ -84,7 +84,7 @@ def test_a_turned_root_stands_up_with_its_children_turned_alike(App, Part):
 def test_the_plan_builds_every_solid_from_the_platform(App, Part):
     """Through the plan command's pipeline: the ring's first layer is laid on the platform,
     not 15 mm above it."""
-    from freecad_conformal.planning.job import PlanOptions, machine_plan, run_job
+    from freecad_conformal.jobs.plan import PlanOptions, machine_plan, run_job
 
     pin = Part.makeCylinder(3, 12, App.Vector(0, 0, 0))
     ring = Part.makeCylinder(10, 2, App.Vector(0, 0, 5)).cut(Part.makeCylinder(4, 2, App.Vector(0, 0, 5)))

@@ -12,9 +12,10 @@ from freecad_conformal.geometry.concave_edges import concave_edges
 from freecad_conformal.geometry.solids import load_shape
 from freecad_conformal.geometry.splitting_faces import candidate_planes, plane_regions, split_solid
 from freecad_conformal.geometry.surface_mesh import _read, mesh_deflection, surface_mesh
-from freecad_conformal.planning import cut_search, decompose as planner
-from freecad_conformal.planning.cuts import PlaneCandidates
-from freecad_conformal.planning.support import overhang_report
+from freecad_conformal.decomposition import cut_search
+from freecad_conformal.decomposition import decompose, planner
+from freecad_conformal.decomposition.cuts import PlaneCandidates
+from freecad_conformal.geometry.overhang import overhang_report
 
 ANGLE = math.radians(45.0)
 
@@ -31,9 +32,9 @@ def _holed_column(App, Part):
 
 def _trials(solid, direction):
     """(mesh trial, exact trial) for every region of every splitting-face plane."""
-    piece = planner._Piece(solid, np.asarray(direction, float), [], 0, "root",
+    piece = planner.Piece(solid, np.asarray(direction, float), [], 0, "root",
                            deflection=mesh_deflection(solid))
-    piece.overhang = planner._report(piece, ANGLE).area
+    piece.overhang = planner.report_of(piece, ANGLE).area
     mesh = piece.mesh()
     assert mesh is not None
     pairs = []
@@ -45,8 +46,8 @@ def _trials(solid, direction):
         for region in regions:
             exact = cut_search._exact_region(candidates, region, mesh)
             assert exact is not None
-            pairs.append((cut_search._mesh_trial(piece, mesh, region, ANGLE, planner._search()),
-                          planner._try_cut(piece, exact, ANGLE)))
+            pairs.append((cut_search._mesh_trial(piece, mesh, region, ANGLE, planner.cut_search()),
+                          planner.try_cut(piece, exact, ANGLE)))
     return pairs
 
 
@@ -83,7 +84,7 @@ def test_a_solid_with_a_void_has_no_mesh_and_still_decomposes(App, Part):
     hollow = block.cut(void).Solids[0]
     assert len(hollow.Shells) == 2
     assert surface_mesh(hollow) is None
-    whole, holed = planner.decompose(block), planner.decompose(hollow)
+    whole, holed = decompose.decompose(block), decompose.decompose(hollow)
     assert len(holed.subparts) == len(whole.subparts) == 2
     for a, b in zip(whole.subparts, holed.subparts):
         np.testing.assert_allclose(a.build_direction, b.build_direction, atol=1e-9)
@@ -101,20 +102,20 @@ def test_overhang_reports_leave_the_solids_triangulation_shared(parts_dir):
 
 def test_only_the_cuts_the_mesh_ranks_best_are_made_exactly(monkeypatch):
     made = []
-    try_cut = planner._try_cut
+    try_cut = planner.try_cut
 
     def counted(*args, **options):
         made.append(args[1])
         return try_cut(*args, **options)
 
-    monkeypatch.setattr(planner, "_try_cut", counted)
-    plan = planner.decompose(samples.SAMPLES["hinge"]())
+    monkeypatch.setattr(planner, "try_cut", counted)
+    plan = decompose.decompose(samples.SAMPLES["hinge"]())
     assert len(plan.subparts) == 5
     # Four cuts kept; at most one more, where two candidates' meshes tie (the exact
     # search made nine here).
     assert 4 <= len(made) <= 5
     made.clear()
-    assert len(planner.decompose(samples.SAMPLES["inclined_rod"]()).subparts) == 1
+    assert len(decompose.decompose(samples.SAMPLES["inclined_rod"]()).subparts) == 1
     assert not made
 
 

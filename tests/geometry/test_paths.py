@@ -9,8 +9,9 @@ from freecad_conformal.geometry import samples
 from freecad_conformal.paths.approach import SAFE_MARGIN, bounding_sphere, check_clearance, transition
 from freecad_conformal.paths.assemble import PathSettings, assemble
 from freecad_conformal.paths.fill2d import FillSettings
-from freecad_conformal.planning.layers import LayerSettings, plan_layers
-from freecad_conformal.planning.subparts import BuildPlan, SubPart
+from freecad_conformal.layers.model import LayerSettings
+from freecad_conformal.layers.plan import plan_layers
+from freecad_conformal.decomposition.subparts import BuildPlan, SubPart
 from freecad_conformal.process.library import ToolLibrary
 from freecad_conformal.toolpath import KINDS
 

@@ -6,9 +6,9 @@ import pytest
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry import samples
-from freecad_conformal.planning.job import PlanOptions, check_reach, machine_plan, run_job
-from freecad_conformal.planning.placement import reachable_plan, turn_up
-from freecad_conformal.planning.subparts import BuildPlan, SubPart
+from freecad_conformal.jobs.plan import PlanOptions, check_reach, machine_plan, run_job
+from freecad_conformal.jobs.placement import reachable_plan, turn_up
+from freecad_conformal.decomposition.subparts import BuildPlan, SubPart
 from freecad_conformal.post.machine import load_machine
 
 

@@ -7,8 +7,8 @@ import pytest
 from freecad_conformal.cli import main
 from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry import samples
-from freecad_conformal.planning.job import PlanOptions, run_job, single_plan
-from freecad_conformal.planning.subparts import BuildPlan, SubPart
+from freecad_conformal.jobs.plan import PlanOptions, run_job, single_plan
+from freecad_conformal.decomposition.subparts import BuildPlan, SubPart
 
 
 def test_plan_command_writes_gcode_preview_and_summary(tmp_path, capsys):

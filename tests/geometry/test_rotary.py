@@ -9,7 +9,7 @@ import pytest
 
 from freecad_conformal.cli import main
 from freecad_conformal.errors import PlanError
-from freecad_conformal.planning.rotary import (
+from freecad_conformal.jobs.mandrel import (
     MandrelAxis, band_inclination, mandrel_layers, plan_mandrel, spring_solid)
 from freecad_conformal.post.machine import load_machine
 from freecad_conformal.post.verify import verify_program

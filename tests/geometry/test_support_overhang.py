@@ -5,7 +5,7 @@ import math
 
 import pytest
 
-from freecad_conformal.planning.support import overhang_area, overhang_report
+from freecad_conformal.geometry.overhang import overhang_area, overhang_report
 
 ANGLE = math.radians(45.0)
 

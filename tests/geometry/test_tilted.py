@@ -11,9 +11,10 @@ from shapely.geometry import MultiPolygon, box
 from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry import samples
 from freecad_conformal.geometry.frames import LayerFrame
-from freecad_conformal.planning import tilted
-from freecad_conformal.planning.layers import Layer, LayerSettings, check_thickness, plan_layers
-from freecad_conformal.planning.subparts import SubPart
+from freecad_conformal.layers import tilted
+from freecad_conformal.layers.model import Layer, LayerSettings, check_thickness
+from freecad_conformal.layers.plan import plan_layers
+from freecad_conformal.decomposition.subparts import SubPart
 
 Z = np.array([0.0, 0.0, 1.0])
 

@@ -1,7 +1,7 @@
 """The trial child starts before it is asked anything, and leaves quietly when it is not."""
 from __future__ import annotations
 
-from freecad_conformal.planning.trial import Trial
+from freecad_conformal.decomposition.trial import Trial
 
 
 def test_a_child_never_asked_exits_cleanly_when_its_input_closes():

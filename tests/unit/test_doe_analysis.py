@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 
 from freecad_conformal.errors import ProcessError
-from freecad_conformal.process.doe_analysis import analyze
-from freecad_conformal.process.doe_design import Design, Factor
-from freecad_conformal.process.doe_effects import RunData
-from freecad_conformal.process.doe_models import Model, find_optimum
-from freecad_conformal.process.doe_sheet import Table
-from freecad_conformal.process.doe_stats import half_normal_quantiles, lenth, t_quantile
+from freecad_conformal.process.doe.analysis import analyze
+from freecad_conformal.process.doe.design import Design
+from freecad_conformal.process.doe.effects import RunData
+from freecad_conformal.process.doe.models import Model, find_optimum
+from freecad_conformal.process.doe.sheet import Table
+from freecad_conformal.process.doe.stats import half_normal_quantiles, lenth, t_quantile
 
 DATA = Path(__file__).parent / "data"
 
@@ -115,7 +115,7 @@ def test_nominal_the_better_hits_the_target_with_a_numeric_factor():
 
 
 def test_half_normal_png_is_written(tmp_path):
-    from freecad_conformal.process.doe_plot import write_half_normal_png
+    from freecad_conformal.process.doe.plot import write_half_normal_png
 
     result = analyze(synthetic({"A": 3.0}), "lenth", "lenth")
     path = tmp_path / "hn.png"
@@ -125,8 +125,8 @@ def test_half_normal_png_is_written(tmp_path):
 
 
 def test_optimum_saved_into_a_tool(tmp_path):
-    from freecad_conformal.process.doe_sheet import read_table
-    from freecad_conformal.process.doe_to_tool import save_optimum
+    from freecad_conformal.process.doe.sheet import read_table
+    from freecad_conformal.process.doe.to_tool import save_optimum
     from freecad_conformal.process.library import ToolLibrary
 
     design = Design.from_dict(json.loads((DATA / "line_curing_design.json").read_text()))

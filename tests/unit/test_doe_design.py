@@ -11,9 +11,9 @@ import pytest
 
 from freecad_conformal.commands import doe as doe_command
 from freecad_conformal.errors import ProcessError
-from freecad_conformal.process.doe_design import Design, Factor
-from freecad_conformal.process.doe_sheet import read_table, run_sheet_text
-from freecad_conformal.process.doe_words import multiply, parse_generators
+from freecad_conformal.process.doe.design import Design, Factor
+from freecad_conformal.process.doe.sheet import read_table, run_sheet_text
+from freecad_conformal.process.doe.words import multiply, parse_generators
 
 
 def test_word_products_cancel_squares():
@@ -115,8 +115,8 @@ def test_run_sheet_holds_real_levels_and_reads_back():
 
 def test_results_round_trip_recovers_known_effects(tmp_path):
     """Fill the run sheet from a known model and read it back: the effects come out exact."""
-    from freecad_conformal.process.doe_analysis import analyze
-    from freecad_conformal.process.doe_effects import RunData
+    from freecad_conformal.process.doe.analysis import analyze
+    from freecad_conformal.process.doe.effects import RunData
 
     factors = [Factor("A", "power", 231.0, 495.0), Factor("B", "gap", 0.762, 1.27),
                Factor("C", "base", "cured resin", "plastic film"), Factor("D", "", 1.0, 3.0)]
@@ -154,7 +154,7 @@ def test_missing_result_is_reported_with_its_line(tmp_path):
 
 
 def test_incomplete_design_is_rejected(tmp_path):
-    from freecad_conformal.process.doe_effects import RunData, contrasts
+    from freecad_conformal.process.doe.effects import RunData, contrasts
 
     path = tmp_path / "r.csv"
     path.write_text("A,B,C,y\n-1,-1,-1,1\n1,-1,-1,2\n-1,1,-1,3\n1,1,-1,4\n-1,-1,1,5\n")

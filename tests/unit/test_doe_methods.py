@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from freecad_conformal.commands import doe as doe_command
-from freecad_conformal.process.doe_analysis import analyze
-from freecad_conformal.process.doe_design import Design
-from freecad_conformal.process.doe_effects import RunData
-from freecad_conformal.process.doe_sheet import read_table
+from freecad_conformal.process.doe.analysis import analyze
+from freecad_conformal.process.doe.design import Design
+from freecad_conformal.process.doe.effects import RunData
+from freecad_conformal.process.doe.sheet import read_table
 
 DATA = Path(__file__).parent / "data"
 REPLICATES = DATA / "line_curing_replicates.csv"

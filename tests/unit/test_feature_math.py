@@ -13,7 +13,7 @@ from freecad_conformal.paths.features.fill import contours, long_axis_angle, zig
 from freecad_conformal.paths.features.outlines import region_from_rings, svg_path_rings
 from freecad_conformal.paths.features.rods import (
     PointCuring, collisions, published_min_angle, rod_feeds, sphere_layout)
-from freecad_conformal.planning.rotary import (
+from freecad_conformal.jobs.mandrel import (
     band_inclination, compensated_extrusion, corrected_feed, sample_joint_line, stitch_across_seam)
 from freecad_conformal.process.tools import Envelope, Tool, UvGuide
 

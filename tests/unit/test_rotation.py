@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from freecad_conformal.errors import PlanError
-from freecad_conformal.planning.rotation import rodrigues_matrix, rotate_points, rotation_to
+from freecad_conformal.geometry.rotation import rodrigues_matrix, rotate_points, rotation_to
 
 
 def test_matrix_is_a_rotation_and_turns_x_to_y_about_z():

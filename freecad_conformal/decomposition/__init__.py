@@ -1,0 +1,1 @@
+"""Decomposition of solids into support-free sub-parts and their build order."""

@@ -1,0 +1,195 @@
+"""Candidate cuts for the decomposition, ranked before any Boolean (decomposition/decompose.py).
+
+A cut is tried exactly (a Boolean split and an overhang evaluation of every piece, the
+costly part) only when an estimate from the piece's faces says it could save overhang:
+`SavingEstimate` re-reads the piece's overhanging faces on one side of a plane in the
+direction that side would be built in. The estimate reads only the plane, so splitting-face
+planes and area-jump planes are ranked before their interior regions (a section Boolean and
+inside tests each) are computed, and only for the best ones.
+
+The centroidal axis enters only through criteria 1 and 3 of METHODS section 3 (which regions
+meet a break link): among candidates whose estimated savings tie and whose exact cuts leave
+the same total, those meeting the criteria win; and it labels the cuts "axis-face".
+`LazyAxis` computes it the first time such a tie needs it, or at the end for the labels and
+the plan: a root direction tried and rejected by `root_direction="auto"` then usually never
+pays for its axis (13 s of CrankArm's arm).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable, Iterator
+
+import numpy as np
+
+from freecad_conformal.geometry.concave_edges import concave_edges
+from freecad_conformal.geometry.splitting_faces import SplitCandidate
+
+#: Candidate cuts split exactly per refinement step, best estimated saving first: the
+#: estimate ranks well enough that the winner is among the first few, and each exact split
+#: is a Boolean plus an overhang evaluation of every piece. (Taking the first that saves
+#: anything instead leads CrankArm's greedy search elsewhere: 15 sub-parts in 25 s.)
+MAX_EXACT_CUTS = 3
+
+#: Area-jump planes (largest ∂ first) whose saving is estimated: the mesh profile and the
+#: estimate are cheap, so all jumps of a piece are ranked by what they could save.
+JUMP_PLANES = 64
+
+#: Two estimated savings closer than this (mm²) are a tie: regions of all tied planes are
+#: computed, and the axis criteria break the tie.
+SAVING_TIE = 1e-9
+
+
+class LazyAxis:
+    """The centroidal axis of one solid from its root direction, computed on first use."""
+
+    def __init__(self, compute: Callable[[], object]) -> None:
+        self._compute = compute
+        self._axis = None
+
+    @property
+    def computed(self) -> bool:
+        return self._axis is not None
+
+    def get(self):
+        if self._axis is None:
+            self._axis = self._compute()
+        return self._axis
+
+    def supports(self, candidate: SplitCandidate) -> bool:
+        """Criteria 1 and 3 (METHODS section 3) for the candidate's region."""
+        points = (candidate.boundary if candidate.boundary is not None
+                  else boundary_points(candidate.region))
+        return self.get().supports_split(candidate.normal, points)
+
+
+def boundary_points(face) -> np.ndarray:
+    """Points of a face's outer boundary (vertices and a few points along curved edges)."""
+    return np.array([tuple(p) for p in face.OuterWire.discretize(Number=32)])
+
+
+class SavingEstimate:
+    """How much overhang a cut could save: the piece's overhanging faces on one side of the
+    plane, re-read in the direction that side would be built in (the plane's normal away
+    from the other side). An estimate for ranking: the exact split decides. It reads only
+    the plane, so planes are ranked before their regions are computed."""
+
+    def __init__(self, shape, angle: float, report) -> None:
+        from freecad_conformal.geometry.face_normals import plane_normal
+        from freecad_conformal.geometry.surface_mesh import face_part, mesh_deflection
+
+        self.threshold = math.sin(angle)
+        faces = shape.Faces
+        deflection = mesh_deflection(shape)
+        self.faces = []
+        for index, area in report.faces:
+            face = faces[index]
+            normal = plane_normal(face)
+            surface = normal if normal is not None else face_part(face, deflection)
+            self.faces.append((np.array(tuple(face.CenterOfMass)), area, surface))
+
+    def _overhang(self, surface, area: float, d: np.ndarray) -> float:
+        if isinstance(surface, np.ndarray):
+            return area if surface @ d < -self.threshold else 0.0
+        return min(area, surface.below(d, self.threshold))
+
+    def saving(self, candidate: SplitCandidate) -> float:
+        n = candidate.normal
+        sides = {1.0: 0.0, -1.0: 0.0}
+        for centre, area, surface in self.faces:
+            side = 1.0 if (centre - candidate.point) @ n > 0 else -1.0
+            sides[side] += area - self._overhang(surface, area, side * n)
+        return max(sides.values())
+
+
+@dataclass
+class PlaneCandidates:
+    """One plane worth a cut: its estimated saving, and its interior regions (restricted to
+    those touching `edges` [(face index, concave edges)] when given), read exactly (a
+    section Boolean, computed once when first asked) or on the piece's mesh (cheap)."""
+
+    saving: float
+    point: np.ndarray
+    normal: np.ndarray
+    rule: str
+    exact: Callable[[], list[SplitCandidate]]
+    edges: list | None = None
+    _regions: list[SplitCandidate] | None = field(default=None, repr=False)
+
+    def regions(self) -> list[SplitCandidate]:
+        """The exact regions, as cut candidates."""
+        if self._regions is None:
+            self._regions = self.exact()
+        return self._regions
+
+    def mesh_regions(self, mesh) -> list:
+        """The regions on `mesh` (decomposition/mesh_cut.py), in the order of `regions()`."""
+        from freecad_conformal.decomposition.mesh_cut import mesh_regions
+
+        touching = None if self.edges is None else [
+            (index, [edge_points(e.edge) for e in edge_list]) for index, edge_list in self.edges]
+        found = mesh_regions(mesh, self.point, self.normal, touching)
+        return sorted(found, key=lambda r: -1 if r.face_index is None else r.face_index)
+
+
+def edge_points(edge) -> np.ndarray:
+    """Points along an edge, at its vertices and 32 steps between."""
+    return np.array([tuple(p) for p in edge.discretize(Number=33)])
+
+
+def area_jump_candidates(shape, direction: np.ndarray, estimate: SavingEstimate,
+                         needed: float) -> Iterator[PlaneCandidates]:
+    """The best MAX_EXACT_CUTS area-jump planes worth a cut, best first: the planes are
+    ranked before their regions are computed, and a plane's exact regions (a section
+    Boolean) are computed only when `regions()` is called."""
+    from freecad_conformal.geometry.area_jumps import area_jump_planes, plane_candidates
+
+    planes = []
+    for _, point, normal in area_jump_planes(shape, direction, exact=False, limit=JUMP_PLANES):
+        saving = estimate.saving(SplitCandidate(point, normal, None, "area-jump"))
+        if saving > needed:
+            planes.append((saving, point, normal))
+    planes.sort(key=lambda item: -item[0])
+    # The best few only, ties or not: a staircase of area jumps (CrankArm's curved end)
+    # ties dozens of planes, each worth a Boolean.
+    for saving, point, normal in planes[:MAX_EXACT_CUTS]:
+        yield PlaneCandidates(saving, point, normal, "area-jump",
+                              lambda point=point, normal=normal: plane_candidates(shape, point, normal))
+
+
+def face_candidates(shape, estimate: SavingEstimate, needed: float,
+                    concave: list | None = None) -> Iterator[PlaneCandidates]:
+    """The planes of splitting faces worth a cut, best first, as `area_jump_candidates`.
+    `concave`: the shape's concave edges when known."""
+    from freecad_conformal.geometry.splitting_faces import candidate_planes, plane_regions
+
+    if concave is None:
+        concave = concave_edges(shape)
+    planes = [(estimate.saving(plane.probe()), order, plane) for order, plane
+              in enumerate(candidate_planes(shape, concave))]
+    planes = sorted((p for p in planes if p[0] > needed), key=lambda item: (-item[0], item[1]))
+    for saving, _, plane in planes:
+        yield PlaneCandidates(saving, plane.point, plane.normal, "concave-face",
+                              lambda plane=plane: sorted(plane_regions(shape, plane),
+                                                         key=lambda r: r.face_index),
+                              plane.faces)
+
+
+def axis_first(trials: list, axis: LazyAxis | None, tolerance: float) -> list:
+    """`trials` [(saving, candidate, result)] in rank order, with candidates meeting the axis
+    criteria moved first within each tie of estimated saving — computed (and the axis with
+    it) only when two tied candidates' exact totals are within `tolerance`, the one case in
+    which their order picks the winner."""
+    if axis is None:
+        return trials
+    decisive = any(abs(a[0] - b[0]) <= SAVING_TIE and a[2] is not None and b[2] is not None
+                   and abs(a[2][0] - b[2][0]) <= tolerance
+                   for i, a in enumerate(trials) for b in trials[i + 1:])
+    if not decisive:
+        return trials
+    for _, candidate, _ in trials:
+        if candidate.rule == "concave-face" and axis.supports(candidate):
+            candidate.rule = "axis-face"
+    order = sorted(range(len(trials)), key=lambda i: (
+        -trials[i][0], 0 if trials[i][1].rule == "axis-face" else 1, i))
+    return [trials[i] for i in order]

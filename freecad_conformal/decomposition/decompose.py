@@ -1,0 +1,220 @@
+"""Decomposition of a solid into support-free sub-parts (METHODS sections 3 and 4).
+
+Each piece starts with the overhang it has in its build direction. While some remains, the
+candidate cuts are tried exactly (a Boolean split along one planar region): regions on the
+planes of faces with concave edges, checked against the centroidal axis' break links
+(section 3), then the area-jump planes of section 4. The cut that leaves the least total
+overhang wins, the piece beyond it becomes a child built away from its parent along the
+plane's normal, and both halves are refined again. A cut that saves nothing is not made,
+so a part that is already support-free stays whole, except where several members leave one
+face along the build direction (a table's legs): those become sub-parts built on it, as in
+section 4's partition (decomposition/members.py).
+"""
+from __future__ import annotations
+
+import math
+from typing import Sequence
+
+import numpy as np
+
+from freecad_conformal.errors import GeometryError, PlanError
+from freecad_conformal.geometry.solids import solids_of
+from freecad_conformal.geometry.splitting_faces import SplitCandidate, repaired
+from freecad_conformal.decomposition.cuts import (LazyAxis)
+from freecad_conformal.geometry.rotation import rotation_to
+from freecad_conformal.decomposition.planner import (LEVEL_TOLERANCE, MIN_SAVING, SAME_DIRECTION,
+                                                     Piece, Planner, touch_area)
+from freecad_conformal.decomposition.trial import Trial, can_start_child, worth_a_trial
+from freecad_conformal.decomposition.subparts import BuildPlan, SubPart
+from freecad_conformal.geometry.overhang import (DEFAULT_OVERHANG_ANGLE, best_single_direction,
+                                                check_angle, lowest_level, overhang_area,
+                                                overhang_report)
+
+METHODS = ("true-direction", "published")
+#: `root_direction` value that lets each solid's root be built along the best of ±X, ±Y, ±Z
+#: when that leaves less overhang than the part as placed (+Z).
+AUTO_ROOT = "auto"
+#: Machine build axis: every sub-part is turned so its build direction points along it.
+BUILD_AXIS = np.array([0.0, 0.0, 1.0])
+#: More sub-parts than this is taken as a runaway split and stops the refinement.
+DEFAULT_MAX_SUBPARTS = 24
+
+
+def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: str = "fdm_0p4",
+              method: str = "true-direction",
+              root_direction: Sequence[float] | str = (0.0, 0.0, 1.0),
+              max_subparts: int = DEFAULT_MAX_SUBPARTS, check_collisions: bool = True,
+              axis_step: float | None = None) -> BuildPlan:
+    """Split `shape` into sub-parts that build without support, and order them.
+
+    Args:
+        shape: a solid or a compound of solids, placed as it sits on the bed (+Z up).
+        overhang_angle: allowed overhang from the build direction (rad, default 45°).
+        tool: id of the tool in the library whose envelope is checked for collisions.
+        method: "true-direction" (the axis follows inclined members) or "published"
+            (the axis turns to the nearest of ±X, ±Y, ±Z as in METHODS section 3).
+        root_direction: build direction of each solid's first sub-part, or "auto": +Z
+            unless building the solid's root along its best single axis direction leaves
+            less overhang after the split (a note says so).
+        max_subparts: stop splitting beyond this many sub-parts (a note says so).
+        check_collisions: order brothers so the tool envelope clears what is built.
+        axis_step: step of the centroidal axis (mm); default from the part's size.
+    Raises:
+        GeometryError: the shape is not a valid solid.
+        PlanError: bad parameters, or no collision-free order exists.
+    """
+    check_angle(overhang_angle)
+    if method not in METHODS:
+        raise PlanError(f"decomposition method must be one of {', '.join(METHODS)}, got {method!r}")
+    if max_subparts < 1:
+        raise PlanError(f"max_subparts must be at least 1, got {max_subparts}")
+    auto = isinstance(root_direction, str)
+    if auto and root_direction != AUTO_ROOT:
+        raise PlanError(f"root direction must be a 3-vector or {AUTO_ROOT!r}, got {root_direction!r}")
+    root = np.array([0.0, 0.0, 1.0]) if auto else np.asarray(root_direction, dtype=float)
+    if root.shape != (3,) or not np.all(np.isfinite(root)) or np.linalg.norm(root) < 1e-12:
+        raise PlanError(f"root direction must be a non-zero 3-vector, got {list(root_direction)!r}")
+    root = root / np.linalg.norm(root)
+    solids = solids_of(shape, "part")
+    notes: list[str] = []
+    pieces: list[Piece] = []
+    parents: list[int | None] = []
+    axes = []
+    for solid_index, solid in enumerate(solids):
+        budget = max_subparts - len(pieces)
+        plan = Planner(solid, solid_index, overhang_angle, method, axis_step, budget)
+        trial = None
+        try:
+            if auto:
+                if worth_a_trial(solid) and can_start_child():
+                    trial = Trial()  # starting up while the direction is found
+                # Its mesh first: the overhang in six directions then reads faces from it.
+                plan.root_mesh()
+                direction, area = best_single_direction(solid, overhang_angle)
+                turn = _angle(direction, root) > SAME_DIRECTION
+                if (trial is not None and turn
+                        and overhang_area(solid, root, overhang_angle) > area + MIN_SAVING):
+                    # The as-placed plan may keep more overhang than turning the solid
+                    # whole: plan from that direction on the other core meanwhile.
+                    trial.plan(plan, direction)
+                elif trial is not None:
+                    trial.stop()
+                    trial = None
+            axis, refined = plan(root, notes)
+            if auto and _total(refined) > area + MIN_SAVING and turn:
+                # The part as placed keeps more overhang than turning it whole would: plan
+                # from that direction and keep whichever leaves less.
+                trial_notes: list[str] = []
+                result = None
+                if trial is not None:
+                    # Its axis, while the child may still be planning: needed if it wins.
+                    other_axis = plan.axis(direction)
+                    other_axis.get()
+                    result = trial.result()
+                    trial = None
+                if result is not None:
+                    other = other_axis, result[0]
+                    trial_notes = result[1]
+                else:
+                    other = plan(direction, trial_notes)
+                if _total(other[1]) < _total(refined) - MIN_SAVING:
+                    axis, refined = other
+                    notes.extend(trial_notes)
+                    notes.append(f"solid {solid_index + 1}: root built along "
+                                 f"{_text(direction)} (less overhang than as placed)")
+        finally:
+            if trial is not None:
+                trial.stop()
+        axes.append(_label(axis, refined))
+        first = len(pieces)
+        pieces.extend(refined)
+        parents.extend(_parents_of(refined, first))
+    subparts = [_subpart(i, p, parents[i], overhang_angle) for i, p in enumerate(pieces)]
+    from freecad_conformal.decomposition.build_order import build_order
+
+    order = build_order(subparts, tool=tool if check_collisions else None, notes=notes)
+    single = _best_single(solids, overhang_angle)
+    return BuildPlan(subparts=subparts, order=order, support_area_single_direction=single[1],
+                     notes=notes, overhang_angle=overhang_angle, method=method,
+                     single_direction=single[0], axes=axes)
+
+
+def _label(axis: LazyAxis, pieces: list[Piece]):
+    """The solid's axis; cuts along splitting faces meeting its criteria become "axis-face"."""
+    for piece in pieces:
+        if piece.rule in ("concave-face", "axis-face"):
+            probe = SplitCandidate(np.zeros(3), piece.direction, piece.base_faces[0], piece.rule)
+            piece.rule = "axis-face" if axis.supports(probe) else "concave-face"
+    return axis.get()
+
+
+def _total(pieces: list[Piece]) -> float:
+    return float(sum(p.overhang for p in pieces))
+
+
+def _angle(a: np.ndarray, b: np.ndarray) -> float:
+    return math.acos(float(np.clip(np.asarray(a) @ np.asarray(b), -1.0, 1.0)))
+
+
+def _text(vector) -> str:
+    return "(" + ", ".join(f"{float(c):+.3g}" for c in vector) + ")"
+
+
+def _best_single(solids: list, angle: float) -> tuple[np.ndarray, float]:
+    from freecad_conformal.geometry.overhang import best_single_direction
+    from freecad_conformal.freecad_env import import_freecad
+
+    _, Part = import_freecad()
+    whole = solids[0] if len(solids) == 1 else Part.makeCompound(solids)
+    return best_single_direction(whole, angle)
+
+
+def _subpart(index: int, piece: Piece, parent: int | None, angle: float) -> SubPart:
+    axis, rotation = rotation_to(piece.direction, BUILD_AXIS)
+    on_bed = parent is None
+    if piece.report is not None and piece.report.angle == angle and on_bed == (piece.rule == "root"):
+        report = piece.report  # read while planning, with the same base faces
+    else:
+        report = overhang_report(piece.shape, piece.direction, angle, piece.base_faces,
+                                 on_bed=on_bed)
+    base = piece.base_faces[0] if piece.base_faces else _bed_face(piece.shape, piece.direction)
+    # Layers and paths cut the sub-part again: it must pass OCC's check.
+    return SubPart(index=index, shape=repaired(piece.shape), build_direction=piece.direction,
+                   base_face=base, parent=parent, volume=float(piece.shape.Volume),
+                   rotation_axis=axis, rotation_angle=rotation, overhang_area=report.area,
+                   name=f"P{index + 1}", rule=piece.rule, solid_index=piece.solid_index,
+                   overhang_faces=[f"Face{i + 1}" for i, _ in report.faces])
+
+
+def _bed_face(shape, d: np.ndarray):
+    """The largest planar face on the lowest plane facing −d (the face on the bed), if any."""
+    from freecad_conformal.geometry.face_normals import plane_normal
+
+    low = lowest_level(shape, d)
+    best = None
+    for face in shape.Faces:
+        normal = plane_normal(face)
+        if normal is None or normal @ d > -1 + 1e-9:
+            continue
+        if abs(float(np.array(tuple(face.Vertexes[0].Point)) @ d) - low) > LEVEL_TOLERANCE:
+            continue
+        if best is None or face.Area > best.Area:
+            best = face
+    return best
+
+
+def _parents_of(pieces: list[Piece], offset: int) -> list[int | None]:
+    """Parent of each piece: the other piece sharing most of its base faces (a cut made
+    early may end up resting on a piece split off later)."""
+    parents: list[int | None] = []
+    for index, piece in enumerate(pieces):
+        if not piece.base_faces:
+            parents.append(None)
+            continue
+        shares = [(sum(touch_area(other.shape, f) for f in piece.base_faces), j)
+                  for j, other in enumerate(pieces) if j != index]
+        area, j = max(shares) if shares else (0.0, None)
+        if j is None or area <= 0:
+            raise GeometryError(f"sub-part {offset + index + 1} rests on no other sub-part")
+        parents.append(offset + j)
+    return parents

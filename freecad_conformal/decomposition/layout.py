@@ -1,0 +1,199 @@
+"""Separate solids laid out on the platform, each standing on the base of its root.
+
+A part of several solids (an assembly, such as CrankArm's arm and the pin through its bore)
+is several objects on one platform. The decomposition plans each solid as a tree of its own,
+its root built from the solid's lowest level along the root's direction, and `root="auto"`
+may choose a direction other than +Z for a solid. On the machine every root must stand on
+the platform: `lay_out` turns each solid about its own centre so its root direction points
+up (+Z), lowers it onto the platform (the lowest point of the part as placed) and sets each
+solid that had to move beside the others along +X, `gap` apart, so the tool building one
+never brushes another. A solid already standing on the platform along +Z, clear of the
+others, stays where it is; so does a part of one solid whose root is built along +Z.
+"""
+from __future__ import annotations
+
+import copy
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.sections import extent_along
+from freecad_conformal.geometry.rotation import rodrigues_matrix, rotation_to
+from freecad_conformal.decomposition.subparts import BuildPlan
+
+UP = np.array([0.0, 0.0, 1.0])
+
+#: A solid whose lowest point is within this (mm) of the platform stands on it.
+ON_PLATFORM = 1e-6
+
+#: Sub-parts reaching further than this (mm) below their root's base are noted: the
+#: decomposition does not treat the platform as an obstacle.
+BELOW_PLATFORM = 1e-3
+
+
+@dataclass
+class SolidMove:
+    """Solid `solid_index` turned by `angle` (rad) about `axis` through `pivot`, then shifted."""
+
+    solid_index: int
+    axis: np.ndarray
+    angle: float
+    pivot: np.ndarray
+    shift: np.ndarray
+
+    def apply(self, point: np.ndarray) -> np.ndarray:
+        return self.rotate(np.asarray(point, dtype=float) - self.pivot) + self.pivot + self.shift
+
+    def rotate(self, vector: np.ndarray) -> np.ndarray:
+        """A vector (or rows of vectors) turned by the move's rotation."""
+        return np.asarray(vector, dtype=float) @ rodrigues_matrix(self.axis, self.angle).T
+
+    def shape(self, shape):
+        """A moved copy of a FreeCAD shape."""
+        App, _ = import_freecad()
+        moved = shape.copy()
+        if self.angle > 0.0:
+            moved.rotate(App.Vector(*self.pivot), App.Vector(*self.axis), math.degrees(self.angle))
+        moved.translate(App.Vector(*self.shift))
+        return moved
+
+    def describe(self) -> str:
+        shift = ", ".join(f"{c:+.3f}" for c in self.shift)
+        turn = ""
+        if self.angle > 0.0:
+            axis = ", ".join(f"{c:+g}" for c in np.round(self.axis, 6))
+            turn = f"turned {math.degrees(self.angle):.0f} deg about ({axis}) through its centre, "
+        return (f"solid {self.solid_index + 1} laid out on the platform: {turn}moved by "
+                f"({shift}) mm; its G-code is in that frame")
+
+
+def lay_out(plan: BuildPlan, gap: float) -> BuildPlan:
+    """The plan with every solid standing on the platform along +Z (see the module
+    docstring); the same plan when nothing has to move. Notes say what moved."""
+    roots = {sub.solid_index: sub for sub in plan.subparts if sub.parent is None}
+    if len(roots) == 1 and _upright(next(iter(roots.values()))):
+        return plan
+    shapes = {k: [s.shape for s in plan.subparts if s.solid_index == k] for k in roots}
+    # The platform: under the lowest root built along +Z as placed (else the part's bottom).
+    upright = [extent_along(root.shape, UP)[0] for root in roots.values() if _upright(root)]
+    platform = min(upright) if upright else extent_along(_compound([s.shape for s in plan.subparts]), UP)[0]
+    moves: dict[int, SolidMove] = {}
+    boxes: dict[int, tuple[float, float, float, float]] = {}
+    notes: list[str] = []
+    for k, root in sorted(roots.items()):
+        axis, angle = rotation_to(root.build_direction, UP)
+        whole = _compound(shapes[k])
+        box = whole.BoundBox
+        pivot = np.array([box.Center.x, box.Center.y, box.Center.z])
+        move = SolidMove(k, axis, float(angle), pivot, np.zeros(3))
+        turned = move.shape(whole)
+        # The root's base goes on the platform: the layers start there.
+        base = extent_along(move.shape(root.shape), UP)[0]
+        move.shift[2] = platform - base
+        below = base - extent_along(turned, UP)[0]
+        if below > BELOW_PLATFORM:
+            notes.append(f"solid {k + 1}: sub-parts built after its root reach {below:.3f} mm "
+                         "below the root's base, into the platform")
+        moves[k] = move
+        boxes[k] = _footprint(turned, move.shift)
+    # Solids already standing on the platform along +Z, clear of each other, keep their place;
+    # each other one is set beside those placed, on the side its sub-parts and theirs do not
+    # point to (a tool building sideways, and its approach, then face away from the others).
+    directions = {k: np.array([m.rotate(np.asarray(s.build_direction, dtype=float))
+                               for s in plan.subparts if s.solid_index == k]) for k, m in moves.items()}
+    placed: dict[int, tuple[float, float, float, float]] = {}
+    for k in sorted(moves):
+        move = moves[k]
+        standing = move.angle == 0.0 and abs(move.shift[2]) <= ON_PLATFORM
+        if not (standing and not any(_overlap(boxes[k], other, gap) for other in placed.values())):
+            if placed:
+                shift = _beside(boxes[k], placed, directions, k, gap)
+                move.shift[:2] += shift
+                boxes[k] = (boxes[k][0] + shift[0], boxes[k][1] + shift[0],
+                            boxes[k][2] + shift[1], boxes[k][3] + shift[1])
+        placed[k] = boxes[k]
+    moving = {k: m for k, m in moves.items() if m.angle > 0.0 or np.linalg.norm(m.shift) > ON_PLATFORM}
+    if not moving:
+        return plan
+    laid = _moved(plan, moving)
+    laid.notes.extend(notes)
+    return laid
+
+
+#: Sides a solid may be set beside the others: +X, −X, +Y, −Y (the first wins a tie).
+SIDES = (np.array([1.0, 0.0]), np.array([-1.0, 0.0]), np.array([0.0, 1.0]), np.array([0.0, -1.0]))
+
+
+def _beside(box, placed: dict, directions: dict, k: int, gap: float) -> np.ndarray:
+    """(dx, dy) setting footprint `box` `gap` beyond the placed ones, centred on them across,
+    on the side least faced by its build directions (towards them) and theirs (towards it)."""
+    others = list(placed.values())
+    union = (min(b[0] for b in others), max(b[1] for b in others),
+             min(b[2] for b in others), max(b[3] for b in others))
+
+    def facing(side: np.ndarray) -> float:
+        mine = float(np.max(directions[k][:, :2] @ side))
+        theirs = max(float(np.max(directions[j][:, :2] @ -side)) for j in placed)
+        return max(mine, 0.0) + max(theirs, 0.0)
+
+    side = min(SIDES, key=facing)
+    centre = np.array([0.5 * (box[0] + box[1]), 0.5 * (box[2] + box[3])])
+    target = np.array([0.5 * (union[0] + union[1]), 0.5 * (union[2] + union[3])])
+    half = np.array([0.5 * (box[1] - box[0]), 0.5 * (box[3] - box[2])])
+    reach = np.array([0.5 * (union[1] - union[0]), 0.5 * (union[3] - union[2])])
+    along = int(np.argmax(np.abs(side)))
+    target[along] += side[along] * (reach[along] + gap + half[along])
+    return target - centre
+
+
+def _upright(root) -> bool:
+    return bool(np.allclose(root.build_direction, UP, atol=1e-12))
+
+
+def _moved(plan: BuildPlan, moves: dict[int, SolidMove]) -> BuildPlan:
+    """A copy of the plan with the moved solids' sub-parts, bases, directions and axes."""
+    subparts = []
+    for sub in plan.subparts:
+        move = moves.get(sub.solid_index)
+        if move is None:
+            subparts.append(sub)
+            continue
+        direction = move.rotate(np.asarray(sub.build_direction, dtype=float))
+        axis, angle = rotation_to(direction, UP)
+        subparts.append(dataclasses.replace(
+            sub, shape=move.shape(sub.shape), build_direction=direction,
+            base_face=None if sub.base_face is None else move.shape(sub.base_face),
+            rotation_axis=axis, rotation_angle=float(angle)))
+    return dataclasses.replace(plan, subparts=subparts,
+                               axes=[_moved_axis(axis, moves.get(k)) for k, axis in enumerate(plan.axes)],
+                               notes=list(plan.notes) + [moves[k].describe() for k in sorted(moves)])
+
+
+def _moved_axis(axis, move: SolidMove | None):
+    if move is None:
+        return axis
+    moved = copy.deepcopy(axis)
+    for node in moved.nodes:
+        node.point = move.apply(node.point)
+    for branch in moved.branches:
+        branch.direction = move.rotate(branch.direction)
+    return moved
+
+
+def _compound(shapes: list):
+    _, Part = import_freecad()
+    return shapes[0] if len(shapes) == 1 else Part.makeCompound(shapes)
+
+
+def _footprint(shape, shift: np.ndarray) -> tuple[float, float, float, float]:
+    """(x_min, x_max, y_min, y_max) of the shape's box, shifted."""
+    box = shape.BoundBox
+    return (box.XMin + shift[0], box.XMax + shift[0], box.YMin + shift[1], box.YMax + shift[1])
+
+
+def _overlap(a, b, gap: float) -> bool:
+    """Whether two footprints come closer than `gap`."""
+    return (a[0] < b[1] + gap and b[0] < a[1] + gap and a[2] < b[3] + gap and b[2] < a[3] + gap)

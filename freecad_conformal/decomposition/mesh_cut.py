@@ -1,0 +1,364 @@
+"""Trial cuts on a piece's mesh (geometry/surface_mesh.py), for ranking the decomposition's
+candidate cuts without Booleans (decomposition/decompose.py).
+
+A plane's interior regions are the points with material on both sides of it: the mesh's
+sections just above and just below the plane, intersected (shapely). Cutting along one
+region R splits the surface where it crosses the plane inside R and nowhere else: triangles
+crossing the plane are split there, pieces sharing an edge are joined unless the edge lies
+in the plane within R, and the connected parts are the trial's pieces. Their overhang is
+read from the exact corner normals as `FacePart.below` does (geometry/surface_mesh.py); the part's exact cut then
+only has to be made for the cut that wins.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import reduce
+
+import numpy as np
+import shapely
+from shapely.geometry import LineString, Polygon
+
+from freecad_conformal.geometry.components import connected_labels
+from freecad_conformal.geometry.surface_mesh import SurfaceMesh
+
+#: A node within this (mm) of the plane lies on it: OCC's confusion distance; nodes on a
+#: planar face in the plane sit there to ~1e-12.
+ON_PLANE = 1e-7
+
+#: The sections read as "just above" and "just below" the plane are this far (mm) from it:
+#: beyond ON_PLANE, and far below any wall's horizontal run at the mesh's angles.
+SECTION_OFFSET = 1e-6
+
+#: An edge in the plane lies in the region when within this (mm) of it: the region's outline
+#: comes from sections SECTION_OFFSET away, which moves a wall at 1° to the plane by 6e-5.
+IN_REGION = 1e-4
+
+#: Regions and pieces with less area than this fraction of the piece's surface are slivers
+#: of the offset sections or of split triangles (mm² relative).
+SLIVER_AREA = 1e-9
+
+
+@dataclass
+class MeshRegion:
+    """One interior region of a plane, as a polygon in the plane's frame (u, v)."""
+
+    point: np.ndarray
+    normal: np.ndarray
+    u: np.ndarray
+    v: np.ndarray
+    polygon: Polygon
+    face_index: int | None = None
+
+    def to_3d(self, xy: np.ndarray) -> np.ndarray:
+        xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+        return self.point + xy[:, :1] * self.u + xy[:, 1:] * self.v
+
+    def boundary_points(self) -> np.ndarray:
+        return self.to_3d(np.asarray(self.polygon.exterior.coords))
+
+    def inner_point(self) -> np.ndarray:
+        p = self.polygon.representative_point()
+        return self.to_3d([p.x, p.y])[0]
+
+
+@dataclass
+class MeshTrial:
+    """Overhang (mm²) left by one trial cut: the kept piece's, and each child's with its
+    build direction."""
+
+    total: float
+    keeper: float
+    children: list[tuple[np.ndarray, float]]
+
+
+def mesh_overhang(mesh: SurfaceMesh, direction: np.ndarray, threshold: float,
+                  factor: np.ndarray) -> float:
+    """The uncut mesh's overhang in `direction` (as a trial reads it, for comparing)."""
+    area = _areas(mesh)
+    return _overhang(area, mesh.normals, np.ones(len(area), bool), direction, threshold,
+                     factor[mesh.faces])
+
+
+def plane_frame(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit vectors completing `normal` to a right-handed frame."""
+    helper = np.array([1.0, 0.0, 0.0]) if abs(normal[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    u = np.cross(normal, helper)
+    u /= np.linalg.norm(u)
+    return u, np.cross(normal, u)
+
+
+def mesh_regions(mesh: SurfaceMesh, point: np.ndarray, normal: np.ndarray,
+                 touching: list[tuple[int, list[np.ndarray]]] | None = None) -> list[MeshRegion]:
+    """The plane's interior regions; with `touching` [(face index, [edge points (K, 3)])],
+    only those touching one of the edges, credited to the first face whose edge they touch
+    (as `splitting_faces.plane_regions`)."""
+    u, v = plane_frame(normal)
+    s = (mesh.points - point) @ normal
+    above = _section(mesh, s - SECTION_OFFSET, point, u, v)
+    below = _section(mesh, s + SECTION_OFFSET, point, u, v)
+    inside = above.intersection(below)
+    polygons = [g for g in getattr(inside, "geoms", [inside]) if isinstance(g, Polygon)]
+    minimum = SLIVER_AREA * max(float(np.sum(_areas(mesh))), 1.0)
+    regions = []
+    for polygon in polygons:
+        if polygon.area <= minimum:
+            continue
+        region = MeshRegion(point, normal, u, v, polygon)
+        if touching is None:
+            regions.append(region)
+            continue
+        reach = 2.0 * mesh.deflection + IN_REGION
+        for index, edges in touching:
+            if any(polygon.distance(_line(e, point, u, v)) < reach for e in edges):
+                region.face_index = index
+                regions.append(region)
+                break
+    return regions
+
+
+def _line(points: np.ndarray, origin: np.ndarray, u: np.ndarray, v: np.ndarray):
+    rel = points - origin
+    xy = np.column_stack([rel @ u, rel @ v])
+    return LineString(xy) if len(xy) > 1 else shapely.Point(xy[0])
+
+
+def _areas(mesh: SurfaceMesh) -> np.ndarray:
+    a, b, c = (mesh.points[mesh.triangles[:, k]] for k in range(3))
+    return 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1) * mesh.scale
+
+
+def _straddling(side: np.ndarray, triangles: np.ndarray):
+    """Triangles with nodes on both sides, and their nodes (a, b, c) rotated so a is alone."""
+    sides = side[triangles]
+    count = sides.sum(axis=1)
+    crossing = np.nonzero((count == 1) | (count == 2))[0]
+    lone = np.where(count[crossing] == 1, np.argmax(sides[crossing], axis=1),
+                    np.argmin(sides[crossing], axis=1))
+    order = (lone[:, None] + np.arange(3)[None, :]) % 3
+    abc = np.take_along_axis(triangles[crossing], order, axis=1)
+    return crossing, order, abc
+
+
+def _cut_points(mesh: SurfaceMesh, s: np.ndarray, abc: np.ndarray):
+    """Where the edges a–b and c–a of the straddling triangles `abc` (a alone) meet s = 0:
+    one point per mesh edge (both triangles on it read the same), and per triangle the
+    index of its point on a–b and on c–a."""
+    n = len(mesh.points)
+    a, b, c = abc[:, 0], abc[:, 1], abc[:, 2]
+    on_ab = np.minimum(a, b) * n + np.maximum(a, b)
+    on_ca = np.minimum(c, a) * n + np.maximum(c, a)
+    keys, inverse = np.unique(np.concatenate([on_ab, on_ca]), return_inverse=True)
+    i, j = keys // n, keys % n
+    t = s[i] / (s[i] - s[j])
+    points = mesh.points[i] + t[:, None] * (mesh.points[j] - mesh.points[i])
+    return points, inverse[:len(abc)], inverse[len(abc):]
+
+
+def _section(mesh: SurfaceMesh, s: np.ndarray, origin, u, v):
+    """The material's section where s = 0 (no node exactly there), as shapely geometry."""
+    side = s > 0
+    _, _, abc = _straddling(side, mesh.triangles)
+    if not len(abc):
+        return Polygon()
+    xyz, first, second = _cut_points(mesh, s, abc)
+    xy = np.column_stack([(xyz - origin) @ u, (xyz - origin) @ v])
+    neighbours: dict[int, list[int]] = {}
+    for p, q in zip(first.tolist(), second.tolist()):
+        neighbours.setdefault(p, []).append(q)
+        neighbours.setdefault(q, []).append(p)
+    rings = []
+    seen: set[int] = set()
+    for begin in neighbours:
+        if begin in seen:
+            continue
+        ring, previous, current = [begin], None, begin
+        seen.add(begin)
+        while True:
+            options = [k for k in neighbours[current] if k != previous]
+            following = options[0] if options else None
+            if following is None or following == begin or following in seen:
+                break
+            ring.append(following)
+            seen.add(following)
+            previous, current = current, following
+        if len(ring) >= 3:
+            polygon = Polygon(xy[ring])
+            rings.append(polygon if polygon.is_valid else polygon.buffer(0))
+    if not rings:
+        return Polygon()
+    # Rings of a closed surface's section do not cross: even-odd nesting is the material.
+    return reduce(lambda a, b: a.symmetric_difference(b), sorted(rings, key=lambda r: -r.area))
+
+
+def mesh_trial(mesh: SurfaceMesh, region: MeshRegion, direction: np.ndarray, threshold: float,
+               keeper_factor: np.ndarray, low: float, level_tolerance: float,
+               same_direction: float) -> MeshTrial | None:
+    """The overhang left by cutting the mesh along `region`, or None when the cut does not
+    leave one piece on the base and children built away from it.
+
+    Args:
+        direction: the piece's build direction; the kept piece is the one part with a vertex
+            at its lowest level `low` (within `level_tolerance`) and, if the piece has
+            planar faces there facing down, one of them.
+        threshold: sin of the allowed overhang angle.
+        keeper_factor: per face of the piece, the share of its overhang the piece has in
+            `direction` (below 1 where a planar face rests on the bed or the base).
+        same_direction: children built within this angle (rad) of `direction` are no use.
+    """
+    p, n = region.point, region.normal
+    s = (mesh.points - p) @ n
+    side = s > ON_PLANE
+    split = _split(mesh, s, side)
+    pieces, corners, normals = split.pieces, split.corners, split.normals
+    tri_of, edges = split.tri_of, split.edges
+    upper = _piece_sides(mesh, split, s, side, n)
+    on_plane = np.concatenate([np.abs(s) <= ON_PLANE, np.ones(len(corners) - len(mesh.points), bool)])
+    # Edges lying in the plane inside the region are where the cut separates the surface.
+    count = len(corners)
+    i, j = edges[:, 1] // count, edges[:, 1] % count
+    flat = on_plane[i] & on_plane[j]
+    middle = 0.5 * (corners[i[flat]] + corners[j[flat]]) - p
+    inside = np.zeros(len(edges), bool)
+    if flat.any():
+        grown = region.polygon.buffer(IN_REGION)
+        shapely.prepare(grown)
+        inside[flat] = shapely.intersects_xy(grown, middle @ region.u, middle @ region.v)
+    order = np.argsort(edges[:, 1], kind="stable")
+    keys = edges[order, 1]
+    first, second = edges[order[:-1], 0], edges[order[1:], 0]
+    same = keys[1:] == keys[:-1]
+    # Only where the surface passes from one side to the other: a face touching the plane
+    # from one side along the region's outline is not cut there.
+    cut = same & inside[order[1:]] & (upper[first] != upper[second])
+    joined = same & ~cut
+    # Both sides of the region are faces of the pieces it leaves: every part of the surface
+    # it bounds from above is joined through it, and every part below (a pocket under the
+    # cut is a separate part of the surface, joined to the rest only by the cut face).
+    above_node, below_node = pieces, pieces + 1
+    upper_piece = np.where(upper[first[cut]], first[cut], second[cut])
+    lower_piece = np.where(upper[first[cut]], second[cut], first[cut])
+    rows = np.concatenate([first[joined], upper_piece, lower_piece])
+    cols = np.concatenate([second[joined], np.full(len(upper_piece), above_node),
+                           np.full(len(lower_piece), below_node)])
+    label = connected_labels(pieces + 2, rows, cols)
+    if label[above_node] == label[below_node]:
+        return None
+    pts = corners[tri_of]
+    area = 0.5 * np.linalg.norm(np.cross(pts[:, 1] - pts[:, 0], pts[:, 2] - pts[:, 0]), axis=1)
+    area = area * mesh.scale[split.source]
+    component = label[split.piece]
+    total_area = np.bincount(component, weights=area, minlength=label.max() + 1)
+    minimum = SLIVER_AREA * max(float(total_area.sum()), 1.0)
+    sides = {label[above_node]: True, label[below_node]: False}
+    if any(total_area[k] > minimum and k not in sides for k in range(len(total_area))):
+        return None  # a part of the surface bounded by neither side: not a solid's mesh
+    levels = corners @ direction
+    base = (mesh.planar[split.source] & (normals[:, 0] @ direction < -1.0 + 1e-9)
+            & (np.abs(levels[tri_of].max(axis=1) - low) <= level_tolerance))
+    # As `support.lowest_level`, a part's lowest level is that of its vertices (the
+    # shape's; the cut's own are left out).
+    is_vertex = np.zeros(len(corners), bool)
+    is_vertex[mesh.vertices] = True
+    reach = np.full(len(total_area), np.inf)
+    np.minimum.at(reach, component, np.where(is_vertex[tri_of], levels[tri_of], np.inf).min(axis=1))
+    holds = np.zeros(len(total_area), bool)
+    holds[component[base]] = True
+    on_base = [k for k in sides if reach[k] <= low + level_tolerance and (holds[k] or not base.any())]
+    if len(on_base) != 1:
+        return None
+    keeper = on_base[0]
+    other = next(k for k in sides if k != keeper)
+    child = n if sides[other] else -n
+    if math.acos(float(np.clip(child @ direction, -1.0, 1.0))) < same_direction:
+        return None
+    keeper_area = _overhang(area, normals, component == keeper, direction, threshold,
+                            keeper_factor[mesh.faces[split.source]])
+    if child @ direction < -threshold:
+        keeper_area += float(region.polygon.area)  # the kept piece's cut face
+    children = [(child, _overhang(area, normals, component == other, child, threshold, 1.0))]
+    return MeshTrial(keeper_area + sum(a for _, a in children), keeper_area, children)
+
+
+def _piece_sides(mesh: SurfaceMesh, split: "_Split", s: np.ndarray, side: np.ndarray,
+                 n: np.ndarray) -> np.ndarray:
+    """Per piece, whether it lies above the plane. A triangle in the plane (on a planar face
+    lying in it) counts on the side its material is."""
+    tri = mesh.triangles
+    upper = np.zeros(split.pieces, bool)
+    whole = split.whole
+    upper[whole] = side[tri[whole]].all(axis=1)
+    flat = np.abs(s[tri[whole]]).max(axis=1) <= ON_PLANE
+    upper[whole[flat]] = mesh.normals[whole[flat], 0] @ n < 0
+    k = len(split.crossing)
+    upper[len(tri) + np.arange(k)] = split.lone_above
+    upper[split.crossing] = ~split.lone_above
+    return upper
+
+
+def _overhang(area, normals, mask, d, threshold, factor) -> float:
+    """Σ area where n·d < −threshold over the masked sub-triangles, n linear between the
+    corners and the triangle clipped at the limit (as `FacePart.below`)."""
+    from freecad_conformal.geometry.surface_mesh import below_fraction
+
+    weights = area[mask] * below_fraction(normals[mask] @ d + threshold)
+    if not np.isscalar(factor):
+        weights = weights * factor[mask]
+    return float(weights.sum())
+
+
+@dataclass
+class _Split:
+    """The mesh's triangles split at the plane: `corners` (nodes, then cut points), sub-
+    triangles `tri_of` (K, 3) into them with corner `normals` (K, 3, 3), the source
+    triangle and the piece each belongs to (a triangle on one side is one piece; a crossing
+    one is two), and `edges` [(piece, edge key)] for joining pieces."""
+
+    pieces: int
+    corners: np.ndarray
+    normals: np.ndarray
+    tri_of: np.ndarray
+    edges: np.ndarray
+    source: np.ndarray
+    piece: np.ndarray
+    whole: np.ndarray
+    crossing: np.ndarray
+    lone_above: np.ndarray
+
+
+def _split(mesh: SurfaceMesh, s: np.ndarray, side: np.ndarray) -> _Split:
+    tri = mesh.triangles
+    m, n = len(tri), len(mesh.points)
+    crossing, order, abc = _straddling(side, tri)
+    whole = np.ones(m, bool)
+    whole[crossing] = False
+    a, b, c = abc[:, 0], abc[:, 1], abc[:, 2]
+    cut_points, on_ab, on_ca = _cut_points(mesh, s, abc)
+    corners = np.concatenate([mesh.points, cut_points])
+    x_ab, x_ca = n + on_ab, n + on_ca
+    nrm = np.take_along_axis(mesh.normals[crossing], order[:, :, None], axis=1)
+    na, nb, nc = nrm[:, 0], nrm[:, 1], nrm[:, 2]
+    t_ab = (s[a] / (s[a] - s[b]))[:, None]
+    t_ca = (s[a] / (s[a] - s[c]))[:, None]
+    n_ab = _unit(na + t_ab * (nb - na))
+    n_ca = _unit(na + t_ca * (nc - na))
+    k = len(crossing)
+    lone_piece = m + np.arange(k)
+    tri_of = np.concatenate([tri[whole], np.column_stack([a, x_ab, x_ca]),
+                             np.column_stack([x_ab, b, c]), np.column_stack([x_ab, c, x_ca])])
+    normals = np.concatenate([mesh.normals[whole], np.stack([na, n_ab, n_ca], axis=1),
+                              np.stack([n_ab, nb, nc], axis=1), np.stack([n_ab, nc, n_ca], axis=1)])
+    source = np.concatenate([np.nonzero(whole)[0], crossing, crossing, crossing])
+    piece = np.concatenate([np.nonzero(whole)[0], lone_piece, crossing, crossing])
+    count = len(corners)
+    e0 = np.concatenate([tri_of[:, [0, 1]], tri_of[:, [1, 2]], tri_of[:, [2, 0]]])
+    owner = np.concatenate([piece, piece, piece])
+    key = np.minimum(e0[:, 0], e0[:, 1]) * count + np.maximum(e0[:, 0], e0[:, 1])
+    edges = np.column_stack([owner, key])
+    return _Split(m + k, corners, normals, tri_of, edges, source, piece, np.nonzero(whole)[0],
+                  crossing, side[a])
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    length = np.linalg.norm(v, axis=1, keepdims=True)
+    return v / np.where(length > 0, length, 1.0)

@@ -1,0 +1,144 @@
+"""Overhang (support) area of a solid built along a direction.
+
+A point of the surface overhangs when its outward normal n faces down more steeply than the
+allowed angle α from the build direction d: n·d < −sin α (a wall, n ⊥ d, is 0° of overhang;
+a ceiling, n = −d, is 90°). Planar faces are exact (`Face.Area`); curved faces are integrated
+on their part of the solid's mesh (geometry/surface_mesh.py: OCC's exact normals at the
+corners, areas scaled to the exact Face.Area so the chord error does not bias the total).
+Faces resting on the bed (the lowest plane) or on the parent's split faces are excluded.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+
+from freecad_conformal.errors import PlanError
+from freecad_conformal.geometry.face_normals import plane_normal
+from freecad_conformal.geometry.surface_mesh import face_part, mesh_deflection
+
+#: Default allowed overhang from the build direction (the common 45° self-support rule of FDM).
+DEFAULT_OVERHANG_ANGLE = math.radians(45.0)
+
+#: A planar face counts as lying on a plane (bed, split face) within this distance (mm):
+#: far above OCC's 1e-7 confusion, far below any layer height.
+ON_PLANE_TOLERANCE = 1e-4
+
+#: Overhang areas below this (mm²) are rounding: slivers of tangent faces.
+NEGLIGIBLE_AREA = 1e-6
+
+
+@dataclass
+class OverhangReport:
+    """Overhang area (mm²) of one solid in one direction, with the faces that contribute."""
+
+    direction: np.ndarray
+    angle: float
+    area: float
+    faces: list[tuple[int, float]] = field(default_factory=list)
+
+    def to_dict(self) -> dict:
+        return {"direction": [float(c) for c in self.direction],
+                "angle_deg": math.degrees(self.angle), "area": self.area,
+                "faces": [{"face": f"Face{i + 1}", "area": a} for i, a in self.faces]}
+
+
+def _direction(direction: Sequence[float]) -> np.ndarray:
+    d = np.asarray(direction, dtype=float).reshape(-1)
+    if d.shape != (3,) or not np.all(np.isfinite(d)) or np.linalg.norm(d) < 1e-12:
+        raise PlanError(f"build direction must be a non-zero 3-vector, got {list(np.ravel(direction))!r}")
+    return d / np.linalg.norm(d)
+
+
+def check_angle(angle: float) -> float:
+    if not (math.isfinite(angle) and 0.0 <= angle < math.pi / 2):
+        raise PlanError(f"allowed overhang angle must be in [0°, 90°), got {math.degrees(angle):g}°")
+    return float(angle)
+
+
+def lowest_level(shape, d: np.ndarray) -> float:
+    """Lowest height of the shape's vertices along d (planar bottoms are bounded by vertices;
+    curved bottoms do not rest on the bed flat anyway)."""
+    return float(min(np.array(tuple(v.Point)) @ d for v in shape.Vertexes))
+
+
+def curved_overhang(face, d: np.ndarray, threshold: float, deflection: float) -> float:
+    """Overhang area of a curved face on its mesh part (geometry/surface_mesh.py)."""
+    part = face_part(face, deflection)
+    return 0.0 if part is None else part.below(d, threshold)
+
+
+def overhang_report(shape, direction: Sequence[float], angle: float = DEFAULT_OVERHANG_ANGLE,
+                    base_faces: Sequence = (), on_bed: bool = True) -> OverhangReport:
+    """Area of `shape`'s faces overhanging more than `angle` when built along `direction`.
+
+    Args:
+        shape: a solid (or compound) in the part's frame.
+        direction: build direction (layers stack along it).
+        angle: allowed overhang from the build direction (rad).
+        base_faces: planar faces the shape is built on (its parent's split faces); the part of a
+            face covered by them is not overhang.
+        on_bed: also exclude faces lying on the lowest plane (the build plate).
+    """
+    d = _direction(direction)
+    threshold = math.sin(check_angle(angle))
+    low = lowest_level(shape, d) if on_bed else None
+    deflection = mesh_deflection(shape)
+    faces = []
+    for index, face in enumerate(shape.Faces):
+        normal = plane_normal(face)
+        if normal is None:
+            area = curved_overhang(face, d, threshold, deflection)
+        elif normal @ d < -threshold:
+            area = float(face.Area) - _supported_area(face, normal, d, low, base_faces)
+        else:
+            area = 0.0
+        if area > NEGLIGIBLE_AREA:
+            faces.append((index, area))
+    return OverhangReport(direction=d, angle=angle, area=float(sum(a for _, a in faces)),
+                          faces=faces)
+
+
+def overhang_area(shape, direction: Sequence[float], angle: float = DEFAULT_OVERHANG_ANGLE,
+                  base_faces: Sequence = (), on_bed: bool = True) -> float:
+    """Total overhang area (mm²); see `overhang_report`."""
+    return overhang_report(shape, direction, angle, base_faces, on_bed).area
+
+
+def _supported_area(face, normal: np.ndarray, d: np.ndarray, low: float | None,
+                    base_faces: Sequence) -> float:
+    """How much of a downward planar face rests on the bed or on the base faces."""
+    level = float(np.array(tuple(face.Vertexes[0].Point)) @ d)
+    if low is not None and abs(normal @ d + 1.0) < 1e-9 and abs(level - low) < ON_PLANE_TOLERANCE:
+        return float(face.Area)
+    supported = 0.0
+    for base in base_faces:
+        base_normal = plane_normal(base)
+        if base_normal is None or abs(abs(base_normal @ normal) - 1.0) > 1e-9:
+            continue
+        if abs(float(np.array(tuple(base.Vertexes[0].Point)) @ normal)
+               - float(np.array(tuple(face.Vertexes[0].Point)) @ normal)) > ON_PLANE_TOLERANCE:
+            continue
+        if not face.BoundBox.intersect(base.BoundBox):
+            continue
+        supported += float(face.common(base).Area)
+    return min(supported, float(face.Area))
+
+
+#: Candidate single directions for the whole part: the six axis directions.
+AXIS_DIRECTIONS = tuple(np.array(v, dtype=float) for v in
+                        ((0, 0, 1), (0, 0, -1), (1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0)))
+
+
+def best_single_direction(shape, angle: float = DEFAULT_OVERHANG_ANGLE,
+                          candidates: Sequence[np.ndarray] = AXIS_DIRECTIONS
+                          ) -> tuple[np.ndarray, float]:
+    """The candidate direction with the least overhang for the whole part, and that area."""
+    best = None
+    for candidate in candidates:
+        area = overhang_area(shape, candidate, angle)
+        if best is None or area < best[1] - NEGLIGIBLE_AREA:
+            best = (np.asarray(candidate, dtype=float), area)
+    return best

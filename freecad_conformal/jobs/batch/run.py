@@ -1,0 +1,109 @@
+"""`run_batch`: inputs -> jobs -> runner -> one G-code file per part + CSV/JSON report."""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Sequence
+
+from freecad_conformal.jobs.batch import runners
+from freecad_conformal.jobs.batch.jobs import expand_inputs
+from freecad_conformal.jobs.batch.report import FAILED, counts, write_report
+from freecad_conformal.jobs.batch.worker import run_part
+from freecad_conformal.errors import ConformalError
+from freecad_conformal.fileio import write_text_atomic
+
+REPORT_STEM = "batch-report"
+
+
+@dataclass
+class BatchResult:
+    """The rows in input order and the report files."""
+
+    rows: list[dict]
+    csv_path: Path
+    json_path: Path
+
+    @property
+    def failed(self) -> int:
+        return counts(self.rows)[FAILED]
+
+
+def check_plan_options(options) -> None:
+    """What can be checked without a part (tool, material, machine, layer settings), so a
+    typo fails the batch at once instead of failing every part."""
+    from freecad_conformal.jobs.plan import resolve_tool
+    from freecad_conformal.post.machine import load_machine
+
+    options.layers.validate()
+    resolve_tool(options.tool, options.material)
+    load_machine(options.machine)
+
+
+def _outcomes(jobs, options, workers: int, dask: str | None, start_method: str, task):
+    if dask:
+        return runners.run_dask(jobs, options, dask, task)
+    if workers == 0:
+        return runners.run_inline(jobs, options, task)
+    return runners.run_local(jobs, options, workers, start_method, task)
+
+
+def run_batch(inputs: Sequence[str], options, out_dir: str | Path, *, workers: int = 1,
+              dask: str | None = None, start_method: str | None = None, suffix: str = ".gcode",
+              make_progress=None, task=run_part) -> BatchResult:
+    """Plan and post every part of `inputs`; write the G-code files and the report in `out_dir`.
+
+    Args:
+        inputs: files, folders or globs of STEP, BREP, IGES and FCStd (one part per body).
+        options: planning.job.PlanOptions for every part.
+        workers: local processes (0: in this process); ignored when `dask` is given.
+        dask: address of a Dask scheduler to send the parts to.
+        start_method: how local workers start ("spawn", "fork", "forkserver"; None:
+            runners.default_start_method()).
+        suffix: G-code file suffix.
+        make_progress: total -> a progress.Progress (update, close), or None for none.
+        task: the per-part function (tests replace it to simulate crashes).
+    Returns:
+        BatchResult; parts that failed are rows with status "failed" and the reason.
+    Raises:
+        ConformalError: bad options, or a Dask scheduler that cannot be reached.
+    """
+    if not suffix.startswith(".") or len(suffix) < 2:
+        raise ConformalError(f"G-code suffix must start with a dot, like .gcode, got {suffix!r}")
+    check_plan_options(options)
+    out = Path(out_dir)
+    expansion = expand_inputs(inputs, suffix)
+    rows = dict(expansion.rejected)
+    progress = make_progress(expansion.total) if make_progress is not None else None
+    try:
+        if progress is not None:
+            progress.update(len(rows))
+        if expansion.jobs:
+            for job, outcome in _outcomes(expansion.jobs, options, workers, dask, start_method, task):
+                rows[job.index] = _store(outcome, out / job.output)
+                if progress is not None:
+                    progress.update(1)
+    finally:
+        if progress is not None:
+            progress.close()
+    ordered = [rows[index] for index in sorted(rows)]
+    settings = {"inputs": list(inputs), "runner": f"dask {dask}" if dask else
+                ("in-process" if workers == 0 else f"{workers} local workers"),
+                "options": dataclasses.asdict(options)}
+    csv_path, json_path = out / f"{REPORT_STEM}.csv", out / f"{REPORT_STEM}.json"
+    write_report(ordered, csv_path, json_path, settings)
+    return BatchResult(ordered, csv_path, json_path)
+
+
+def _store(outcome: dict, path: Path) -> dict:
+    """Write the part's G-code (atomically); a disk error fails only this part."""
+    row = outcome["row"]
+    if outcome["gcode"] is None:
+        return row
+    try:
+        write_text_atomic(path, outcome["gcode"])
+    except OSError as exc:
+        row.update(status=FAILED, error=f"cannot write {path}: {exc}")
+        return row
+    row["gcode"] = path.name
+    return row

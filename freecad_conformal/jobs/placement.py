@@ -1,0 +1,82 @@
+"""How the part sits on the table: a decomposition every sub-part of which the machine reaches.
+
+The decomposition builds the root on the table along +Z of the part as placed; its other
+sub-parts point wherever their faces lead, and a 5-axis machine's tilt is limited (a
+trunnion's A ±120°, a head's ±100°), so a plan can need a tool axis the machine cannot
+take (the hinge's lugs are built along −Z). A planner may choose how the part sits on the
+table: `reachable_plan` tries the part as placed, then turned so each other axis direction
+(−Z, ±X, ±Y) points up, decomposes each placement and keeps the first whose sub-parts the
+machine reaches all of.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from freecad_conformal.errors import PlanError
+from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.rotation import rotation_to
+from freecad_conformal.decomposition.subparts import BuildPlan
+
+#: Directions of the part tried as "up", the part as placed first.
+UP_CANDIDATES = ((0.0, 0.0, 1.0), (0.0, 0.0, -1.0), (1.0, 0.0, 0.0), (-1.0, 0.0, 0.0),
+                 (0.0, 1.0, 0.0), (0.0, -1.0, 0.0))
+
+
+@dataclass
+class Placement:
+    """The part's direction `up` that points along the table normal, and the rotation
+    (axis, angle in rad, about the origin) that turned the part there."""
+
+    up: np.ndarray
+    axis: np.ndarray
+    angle: float
+
+    @property
+    def turned(self) -> bool:
+        return self.angle > 0.0
+
+    def describe(self) -> str:
+        up = ", ".join(f"{c:+g}" for c in np.round(self.up, 6))
+        axis = ", ".join(f"{c:+g}" for c in np.round(self.axis, 6))
+        return (f"part placed with its ({up}) direction up: turned {math.degrees(self.angle):.0f} deg "
+                f"about ({axis}) through the origin; the G-code is in the turned frame")
+
+
+def turn_up(shape, up) -> tuple[object, Placement]:
+    """A copy of `shape` turned so its direction `up` points along +Z."""
+    App, _ = import_freecad()
+    axis, angle = rotation_to(up)
+    turned = shape.copy()
+    if angle > 0.0:
+        turned.rotate(App.Vector(0, 0, 0), App.Vector(*axis), math.degrees(angle))
+    return turned, Placement(np.asarray(up, dtype=float), axis, float(angle))
+
+
+def reachable_plan(shape, decompose: Callable[[object], BuildPlan],
+                   check: Callable[[BuildPlan], None]) -> tuple[object, BuildPlan, Placement]:
+    """(placed shape, plan, placement) of the first placement whose plan passes `check`
+    (the machine's reach); the part as placed is kept whenever it passes, so the costly
+    decomposition runs again only for a plan the machine cannot build. PlanError with every
+    placement's reason when none passes."""
+    reasons: list[str] = []
+    for up in UP_CANDIDATES:
+        placed, placement = turn_up(shape, up)
+        plan = decompose(placed)
+        try:
+            check(plan)
+        except PlanError as exc:
+            reasons.append(f"{_text(up)} up: {exc}")
+            continue
+        if placement.turned:
+            plan.notes.append(placement.describe())
+        return placed, plan, placement
+    raise PlanError("no placement of the part (each of ±X, ±Y, ±Z up) lets the machine reach "
+                    "every sub-part: " + "; ".join(reasons))
+
+
+def _text(vector) -> str:
+    return "(" + ", ".join(f"{c:+g}" for c in vector) + ")"

@@ -1,0 +1,287 @@
+"""The end-to-end plan: shape -> BuildPlan -> layers -> paths -> toolpath -> G-code + summary.
+
+Everything is computed before anything is written, and every file is written atomically,
+so bad input or an impossible plan leaves no output behind.
+"""
+from __future__ import annotations
+
+import copy
+import io
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from freecad_conformal.errors import KinematicsError, PlanError
+from freecad_conformal.fileio import atomic_write, write_text_atomic
+from freecad_conformal.paths.bead import bead_area
+from freecad_conformal.paths.assemble import Assembly, PathSettings, assemble
+from freecad_conformal.paths.timing import DEFAULT_JERK, estimate_time
+from freecad_conformal.layers.model import Layer, LayerSettings, check_thickness
+from freecad_conformal.layers.plan import plan_layers
+from freecad_conformal.decomposition.subparts import BuildPlan
+from freecad_conformal.post.branches import choose_rotary
+from freecad_conformal.post.kinematics import rotary_candidates
+from freecad_conformal.post.machine import Machine, load_machine
+from freecad_conformal.post.program import PostResult, post_toolpath
+
+#: Tool kinds that deposit material (the others cure or cut).
+DEPOSITION_KINDS = ("fdm_nozzle", "laser_nozzle")
+
+
+@dataclass
+class PlanOptions:
+    """What the plan command takes: machine, tool (id), material (None: the tool's first),
+    layer and path settings (a bead width of None takes the material's width), dialect,
+    root direction."""
+
+    machine: str = "trunnion_ac"
+    tool: str = "fdm_0p4"
+    material: str | None = None
+    layers: LayerSettings = field(default_factory=LayerSettings)
+    paths: PathSettings = field(default_factory=PathSettings)
+    bead_width: float | None = None
+    dialect: str | None = None
+    jerk: float = DEFAULT_JERK
+    #: each solid's root build direction: "auto" (as placed unless turning the solid leaves
+    #: less overhang) or a 3-vector (decomposition/decompose.py)
+    root: str | tuple[float, float, float] = "auto"
+
+
+@dataclass
+class SubPartSummary:
+    index: int
+    name: str
+    direction: np.ndarray
+    layers: int
+    thickness_min: float
+    thickness_max: float
+    tilted_layers: int
+    deposit_length: float
+    material: float
+    overhang_area: float
+
+
+@dataclass
+class JobResult:
+    """Everything the plan made; `write` puts the files on disk."""
+
+    part: str
+    plan: BuildPlan
+    layers: dict[int, list[Layer]]
+    assembly: Assembly
+    post: PostResult
+    machine: Machine
+    tool_id: str
+    material_name: str
+    bead_width: float
+    time_s: float
+    subparts: list[SubPartSummary]
+
+    @property
+    def material_volume(self) -> float:
+        return float(sum(s.material for s in self.subparts))
+
+    @property
+    def deposit_length(self) -> float:
+        return float(sum(s.deposit_length for s in self.subparts))
+
+    @property
+    def travel_length(self) -> float:
+        return self.assembly.toolpath.summary().length_by_kind["travel"]
+
+    def summary(self) -> str:
+        from freecad_conformal.jobs.report import summary_text
+
+        return summary_text(self)
+
+    def write(self, gcode: str | Path, png: str | Path | None = None,
+              summary: str | Path | None = None) -> list[Path]:
+        """Render the preview in memory first, then write each file atomically."""
+        image = None
+        if png is not None:
+            from freecad_conformal.paths.preview import render_png
+
+            buffer = io.BytesIO()
+            render_png(self.assembly, buffer, title=f"{self.part}: {len(self.subparts)} sub-parts")
+            image = buffer.getvalue()
+        text = self.summary()
+        write_text_atomic(gcode, self.post.text)
+        written = [Path(gcode)]
+        if image is not None:
+            with atomic_write(png, "wb") as handle:
+                handle.write(image)
+            written.append(Path(png))
+        if summary is not None:
+            write_text_atomic(summary, text)
+            written.append(Path(summary))
+        return written
+
+
+def resolve_tool(tool_id: str, material: str | None, library=None):
+    """(tool, material name, settings) from the tool library; clear errors otherwise."""
+    from freecad_conformal.process.library import ToolLibrary
+
+    library = library if library is not None else ToolLibrary.load()
+    tool = library.get(tool_id)
+    if tool.kind not in DEPOSITION_KINDS:
+        raise PlanError(f"tool {tool_id!r} is a {tool.kind}; a deposition plan needs one of "
+                        f"{', '.join(DEPOSITION_KINDS)}")
+    if material is None:
+        material = next(iter(tool.settings), None)
+    if material is None:
+        return tool, "unspecified", None
+    if material not in tool.settings:
+        raise PlanError(f"tool {tool_id!r} has no settings for material {material!r} "
+                        f"(it has: {', '.join(tool.settings) or 'none'})")
+    return tool, material, tool.settings[material]
+
+
+def check_reach(machine: Machine, plan: BuildPlan) -> None:
+    """Every sub-part's build direction must be a tool axis the machine can take, within
+    its axis limits."""
+    for sub in plan.ordered():
+        axis = np.asarray(sub.build_direction, dtype=float).reshape(1, 3)
+        axis = axis / np.linalg.norm(axis)
+        try:
+            locate = lambda _i: f"sub-part {sub.index}"  # noqa: E731
+            choose_rotary(machine, rotary_candidates(machine, axis, locate),
+                          machine.home_joints()[3:], locate)
+        except KinematicsError as exc:
+            raise PlanError(f"machine {machine.name!r} cannot point the tool along sub-part "
+                            f"{sub.index}'s build direction {np.round(axis[0], 4).tolist()}: {exc}") from exc
+
+
+def _part_size(shape) -> float:
+    box = shape.BoundBox
+    return float(min(box.XLength, box.YLength, box.ZLength))
+
+
+def _settings(options: PlanOptions, tool, material) -> tuple[float, PathSettings]:
+    paths = copy.deepcopy(options.paths)
+    width = options.bead_width
+    if width is None:
+        width = material.width if material is not None and material.width else tool.diameter
+    paths.fill.bead_width = width
+    if material is not None and material.feed and options.paths.feeds.perimeter == PathSettings().feeds.perimeter:
+        paths.feeds.perimeter = paths.feeds.external_perimeter = float(material.feed)
+    travel = material.parameters.get("travel_mm_min") if material is not None else None
+    if isinstance(travel, (int, float)) and options.paths.feeds.travel == PathSettings().feeds.travel:
+        paths.feeds.travel = float(travel)
+    return float(width), paths
+
+
+def check_options(shape, options: PlanOptions, library=None):
+    """Validate everything that does not need the decomposition (run it first: it is quick).
+
+    Returns (tool, material name, bead width, path settings, machine).
+    """
+    size = _part_size(shape)
+    options.layers.validate(part_size=size)
+    tool, material_name, material = resolve_tool(options.tool, options.material, library)
+    width, path_settings = _settings(options, tool, material)
+    path_settings.fill.validate()
+    path_settings.feeds.validate()
+    if width > size:
+        raise PlanError(f"bead width {width:g} mm is larger than the part ({size:.3f} mm)")
+    return tool, material_name, width, path_settings, load_machine(options.machine)
+
+
+def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
+            library=None, progress=None) -> JobResult:
+    """Plan layers and paths for every sub-part, build the toolpath and post it.
+
+    Raises ConformalError subclasses (PlanError, ProcessError, KinematicsError, PostError)
+    with messages that name the parameter or sub-part at fault.
+    """
+    tool, material_name, width, path_settings, machine = check_options(shape, options, library)
+    check_reach(machine, plan)
+    layers: dict[int, list[Layer]] = {}
+    notes: list[str] = []
+    for sub in plan.ordered():
+        layers[sub.index] = plan_layers(sub, options.layers)
+        if not layers[sub.index]:
+            notes.append(f"sub-part {sub.index} is thinner than the thinnest layer "
+                         f"({options.layers.bounds[0]:g} mm): its {sub.volume:.1f} mm3 are not built")
+        check_thickness(layers[sub.index], options.layers)
+        if progress is not None:
+            progress(sub.index)
+    assembly = assemble(plan, layers, path_settings, tool.envelope, part=part,
+                        material=material_name, tool=tool.id)
+    post = post_toolpath(assembly.toolpath, machine, options.dialect)
+    seconds = estimate_time(assembly.toolpath, machine.acceleration, options.jerk,
+                            max_feed=machine.max_feed, rapid_feed=machine.rapid_feed)
+    summaries = [_subpart_summary(sub, layers[sub.index], assembly, width, path_settings.fill.bead_model)
+                 for sub in plan.ordered()
+                 if layers[sub.index]]
+    plan.notes.extend(notes)
+    return JobResult(part=part, plan=plan, layers=layers, assembly=assembly, post=post,
+                     machine=machine, tool_id=tool.id, material_name=material_name,
+                     bead_width=width, time_s=seconds, subparts=summaries)
+
+
+def _subpart_summary(sub, layers: list[Layer], assembly: Assembly, width: float,
+                     bead_model: str) -> SubPartSummary:
+    mine = [p for p in assembly.paths if p.subpart == sub.index]
+    length = float(sum(p.length for p in mine))
+    material = float(sum(p.length * bead_area(width, p.thickness, bead_model) for p in mine))
+    return SubPartSummary(
+        index=sub.index, name=sub.name or f"sub-part {sub.index}",
+        direction=np.asarray(sub.build_direction, dtype=float), layers=len(layers),
+        thickness_min=min(layer.thickness_min for layer in layers),
+        thickness_max=max(layer.thickness_max for layer in layers),
+        tilted_layers=sum(layer.tilted for layer in layers), deposit_length=length,
+        material=material, overhang_area=float(sub.overhang_area))
+
+
+#: Least gap (mm) between solids laid out side by side on the platform; the tool's body
+#: diameter when wider, so the body fits between them (decomposition/layout.py).
+MIN_LAYOUT_GAP = 5.0
+
+
+def machine_plan(shape, options: PlanOptions, decompose=None, split: bool = True):
+    """(placed shape, BuildPlan) as the machine builds the part: decomposed with each
+    solid's root along `options.root` ("auto": as placed unless turning the solid leaves
+    less overhang), each solid standing on the platform (`decomposition/layout.py`), and the
+    whole part turned on the table when the machine cannot reach one of the sub-parts
+    (`jobs/placement.py`; the plan notes every move). `split=False` builds each solid
+    in one piece along +Z instead of decomposing it."""
+    from freecad_conformal.decomposition.build_order import build_order
+    from freecad_conformal.decomposition.layout import lay_out
+    from freecad_conformal.jobs.placement import reachable_plan
+
+    if decompose is None:
+        from freecad_conformal.decomposition.decompose import decompose
+    tool, _, _ = resolve_tool(options.tool, options.material)
+    gap = max(MIN_LAYOUT_GAP, tool.envelope.body_diameter)
+    machine = load_machine(options.machine)
+
+    def planned(placed):
+        # Side by side on one platform, each solid's tool meets what is built of the others:
+        # the order of several solids is searched once, after they are laid out.
+        several = len(placed.Solids) > 1
+        if split:
+            plan = decompose(placed, tool=options.tool, root_direction=options.root,
+                             check_collisions=not several)
+        else:
+            plan = single_plan(placed)
+        laid = lay_out(plan, gap)
+        if several:
+            laid.order = build_order(laid.subparts, tool=options.tool, notes=laid.notes,
+                                     one_platform=True)
+        return laid
+
+    placed, plan, _ = reachable_plan(shape, planned, lambda p: check_reach(machine, p))
+    return placed, plan
+
+
+def single_plan(shape, direction=(0.0, 0.0, 1.0)) -> BuildPlan:
+    """A plan without splits: each solid of `shape` one sub-part built along `direction`."""
+    from freecad_conformal.geometry.solids import solids_of
+    from freecad_conformal.decomposition.subparts import SubPart
+
+    d = np.asarray(direction, dtype=float)
+    d = d / np.linalg.norm(d)
+    subparts = [SubPart(index=k, shape=solid, build_direction=d, volume=float(solid.Volume),
+                        name=f"solid {k}", solid_index=k) for k, solid in enumerate(solids_of(shape))]
+    return BuildPlan(subparts=subparts, order=list(range(len(subparts))))

@@ -1,0 +1,30 @@
+"""Layers of one sub-part in deposition order: planar, or 3-D where the axis bends."""
+from __future__ import annotations
+
+from freecad_conformal.decomposition.subparts import SubPart
+from freecad_conformal.geometry.frames import unit
+from freecad_conformal.geometry.sections import PlanarSlicer, extent_along
+from freecad_conformal.layers.model import Layer, LayerSettings
+from freecad_conformal.layers.planar import planar_bounds, planar_layers
+from freecad_conformal.layers.tilted import axis_bends, tilted_layers
+
+
+def plan_layers(subpart: SubPart, settings: LayerSettings) -> list[Layer]:
+    """Layers of one sub-part along its build direction, in deposition order (none for a
+    sliver thinner than ΔL_min; the job notes it).
+
+    Raises:
+        PlanError: bad settings, or a 3-D layer that cannot stay within [ΔL_min, ΔL_max].
+    """
+    settings.validate()
+    direction = unit(subpart.build_direction, f"build direction of sub-part {subpart.index}")
+    slicer = PlanarSlicer(subpart.shape, direction)
+    low, high = extent_along(subpart.shape, slicer.frame.n)
+    bounds = planar_bounds(subpart.shape, slicer, low, high, settings)
+    if high - low < settings.bounds[0]:
+        return []      # a sliver thinner than the thinnest layer: nothing a bead can build
+    layers = planar_layers(subpart.index, slicer, bounds)
+    if settings.tilt and len(layers) > 2:
+        if axis_bends(layers, settings.bounds):
+            layers = tilted_layers(subpart, slicer, low, high, settings)
+    return layers

@@ -1,0 +1,314 @@
+"""3-D layers: section planes that tilt to follow a bending centroidal axis (METHODS section 3).
+
+From the current plane (point C_low, the section's centroid, normal D_low) the local axis
+direction D_up points at the centroid of the section Δ further along D_low. The next plane
+passes through C_low + Δ·D_up with normal D_up. If the slab between the planes is thinner
+than ΔL_min or thicker than ΔL_max anywhere over the section, D_up is bisected towards
+D_low (D_up ← (D_up + D_low)/2) until it fits or the two are within `PARALLEL_ANGLE`; then
+Δ shrinks by a quarter and the search repeats. A slab that cannot fit even at ΔL_min is
+refused with a PlanError naming the layer and its thickness range.
+
+Robustness: planes a hair off the build direction meet the faces square to it (a boss's
+top, a step) almost tangentially, and OCC's section wires then come out degenerate (their
+discretization ran away to 24 GB or aborted the process on CrankArm). Tilts accumulate
+over a stack (0.15° one way, 0.149° back), so every normal within `PARALLEL_ANGLE` of the
+build direction snaps to it exactly.
+
+Cost: each tilted plane is its own OCC Boolean (planar layers share one per 32 planes), so
+a trial plane is first checked against the lower section's boundary alone (numpy: the
+slab's thickness over the lower section), and cut only when that fits; a layer then costs
+about three cuts (the probe, the upper plane, the middle plane). Slicers are kept for the
+last few normals only, so a long bend does not hold one slicer per layer. Centroids come
+from the section's polygons in its own frame; a section without a finite centroid (a
+plane grazing a face) ends the tilted stack there instead of passing NaN on.
+"""
+from __future__ import annotations
+
+import math
+from collections import OrderedDict
+
+import numpy as np
+from shapely import affinity
+from shapely.geometry import MultiPolygon
+
+from freecad_conformal.errors import PlanError
+from freecad_conformal.geometry.frames import unit
+from freecad_conformal.geometry.sections import PlanarSection, PlanarSlicer, extent_along
+from freecad_conformal.layers.model import (BOUNDARY_INSET, SHRINK, Layer, LayerSettings,
+                                            as_multipolygon)
+from freecad_conformal.decomposition.subparts import SubPart
+
+#: Window (mm along the axis) over which centroid drift is measured to tell a bend: short
+#: enough to see a bend of a few centimetres' radius, long enough to smooth polygon noise.
+BEND_WINDOW = 2.0
+
+#: The axis bends when the drift over the window leans this much from the build direction;
+#: below 3° tilting gains nothing a planar layer does not already print support-free.
+BEND_MIN_ANGLE = math.radians(3.0)
+
+#: Drift leaning more than 45° is a jump of the centroid (a column on a wider base, a
+#: sudden change the decomposition splits at), not a bend to follow.
+BEND_MAX_ANGLE = math.radians(45.0)
+
+#: A window whose area changes by more than this ratio is a geometric change, not a bend.
+BEND_AREA_RATIO = 1.25
+
+#: A bent bar's section moves with its centroid and changes shape only slowly (its planar
+#: section stretches as 1/cos of the lean: 2 mm along a 25 mm radius changes it by a few
+#: per cent); a section whose moved copy misses the next one by more than this fraction of
+#: its area grew or shrank on one side instead.
+BEND_SHAPE_CHANGE = 0.1
+
+#: The least turn per layer worth tilting for: ten layers to follow the gentlest bend
+#: worth following (`BEND_MIN_ANGLE`).
+MIN_TURN = BEND_MIN_ANGLE / 10.0
+
+#: Planes closer than this angle count as parallel: bisection stops there (METHODS' ε).
+PARALLEL_ANGLE = math.radians(0.1)
+
+#: Bisections needed to go from 90° to `PARALLEL_ANGLE` (90° / 2^k < 0.1°), plus the
+#: final parallel try and margin.
+MAX_BISECTIONS = 14
+
+#: Slicers kept (one per plane normal): the probe and the lower plane share the current
+#: normal, the trial and middle planes each bring a new one; older ones are not reused.
+SLICER_CACHE = 4
+
+
+def turn_capacity(layer: Layer, d_min: float, d_max: float) -> float:
+    """The largest turn (rad) of the next plane about the layer's centroid that keeps the
+    slab within [ΔL_min, ΔL_max] over the layer's region (its farthest boundary point)."""
+    centre = np.array(layer.region.centroid.coords[0])
+    points = np.vstack([np.asarray(poly.exterior.coords) for poly in layer.region.geoms])
+    reach = float(np.linalg.norm(points - centre, axis=1).max())
+    slack = min(d_max - layer.thickness, layer.thickness - d_min)
+    if slack <= 0:
+        return 0.0
+    return math.atan2(slack, reach)
+
+
+def axis_bends(layers: list[Layer], bounds: tuple[float, float] | None = None) -> bool:
+    """True when the sections of successive planar layers move as along a bent axis: their
+    centroids drift sideways while the section keeps its area and shape (a wedge or a flange
+    moves the centroid by growing on one side, which is no bend to follow); and,
+    given the thickness `bounds`, a plane can turn at least `MIN_TURN` per layer over the
+    sections there without leaving them: a section too wide for that would get 3-D layers
+    that all come out parallel, at three OCC cuts each)."""
+    if len(layers) < 2:
+        return False
+    thickness = max(layers[0].thickness, 1e-9)
+    window = max(1, int(round(BEND_WINDOW / thickness)))
+    n = layers[0].frame.n
+    centroids = np.array([layer.to_3d(np.array([layer.region.centroid.coords[0]]))[0]
+                          for layer in layers])
+    areas = np.array([layer.area for layer in layers])
+    islands = np.array([len(layer.region.geoms) for layer in layers])
+    for k in range(len(layers) - window):
+        if islands[k] != 1 or islands[k + window] != 1:
+            continue
+        ratio = areas[k + window] / areas[k]
+        if not 1.0 / BEND_AREA_RATIO <= ratio <= BEND_AREA_RATIO:
+            continue
+        drift = centroids[k + window] - centroids[k]
+        length = float(np.linalg.norm(drift))
+        if length == 0.0:
+            continue
+        angle = math.acos(float(np.clip(drift @ n / length, -1.0, 1.0)))
+        if not BEND_MIN_ANGLE <= angle <= BEND_MAX_ANGLE:
+            continue
+        if _shape_change(layers[k], layers[k + window]) > BEND_SHAPE_CHANGE:
+            continue
+        if bounds is None:
+            return True
+        if min(turn_capacity(layers[j], *bounds) for j in (k, k + window)) >= MIN_TURN:
+            return True
+    return False
+
+
+def _shape_change(lower: Layer, upper: Layer) -> float:
+    """Area of (lower moved by the centroid drift) △ upper, relative to the lower area."""
+    (x0, y0), (x1, y1) = lower.region.centroid.coords[0], upper.region.centroid.coords[0]
+    moved = affinity.translate(lower.region, x1 - x0, y1 - y0)
+    return float(moved.symmetric_difference(upper.region).area) / max(lower.area, 1e-12)
+
+
+class _Sections:
+    """Sections of one sub-part by planes of any normal (slicers of the last few normals
+    kept); `cuts` counts the OCC Booleans."""
+
+    def __init__(self, shape, subpart: int) -> None:
+        self.shape = shape
+        self.subpart = subpart
+        self.cuts = 0
+        self._slicers: OrderedDict[tuple[float, ...], PlanarSlicer] = OrderedDict()
+
+    def at(self, point: np.ndarray, normal: np.ndarray) -> PlanarSection:
+        if not (np.all(np.isfinite(point)) and np.all(np.isfinite(normal))):
+            raise PlanError(f"sub-part {self.subpart}: a 3-D layer plane is not finite (point "
+                            f"{np.round(point, 4).tolist()}, normal {np.round(normal, 4).tolist()})")
+        key = tuple(np.round(normal, 12))
+        slicer = self._slicers.get(key)
+        if slicer is None:
+            slicer = self._slicers[key] = PlanarSlicer(self.shape, normal)
+            while len(self._slicers) > SLICER_CACHE:
+                self._slicers.popitem(last=False)
+        else:
+            self._slicers.move_to_end(key)
+        self.cuts += 1
+        return slicer.section(float(point @ slicer.frame.n))
+
+
+def section_centroid(section: PlanarSection) -> np.ndarray | None:
+    """The area centroid (3D) of a section's polygons, None when it has no finite one."""
+    if section.is_empty:
+        return None
+    region = as_multipolygon(section.polygons())
+    if region.is_empty or not region.area > 0:
+        return None
+    uv = np.array(region.centroid.coords[0], dtype=float)
+    point = section.frame.to_3d(uv[None], section.height)[0]
+    return point if np.all(np.isfinite(point)) else None
+
+
+def _points_3d(section: PlanarSection) -> np.ndarray:
+    return np.concatenate([section.frame.to_3d(loop.points, section.height) for loop in section.loops])
+
+
+def slab_thickness(lower: PlanarSection, lower_point: np.ndarray, lower_normal: np.ndarray,
+                   upper: PlanarSection, upper_point: np.ndarray,
+                   upper_normal: np.ndarray) -> tuple[float, float]:
+    """(min, max) distance between the two planes over both sections' boundary points."""
+    up = (_points_3d(upper) - lower_point) @ lower_normal
+    down = (upper_point - _points_3d(lower)) @ upper_normal
+    both = np.concatenate((up, down))
+    return float(both.min()), float(both.max())
+
+
+def _thickness_over(points: np.ndarray, plane_point: np.ndarray, normal: np.ndarray) -> tuple[float, float]:
+    """(min, max) distance from `points` up to the plane (`plane_point`, `normal`)."""
+    down = (plane_point - points) @ normal
+    return float(down.min()), float(down.max())
+
+
+def _angle(a: np.ndarray, b: np.ndarray) -> float:
+    return math.acos(float(np.clip(a @ b, -1.0, 1.0)))
+
+
+def tilted_layers(subpart: SubPart, slicer: PlanarSlicer, low: float, high: float,
+                  settings: LayerSettings) -> list[Layer]:
+    """3-D layers of a sub-part whose centroidal axis bends (see the module docstring)."""
+    d_min, d_max = settings.bounds
+    nominal = settings.thickness if settings.mode == "uniform" else d_max
+    sections = _Sections(subpart.shape, subpart.index)
+    normal = slicer.frame.n
+    lower = _first_section(slicer, low, high, nominal)
+    plane_point = lower.height * normal
+    centroid = section_centroid(lower)
+    layers: list[Layer] = []
+    while centroid is not None:
+        step = _next_plane(sections, lower, plane_point, centroid, normal, slicer.frame.n, nominal,
+                           d_min, d_max, subpart.index, len(layers))
+        if step is None:
+            break
+        upper, upper_point, upper_normal, thin, thick, upper_centroid = step
+        layers.append(_layer(sections, subpart.index, len(layers), plane_point, normal, upper_point,
+                             upper_normal, thin, thick))
+        lower, plane_point, normal, centroid = upper, upper_point, upper_normal, upper_centroid
+    layers.extend(_planar_top(subpart, sections, plane_point, normal, nominal, d_min, len(layers)))
+    if not layers:
+        raise PlanError(f"sub-part {subpart.index}: no 3-D layer fits between {d_min:g} and {d_max:g} mm")
+    return layers
+
+
+def _first_section(slicer: PlanarSlicer, low: float, high: float, step: float) -> PlanarSection:
+    """The lowest non-empty section (a part may touch its base plane only at a point or an
+    edge, where the section at the base is empty)."""
+    height = low + BOUNDARY_INSET
+    while height < high:
+        section = slicer.section(height)
+        if not section.is_empty:
+            return section
+        height += step
+    raise PlanError(f"no material found along {np.round(slicer.frame.n, 4).tolist()} "
+                    f"between {low:.3f} and {high:.3f} mm")
+
+
+def _next_plane(sections: _Sections, lower: PlanarSection, plane_point: np.ndarray,
+                centroid: np.ndarray, normal: np.ndarray, build: np.ndarray, nominal: float,
+                d_min: float, d_max: float, subpart: int, index: int):
+    """The next plane (section, point, normal, thinnest, thickest, its centroid), or None at
+    the top (no material ahead, or no finite centroid there). A normal within
+    `PARALLEL_ANGLE` of the build direction `build` snaps to it exactly."""
+    thickness = nominal
+    worst: tuple[float, float] | None = None
+    below = _points_3d(lower)
+    while thickness >= d_min - 1e-12:
+        probe = sections.at(centroid + thickness * normal, normal)
+        ahead = section_centroid(probe)
+        if ahead is None:
+            return None
+        drift = ahead - centroid
+        direction = unit(drift, "centroidal axis") if np.linalg.norm(drift) > 1e-12 else normal
+        if _angle(direction, normal) > BEND_MAX_ANGLE:
+            direction = normal
+        for _ in range(MAX_BISECTIONS):
+            if _angle(direction, build) < PARALLEL_ANGLE:
+                direction = build
+            point = centroid + thickness * direction
+            thin, thick = _thickness_over(below, point, direction)
+            if d_min - 1e-9 <= thin and thick <= d_max + 1e-9:
+                upper = sections.at(point, direction)
+                upper_centroid = section_centroid(upper)
+                if upper_centroid is None:
+                    return None
+                thin, thick = slab_thickness(lower, plane_point, normal, upper, point, direction)
+                if d_min - 1e-9 <= thin and thick <= d_max + 1e-9:
+                    return upper, point, direction, thin, thick, upper_centroid
+            worst = (thin, thick)
+            if np.array_equal(direction, normal):
+                break
+            direction = unit(direction + normal, "bisected axis direction")
+            if _angle(direction, normal) < PARALLEL_ANGLE:
+                direction = normal      # the last try is exactly parallel: it fits any Δ in bounds
+        thickness -= SHRINK * thickness
+    thin, thick = worst if worst is not None else (float("nan"), float("nan"))
+    raise PlanError(f"layer {index} of sub-part {subpart} would be {thin:.4f} to {thick:.4f} mm "
+                    f"thick at best, outside [{d_min:g}, {d_max:g}] mm: the axis bends too "
+                    "sharply for these bounds; widen them or split the sub-part")
+
+
+def _layer(sections: _Sections, subpart: int, index: int, lower_point: np.ndarray,
+           lower_normal: np.ndarray, upper_point: np.ndarray, upper_normal: np.ndarray,
+           thin: float, thick: float) -> Layer:
+    """The slab's region is cut on the bisecting plane halfway between the two planes."""
+    mid_normal = unit(lower_normal + upper_normal, "middle plane normal")
+    mid_point = 0.5 * (lower_point + upper_point)
+    section = sections.at(mid_point, mid_normal)
+    region = as_multipolygon(section.polygons()) if not section.is_empty else MultiPolygon()
+    return Layer(subpart=subpart, index=index, frame=section.frame, section_height=section.height,
+                 region=region, top_point=upper_point, top_normal=upper_normal,
+                 thickness_min=thin, thickness_max=thick)
+
+
+def _planar_top(subpart: SubPart, sections: _Sections, plane_point: np.ndarray, normal: np.ndarray,
+                nominal: float, d_min: float, first_index: int) -> list[Layer]:
+    """Parallel layers for what is left above the last tilted plane (thinner than a step)."""
+    _, top = extent_along(subpart.shape, normal)
+    base = float(plane_point @ normal)
+    remaining = top - base
+    if remaining < max(d_min, BOUNDARY_INSET):
+        return []
+    count = max(1, int(round(remaining / nominal)))
+    thickness = remaining / count
+    layers = []
+    for k in range(count):
+        mid = base + (k + 0.5) * thickness
+        section = sections.at(mid * normal, normal)
+        if section.is_empty:
+            continue
+        layers.append(Layer(subpart=subpart.index, index=first_index + len(layers), frame=section.frame,
+                            section_height=section.height,
+                            region=as_multipolygon(section.polygons()),
+                            top_point=plane_point + (k + 1) * thickness * normal, top_normal=normal,
+                            thickness_min=thickness, thickness_max=thickness))
+    return layers

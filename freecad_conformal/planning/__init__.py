@@ -1,1 +1,0 @@
-"""Decomposition, build order, layers per sub-part, rotary (unrolled) planning."""

@@ -1,0 +1,1 @@
+"""Design of experiments for process settings (METHODS section 2)."""
