@@ -44,12 +44,13 @@ def _render_seconds(path: str) -> float:
 def main(params: dict) -> dict:
     from objects_check import helix_toolpath
     from freecad_conformal.objects.toolpath_feature import create_toolpath
+    from freecad_conformal.gui.views import show
 
     results = []
     for points, per_segment in params["cases"]:
         toolpath = helix_toolpath(points, per_segment)
         doc = FreeCAD.newDocument("Bench")
-        obj = create_toolpath(doc, toolpath)
+        obj = show(create_toolpath(doc, toolpath))
         started = time.perf_counter()     # the view's own work: read the file, colour, fill
         obj.ViewObject.Proxy.redraw(obj.ViewObject)
         ours_build = time.perf_counter() - started

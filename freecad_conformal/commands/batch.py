@@ -12,10 +12,6 @@ import sys
 
 from freecad_conformal.commands.plan import add_plan_settings
 
-#: Stands in for plan's required PART and -o when reading plan's defaults.
-_PLACEHOLDER = "batch-placeholder"
-
-
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("inputs", nargs="+", metavar="INPUT",
                         help="part files, folders or globs (STEP, BREP, IGES, FCStd)")
@@ -41,18 +37,10 @@ PLAN_ONLY = ("mandrel", "mapping")
 
 
 def plan_options(args: argparse.Namespace):
-    """PlanOptions from the batch arguments through the plan command's own options_from,
-    so both commands plan a part the same way (tests check that batch offers every plan
-    setting with the same default)."""
+    """PlanOptions from the batch arguments, through the same schema as `plan`."""
     from freecad_conformal.commands import plan
 
-    plan_parser = argparse.ArgumentParser(add_help=False)
-    plan.add_arguments(plan_parser)
-    merged = plan_parser.parse_args([_PLACEHOLDER, "-o", _PLACEHOLDER])
-    for key, value in vars(args).items():
-        if hasattr(merged, key):
-            setattr(merged, key, value)
-    return plan.options_from(merged)
+    return plan.options_from(args)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -26,9 +26,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from freecad_conformal.decomposition.decompose import decompose
-    from freecad_conformal.jobs.export import load_part, plan_table, write_plan
+    from freecad_conformal.geometry.samples import load_part
+    from freecad_conformal.jobs.export import plan_table, write_plan
 
-    shape = load_part(args.part)
+    shape, _ = load_part(args.part)
     plan = decompose(shape, overhang_angle=math.radians(args.overhang), tool=args.tool,
                      method=args.method, check_collisions=not args.no_collision,
                      root_direction=_root(args.root))
@@ -40,15 +41,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _root(text: str):
-    """'auto' or a direction written x,y,z."""
-    from freecad_conformal.errors import PlanError
+    """'auto', 'as placed' or a direction x,y,z, read as the plan's root setting."""
+    from freecad_conformal.settings.plan import ROOT
 
-    if text == "auto":
-        return text
-    try:
-        values = [float(part) for part in text.split(",")]
-    except ValueError:
-        values = []
-    if len(values) != 3:
-        raise PlanError(f"--root must be 'auto' or x,y,z, got {text!r}")
-    return values
+    return ROOT.check(text)

@@ -23,8 +23,7 @@ def run(args: argparse.Namespace) -> int:
     from freecad_conformal.errors import ConformalError
     from freecad_conformal.geometry import samples
     from freecad_conformal.geometry.report import section_report
-    from freecad_conformal.jobs.plan import PlanOptions
-    from freecad_conformal.layers.model import LayerSettings
+    from freecad_conformal.jobs.options import plan_options
 
     if args.sample not in samples.SAMPLES:
         raise ConformalError(f"unknown sample {args.sample!r}; choose from {', '.join(samples.SAMPLES)}")
@@ -39,8 +38,8 @@ def run(args: argparse.Namespace) -> int:
     table = report.table()
     (out / f"{args.sample}_sections.txt").write_text(table, encoding="utf-8")
     print(table, end="")
-    options = PlanOptions(machine=args.machine, tool=args.tool,
-                          layers=LayerSettings(thickness=args.plan_layer))
+    options = plan_options({"machine": args.machine, "tool": args.tool,
+                            "layer_height": args.plan_layer})
     result, written = plan_part(shape, args.sample, options, out / f"{args.sample}.ngc",
                                 out / f"{args.sample}_plan.png", out / f"{args.sample}_plan.txt")
     print()

@@ -105,3 +105,25 @@ def hinge(width: float = 60.0, wall: float = 10.0, height: float = 40.0,
 
 SAMPLES.update({"l_block": l_block, "t_block": t_block, "inclined_rod": inclined_rod,
                 "hinge": hinge})
+
+
+#: Names a built-in sample explicitly (`sample:jack`), even when a file of that name exists.
+SAMPLE_PREFIX = "sample:"
+
+
+def load_part(text: str):
+    """(shape, name) of a part file (STEP, BREP, IGES, FCStd), of `sample:NAME`, or of a bare
+    sample name when no file of that name exists (so `plan jack` works from any folder)."""
+    from pathlib import Path
+
+    from freecad_conformal.errors import GeometryError
+    from freecad_conformal.geometry.solids import load_shape
+
+    name = text[len(SAMPLE_PREFIX):] if text.startswith(SAMPLE_PREFIX) else None
+    if name is None and not Path(text).exists() and text in SAMPLES:
+        name = text
+    if name is not None:
+        if name not in SAMPLES:
+            raise GeometryError(f"no sample part {name!r} (known: {', '.join(sorted(SAMPLES))})")
+        return SAMPLES[name](), name
+    return load_shape(text), Path(text).stem

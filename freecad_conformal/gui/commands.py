@@ -11,13 +11,9 @@ import importlib.util
 import FreeCAD
 import FreeCADGui
 
-from freecad_conformal import RESOURCES
+from freecad_conformal.gui.icons import icon
 from freecad_conformal.gui.qt import translate
-
-
-def icon(name: str) -> str:
-    """Path of a command icon in resources/icons."""
-    return str(RESOURCES / "icons" / f"{name}.svg")
+from freecad_conformal.gui.views import show
 
 
 def _tr(text: str) -> str:
@@ -63,7 +59,7 @@ class ObjectCommand:
         doc = FreeCAD.ActiveDocument
         source = selected_with(self.NEEDS)[0]
         doc.openTransaction(f"Conformal {self.NAME}")
-        obj = self.create(doc, source)
+        obj = show(self.create(doc, source))
         FreeCADGui.Control.closeDialog()
         FreeCADGui.Control.showDialog(ObjectTaskPanel(obj, self.GROUPS, _tr(self.MENU)))
         return obj
@@ -79,7 +75,7 @@ class SectionsCommand(ObjectCommand):
         from freecad_conformal.objects.sections_feature import create_sections
 
         obj = create_sections(doc, source)
-        obj.LayerHeight = preferences.layer_height()
+        obj.LayerHeight = preferences.section_spacing()
         obj.ChordTolerance = preferences.chord_tolerance()
         return obj
 
@@ -115,7 +111,9 @@ class PlanCommand(ObjectCommand):
         from freecad_conformal.gui import preferences
         from freecad_conformal.objects.job_feature import create_job
 
-        return create_job(doc, source, machine=preferences.default_machine())
+        job = create_job(doc, source, machine=preferences.default_machine())
+        job.LayerHeight = preferences.layer_height()
+        return job
 
 
 class FeatureCommand(ObjectCommand):
@@ -133,7 +131,7 @@ class FeatureCommand(ObjectCommand):
         doc = FreeCAD.ActiveDocument
         body, face = selected_face()
         doc.openTransaction("Conformal Feature")
-        obj = create_feature(doc, body, face)
+        obj = show(create_feature(doc, body, face))
         FreeCADGui.Control.closeDialog()
         FreeCADGui.Control.showDialog(ObjectTaskPanel(obj, self.GROUPS, _tr(self.MENU)))
         return obj

@@ -9,12 +9,12 @@ from pathlib import Path
 
 import FreeCAD
 
-from freecad_conformal import RESOURCES, tolerances
+from freecad_conformal import tolerances
 from freecad_conformal.gui.qt import QtWidgets, translate
 from freecad_conformal.gui.widgets import quantity_field, quantity_value, set_quantity
+from freecad_conformal.settings.plan import DEFAULT_MACHINE
 
 PARAM_PATH = "User parameter:BaseApp/Preferences/Mod/Conformal"
-DEFAULT_MACHINE = "trunnion_ac"
 
 
 def _params():
@@ -23,7 +23,9 @@ def _params():
 
 def machine_names() -> list[str]:
     """Machines shipped in resources/machines (file names without .json)."""
-    return sorted(p.stem for p in (RESOURCES / "machines").glob("*.json"))
+    from freecad_conformal.settings.plan import machine_names as names
+
+    return sorted(names())
 
 
 def default_machine() -> str:
@@ -41,13 +43,25 @@ def chord_tolerance() -> float:
     return _params().GetFloat("ChordTolerance", tolerances.DEFAULT_CHORD_TOLERANCE)
 
 
+def section_spacing() -> float:
+    """Default spacing (mm) of new Sections objects."""
+    return _params().GetFloat("SectionSpacing", DEFAULT_SECTION_SPACING)
+
+
 def layer_height() -> float:
-    """Default layer height (mm) of new section objects."""
-    return _params().GetFloat("LayerHeight", DEFAULT_LAYER_HEIGHT)
+    """Default layer height (mm) of new Jobs (the plan setting's default unless set here)."""
+    return _params().GetFloat("LayerHeight", _plan_default("layer_height"))
 
 
-#: New section objects start with 1 mm layers (the CLI's default spacing).
-DEFAULT_LAYER_HEIGHT = 1.0
+def _plan_default(key: str):
+    from freecad_conformal.settings.plan import PLAN_SETTINGS
+
+    return next(s.default for s in PLAN_SETTINGS if s.key == key)
+
+
+#: New Sections objects start 1 mm apart (the sections command's usual spacing): sections
+#: are for looking at a part, layers for building it.
+DEFAULT_SECTION_SPACING = 1.0
 
 
 class PreferencesPage:
@@ -63,11 +77,13 @@ class PreferencesPage:
         self.library_dir.setPlaceholderText(translate(
             "Conformal", "default: <FreeCAD user data>/Conformal/tools"))
         self.chord = quantity_field("mm", tolerances.DEFAULT_CHORD_TOLERANCE, 1e-6, 10.0)
-        self.layer = quantity_field("mm", DEFAULT_LAYER_HEIGHT, 1e-3, 100.0)
+        self.spacing = quantity_field("mm", DEFAULT_SECTION_SPACING, 1e-3, 100.0)
+        self.layer = quantity_field("mm", _plan_default("layer_height"), 1e-3, 100.0)
         layout.addRow(translate("Conformal", "Default machine"), self.machine)
         layout.addRow(translate("Conformal", "Tool library folder"), self.library_dir)
         layout.addRow(translate("Conformal", "Chord tolerance"), self.chord)
-        layout.addRow(translate("Conformal", "Default layer height"), self.layer)
+        layout.addRow(translate("Conformal", "Default section spacing"), self.spacing)
+        layout.addRow(translate("Conformal", "Default layer height (jobs)"), self.layer)
 
     def loadSettings(self) -> None:  # noqa: N802 - FreeCAD's name
         index = self.machine.findText(default_machine())
@@ -75,6 +91,7 @@ class PreferencesPage:
         folder = tool_library_dir()
         self.library_dir.setText(str(folder) if folder else "")
         set_quantity(self.chord, chord_tolerance())
+        set_quantity(self.spacing, section_spacing())
         set_quantity(self.layer, layer_height())
 
     def saveSettings(self) -> None:  # noqa: N802 - FreeCAD's name
@@ -82,4 +99,5 @@ class PreferencesPage:
         params.SetString("DefaultMachine", self.machine.currentText())
         params.SetString("ToolLibraryDir", self.library_dir.text().strip())
         params.SetFloat("ChordTolerance", quantity_value(self.chord))
+        params.SetFloat("SectionSpacing", quantity_value(self.spacing))
         params.SetFloat("LayerHeight", quantity_value(self.layer))

@@ -3,7 +3,7 @@ polyline over the shape with its C1 break links marked, splitting faces highligh
 sub-parts coloured. The overlay is one small Coin group under the object's root node."""
 from __future__ import annotations
 
-from freecad_conformal.gui.commands import icon
+from freecad_conformal.gui.icons import icon
 from freecad_conformal.gui.path_display import PALETTE
 from freecad_conformal.objects.properties import StoredState, add_properties
 

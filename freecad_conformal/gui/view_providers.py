@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import FreeCAD
 
-from freecad_conformal.gui.commands import icon
+from freecad_conformal.gui.icons import icon
 from freecad_conformal.objects.properties import StoredState, add_properties
 
 VIEW_GROUP = "Display"

@@ -7,26 +7,8 @@ import os
 import tempfile
 from pathlib import Path
 
-from freecad_conformal.errors import GeometryError
 from freecad_conformal.fileio import write_text_atomic
 from freecad_conformal.decomposition.subparts import BuildPlan
-
-SAMPLE_PREFIX = "sample:"
-
-
-def load_part(text: str):
-    """A part file, or `sample:NAME` for a built-in sample solid."""
-    if text.startswith(SAMPLE_PREFIX):
-        from freecad_conformal.geometry.samples import SAMPLES
-
-        name = text[len(SAMPLE_PREFIX):]
-        if name not in SAMPLES:
-            raise GeometryError(f"no sample part {name!r} (known: {', '.join(sorted(SAMPLES))})")
-        return SAMPLES[name]()
-    from freecad_conformal.geometry.solids import load_shape
-
-    return load_shape(text)
-
 
 def _direction(vector) -> str:
     return "(" + ", ".join(f"{float(c):+.3f}" for c in vector) + ")"

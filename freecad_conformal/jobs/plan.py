@@ -46,6 +46,10 @@ class PlanOptions:
     #: each solid's root build direction: "auto" (as placed unless turning the solid leaves
     #: less overhang) or a 3-vector (decomposition/decompose.py)
     root: str | tuple[float, float, float] = "auto"
+    #: split each solid into support-free sub-parts (False: one sub-part per solid)
+    decompose: bool = True
+    #: the checked user settings these options were made from (settings/plan.py), for reports
+    settings: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -187,14 +191,26 @@ def check_options(shape, options: PlanOptions, library=None):
     return tool, material_name, width, path_settings, load_machine(options.machine)
 
 
+def plan_job(shape, options: PlanOptions, part: str = "part", library=None,
+             progress=None) -> JobResult:
+    """The whole job as `plan` and the Job object make it: the options checked first (before
+    any geometry work), then the decomposition placed on the machine, then layers, paths
+    and G-code."""
+    checked = check_options(shape, options, library)
+    placed, plan = machine_plan(shape, options)
+    return run_job(placed, plan, options, part, library, progress, checked=checked)
+
+
 def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
-            library=None, progress=None) -> JobResult:
+            library=None, progress=None, checked=None) -> JobResult:
     """Plan layers and paths for every sub-part, build the toolpath and post it.
 
     Raises ConformalError subclasses (PlanError, ProcessError, KinematicsError, PostError)
     with messages that name the parameter or sub-part at fault.
     """
-    tool, material_name, width, path_settings, machine = check_options(shape, options, library)
+    if checked is None:
+        checked = check_options(shape, options, library)
+    tool, material_name, width, path_settings, machine = checked
     check_reach(machine, plan)
     layers: dict[int, list[Layer]] = {}
     notes: list[str] = []
@@ -239,19 +255,21 @@ def _subpart_summary(sub, layers: list[Layer], assembly: Assembly, width: float,
 MIN_LAYOUT_GAP = 5.0
 
 
-def machine_plan(shape, options: PlanOptions, decompose=None, split: bool = True):
+def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None = None):
     """(placed shape, BuildPlan) as the machine builds the part: decomposed with each
     solid's root along `options.root` ("auto": as placed unless turning the solid leaves
     less overhang), each solid standing on the platform (`decomposition/layout.py`), and the
     whole part turned on the table when the machine cannot reach one of the sub-parts
     (`jobs/placement.py`; the plan notes every move). `split=False` builds each solid
-    in one piece along +Z instead of decomposing it."""
+    in one piece along +Z instead of decomposing it (default: `options.decompose`)."""
     from freecad_conformal.decomposition.build_order import build_order
     from freecad_conformal.decomposition.layout import lay_out
     from freecad_conformal.jobs.placement import reachable_plan
 
     if decompose is None:
         from freecad_conformal.decomposition.decompose import decompose
+    if split is None:
+        split = options.decompose
     tool, _, _ = resolve_tool(options.tool, options.material)
     gap = max(MIN_LAYOUT_GAP, tool.envelope.body_diameter)
     machine = load_machine(options.machine)

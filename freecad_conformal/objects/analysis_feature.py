@@ -142,22 +142,18 @@ class DecompositionFeature(StoredState):
         obj.Shape = Part.makeCompound([s.shape for s in plan.subparts])
 
 
-def _create(doc, proxy_class, source, name: str, view_class: str):
+def _create(doc, proxy_class, source, name: str):
     obj = doc.addObject("Part::FeaturePython", name)
     proxy_class(obj)
     obj.Source = source
-    if FreeCAD.GuiUp:
-        from freecad_conformal.gui import view_axis
-
-        getattr(view_axis, view_class)(obj.ViewObject)
-        source.ViewObject.Visibility = False if view_class == "ViewProviderDecomposition" else \
-            source.ViewObject.Visibility
     return obj
 
 
 def create_analysis(doc, source, name: str = "Analysis"):
-    return _create(doc, AnalysisFeature, source, name, "ViewProviderAnalysis")
+    """An Analysis object on `source` (gui/views.show gives it its view provider)."""
+    return _create(doc, AnalysisFeature, source, name)
 
 
 def create_decomposition(doc, source, name: str = "Decomposition"):
-    return _create(doc, DecompositionFeature, source, name, "ViewProviderDecomposition")
+    """A Decomposition object on `source` (gui/views.show gives it its view provider)."""
+    return _create(doc, DecompositionFeature, source, name)

@@ -1,52 +1,20 @@
 """Conformal feature document object: rods, a shell, a pattern or channels on one face of
-the source body (paths/features, through the `feature` command's planners), kept as a
-toolpath and drawn by the toolpath view provider."""
+the source body (jobs/feature.plan_feature, the `feature` command's call, with the same
+settings schema), kept as a toolpath and drawn by the toolpath view provider."""
 from __future__ import annotations
 
-import argparse
-
-import FreeCAD
-
-from freecad_conformal.objects.properties import add_properties, reports_errors
+from freecad_conformal.objects.properties import (
+    add_properties, reports_errors, setting_properties, values_from_object)
 from freecad_conformal.objects.toolpath_feature import (
     TOOLPATH_OUTPUTS, TOOLPATH_PROPERTIES, ToolpathFeature, store_toolpath)
+from freecad_conformal.settings.feature import FEATURE_SETTINGS, KINDS
 
 GROUP = "Feature"
-KINDS = ("rods", "shell", "pattern", "channels")
-SECONDS_PER_MINUTE = 60.0
 FEATURE_PROPERTIES = [
     ("App::PropertyLinkSub", "Source", GROUP, "Body and the face to build on", None),
     ("App::PropertyEnumeration", "Kind", GROUP, "Feature kind", KINDS),
-    ("App::PropertyString", "Tool", GROUP, "Tool id (empty: the feature's default)", ""),
-    ("App::PropertySpeed", "Feed", GROUP, "Curing feed (0: the tool's)", 0.0),
-    ("App::PropertyLength", "LayerThickness", GROUP, "Layer thickness", 1.0),
-    ("App::PropertyAngle", "Tilt", GROUP, "Tool tilt from the surface normal (shell)", 0.0),
-    ("App::PropertyLength", "Spacing", GROUP, "Rod spacing on the surface", 3.0),
-    ("App::PropertyLength", "RodLength", GROUP, "Rod height", 3.0),
-    ("App::PropertyLength", "RodDiameter", GROUP, "Rod diameter", 1.2),
-    ("App::PropertyString", "PatternText", GROUP, "Text of a pattern feature", ""),
+    *setting_properties(FEATURE_SETTINGS, GROUP),
 ]
-
-
-def feature_arguments(obj) -> argparse.Namespace:
-    """The `feature` command's arguments with the object's values (its defaults otherwise)."""
-    from freecad_conformal.commands import feature as cli
-
-    parser = argparse.ArgumentParser()
-    cli.add_arguments(parser)
-    face = obj.Source[1][0] if obj.Source and obj.Source[1] else "Face1"
-    argv = [obj.Source[0].Label if obj.Source else "part", "--face", face, "--kind", obj.Kind,
-            "-o", "unused.npz", "--layer", repr(obj.LayerThickness.Value),
-            "--tilt", repr(obj.Tilt.Value), "--spacing", repr(obj.Spacing.Value),
-            "--rod-length", repr(obj.RodLength.Value),
-            "--rod-diameter", repr(obj.RodDiameter.Value)]
-    if obj.Tool:
-        argv += ["--tool", obj.Tool]
-    if obj.Feed.Value > 0:   # internal unit mm/s; the command takes mm/min
-        argv += ["--feed", repr(obj.Feed.Value * SECONDS_PER_MINUTE)]
-    if obj.PatternText:
-        argv += ["--text", obj.PatternText]
-    return parser.parse_args(argv)
 
 
 class ConformalFeature(ToolpathFeature):
@@ -57,26 +25,22 @@ class ConformalFeature(ToolpathFeature):
 
     @reports_errors
     def execute(self, obj) -> None:
-        from freecad_conformal.commands import feature as cli
         from freecad_conformal.errors import GeometryError
         from freecad_conformal.geometry.faces import face_by_name
+        from freecad_conformal.jobs.feature import plan_feature
 
         if not obj.Source or not obj.Source[1]:
             raise GeometryError(f"{obj.Label}: select one face of a body")
-        args = feature_arguments(obj)
-        what = f"{args.kind} on {args.face}"
-        face = face_by_name(obj.Source[0].Shape, args.face)
-        store_toolpath(obj, cli._plan(args, face, what))
+        body, (face_name, *_) = obj.Source
+        face = face_by_name(body.Shape, face_name)
+        values = values_from_object(obj, FEATURE_SETTINGS)
+        store_toolpath(obj, plan_feature(face, obj.Kind, values, f"{obj.Kind} on {face_name}"))
 
 
 def create_feature(doc, body, face: str, kind: str = "rods", name: str = "Feature"):
+    """A Feature object on `face` of `body` (gui/views.show gives it its view provider)."""
     obj = doc.addObject("App::FeaturePython", name)
     ConformalFeature(obj)
     obj.Source = (body, [face])
     obj.Kind = kind
-    if FreeCAD.GuiUp:
-        from freecad_conformal.gui.view_providers import ViewProviderToolpath
-
-        ViewProviderToolpath(obj.ViewObject)
-        obj.ViewObject.ColourBy = "Kind"
     return obj

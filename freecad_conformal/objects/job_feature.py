@@ -1,4 +1,4 @@
-"""Job document object: the whole plan of the source body (planning/job.run_job, the same
+"""Job document object: the whole plan of the source body (jobs/plan.plan_job, the same
 call as `python -m freecad_conformal plan`), keeping the toolpath, the G-code and the summary
 in the document. It is a toolpath object, so the 3D view draws its paths."""
 from __future__ import annotations
@@ -6,38 +6,21 @@ from __future__ import annotations
 import os
 import tempfile
 
-import FreeCAD
 import numpy as np
 
-from freecad_conformal.objects.analysis_feature import root_direction, root_property
-from freecad_conformal.objects.properties import reports_errors, add_properties, source_shape
+from freecad_conformal.objects.properties import (
+    add_properties, reports_errors, setting_properties, source_shape, values_from_object)
 from freecad_conformal.objects.toolpath_feature import (
     TOOLPATH_OUTPUTS, TOOLPATH_PROPERTIES, ToolpathFeature, store_toolpath)
+from freecad_conformal.settings.plan import PLAN_SETTINGS
 
 GROUP = "Job"
 
-
-def _machines() -> tuple[str, ...]:
-    from freecad_conformal import RESOURCES
-
-    names = sorted(p.stem for p in (RESOURCES / "machines").glob("*.json"))
-    # the command line's default machine comes first (an enumeration's default)
-    return tuple(sorted(names, key=lambda name: name != "trunnion_ac"))
-
-
+#: The source, every plan setting (settings/plan.py: the same defaults and checks as the
+#: `plan` command's flags) and the results.
 JOB_PROPERTIES = [
     ("App::PropertyLink", "Source", GROUP, "Body to build", None),
-    ("App::PropertyEnumeration", "Machine", GROUP, "Machine (resources/machines)", _machines()),
-    ("App::PropertyString", "Tool", GROUP, "Tool id in the tool library", "fdm_0p4"),
-    ("App::PropertyString", "Material", GROUP, "Material of the tool's settings (empty: first)", ""),
-    ("App::PropertyLength", "LayerHeight", GROUP, "Layer height", 0.2),
-    ("App::PropertyLength", "BeadWidth", GROUP, "Bead width (0: the material's)", 0.0),
-    ("App::PropertyInteger", "Perimeters", GROUP, "Perimeter loops per layer", 2),
-    ("App::PropertyPercent", "Infill", GROUP, "Sparse infill density", 20),
-    ("App::PropertyBool", "TiltLayers", GROUP, "Allow 3-D (tilted) layers (plan --tilt)", False),
-    ("App::PropertyBool", "Decompose", GROUP, "Split into support-free sub-parts", True),
-    root_property(GROUP),
-    ("App::PropertyString", "Dialect", GROUP, "G-code dialect (empty: the machine's)", ""),
+    *setting_properties(PLAN_SETTINGS, GROUP),
     ("App::PropertyFileIncluded", "GcodeFile", "Result", "Posted G-code kept in the document", None),
     ("App::PropertyString", "Summary", "Result", "The plan summary (as the CLI prints it)", ""),
     ("App::PropertyFloat", "EstimatedSeconds", "Result", "Estimated build time in seconds", 0.0),
@@ -73,10 +56,10 @@ class JobFeature(ToolpathFeature):
 
     @reports_errors
     def execute(self, obj) -> None:
-        from freecad_conformal.jobs.plan import run_job
+        from freecad_conformal.jobs.plan import plan_job
 
-        shape, plan = build_plan(obj, source_shape(obj, "a job"))
-        result = run_job(shape, plan, plan_options(obj), part=obj.Source.Label)
+        # plan_job checks every setting before any geometry work, as the command line does
+        result = plan_job(source_shape(obj, "a job"), plan_options(obj), part=obj.Source.Label)
         toolpath = result.assembly.toolpath
         store_toolpath(obj, toolpath,
                        segment_subparts(toolpath, [p.subpart for p in result.assembly.paths]))
@@ -94,39 +77,18 @@ class JobFeature(ToolpathFeature):
         obj.SubPartCount = len(result.subparts)
 
 
-def build_plan(obj, shape):
-    """(placed shape, plan) as the plan command makes it: decomposed into sub-parts when
-    asked, else one per solid; solids on the platform, the part turned if the machine needs."""
-    from freecad_conformal.jobs.plan import machine_plan
-
-    return machine_plan(shape, plan_options(obj), split=obj.Decompose)
-
-
 def plan_options(obj):
-    """PlanOptions from the properties, as `plan`'s options_from builds them from flags."""
-    from freecad_conformal.paths.assemble import PathSettings
-    from freecad_conformal.paths.fill2d import FillSettings
-    from freecad_conformal.jobs.plan import PlanOptions
-    from freecad_conformal.layers.model import LayerSettings
+    """PlanOptions from the properties, through the schema the `plan` command uses."""
+    from freecad_conformal.jobs.options import plan_options as options_from_values
 
-    width = obj.BeadWidth.Value or None
-    fill = FillSettings(bead_width=width or 0.4, perimeters=obj.Perimeters,
-                        density=obj.Infill / 100.0)
-    layers = LayerSettings(thickness=obj.LayerHeight.Value, tilt=obj.TiltLayers)
-    return PlanOptions(machine=obj.Machine, tool=obj.Tool, material=obj.Material or None,
-                       layers=layers, paths=PathSettings(fill=fill), bead_width=width,
-                       dialect=obj.Dialect or None, root=root_direction(obj))
+    return options_from_values(values_from_object(obj, PLAN_SETTINGS))
 
 
 def create_job(doc, source, machine: str | None = None, name: str = "Job"):
-    """A Job object on `source` (drawn by the toolpath view provider when the GUI is up)."""
+    """A Job object on `source` (gui/commands.py gives it its view provider)."""
     obj = doc.addObject("App::FeaturePython", name)
     JobFeature(obj)
     obj.Source = source
     if machine:
         obj.Machine = machine
-    if FreeCAD.GuiUp:
-        from freecad_conformal.gui.view_providers import ViewProviderToolpath
-
-        ViewProviderToolpath(obj.ViewObject)
     return obj

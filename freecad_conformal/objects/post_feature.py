@@ -17,7 +17,7 @@ from freecad_conformal.objects.properties import StoredState, add_properties, re
 
 
 def _machines() -> tuple[str, ...]:
-    from freecad_conformal.objects.job_feature import _machines as machines
+    from freecad_conformal.settings.plan import machine_names as machines
 
     return machines()
 

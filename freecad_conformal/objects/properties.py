@@ -73,3 +73,75 @@ def reports_errors(execute: Callable) -> Callable:
             FreeCAD.Console.PrintError(f"Conformal: {obj.Label} failed: {exc}\n")
             raise
     return wrapper
+
+
+#: FreeCAD property type of each setting kind (settings/schema.py); quantities are held in
+#: FreeCAD's internal units, which are the schema's canonical ones (mm, deg, mm/s, mm², mm³).
+PROPERTY_TYPES = {"length": "App::PropertyLength", "angle": "App::PropertyAngle",
+                  "speed": "App::PropertySpeed", "area": "App::PropertyArea",
+                  "volume": "App::PropertyVolume", "time": "App::PropertyFloat",
+                  "feed": "App::PropertySpeed", "numbers": "App::PropertyString",
+                  "percent": "App::PropertyPercent", "int": "App::PropertyInteger",
+                  "float": "App::PropertyFloat", "bool": "App::PropertyBool",
+                  "choice": "App::PropertyEnumeration", "machine": "App::PropertyEnumeration",
+                  "text": "App::PropertyString", "direction": "App::PropertyString"}
+#: Feeds are set in mm/min (as G-code F words); FreeCAD's speed properties hold mm/s.
+SECONDS_PER_MINUTE = 60.0
+#: Optional settings whose zero is a real value are text properties: empty means derived.
+ZERO_IS_A_VALUE = ("angle",)
+
+
+def _property_type(setting) -> str:
+    if setting.optional and setting.kind in ZERO_IS_A_VALUE:
+        return "App::PropertyString"
+    return PROPERTY_TYPES[setting.kind]
+
+
+def _tooltip(setting) -> str:
+    unit = f" ({setting.unit})" if setting.kind in ("time", "float") and setting.unit else ""
+    derived = f"; empty or 0: {setting.derived}" if setting.optional and setting.derived else ""
+    return f"{setting.help[0].upper()}{setting.help[1:]}{unit}{derived} [{setting.cli_flag}]"
+
+
+def setting_properties(settings, group: str) -> list[PropertySpec]:
+    """Property specs for settings that have a property (settings/schema.Setting)."""
+    specs: list[PropertySpec] = []
+    for setting in settings:
+        if not setting.property_name:
+            continue
+        type_name = _property_type(setting)
+        if type_name == "App::PropertyEnumeration":
+            default: Any = tuple(sorted(setting.allowed(), key=lambda c: c != setting.default))
+        elif setting.default is None:
+            default = "" if type_name == "App::PropertyString" else 0
+        elif isinstance(setting.default, tuple):
+            default = ", ".join(f"{c:g}" for c in setting.default)
+        elif setting.kind == "feed":
+            default = setting.default / SECONDS_PER_MINUTE
+        elif type_name == "App::PropertyPercent":
+            default = int(round(setting.default))
+        else:
+            default = setting.default
+        specs.append((type_name, setting.property_name, group, _tooltip(setting), default))
+    return specs
+
+
+def values_from_object(obj, settings) -> dict[str, Any]:
+    """Setting values from the object's properties (not yet checked). A property missing from
+    an older saved file takes the setting's default; an empty or zero optional is derived."""
+    values: dict[str, Any] = {}
+    for setting in settings:
+        name = setting.property_name
+        if not name or name not in obj.PropertiesList:
+            values[setting.key] = setting.default
+            continue
+        value = getattr(obj, name)
+        value = getattr(value, "Value", value)     # a Quantity's value in internal units
+        if setting.kind == "feed":
+            value = value * SECONDS_PER_MINUTE
+        if isinstance(value, str):
+            value = value.strip()
+        if setting.optional and value in ("", 0, 0.0):
+            value = None
+        values[setting.key] = value
+    return values

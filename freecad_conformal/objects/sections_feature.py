@@ -81,13 +81,9 @@ def radii(obj) -> list[float]:
 
 
 def create_sections(doc, source, mode: str = "Planar", name: str = "Sections"):
-    """A Sections object on `source` (with its view provider when the GUI is up)."""
+    """A Sections object on `source` (gui/views.show gives it its view provider)."""
     obj = doc.addObject("Part::FeaturePython", name)
     SectionsFeature(obj)
     obj.Source = source
     obj.Mode = mode
-    if FreeCAD.GuiUp:
-        from freecad_conformal.gui.view_providers import ViewProviderSections
-
-        ViewProviderSections(obj.ViewObject)
     return obj

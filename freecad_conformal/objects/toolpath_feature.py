@@ -7,7 +7,6 @@ import os
 import tempfile
 from typing import Sequence
 
-import FreeCAD
 
 from freecad_conformal.objects.properties import StoredState, add_properties
 
@@ -72,12 +71,8 @@ def load_toolpath(obj):
 
 def create_toolpath(doc, toolpath, segment_subparts: Sequence[int] | None = None,
                     name: str = "Toolpath"):
-    """A Toolpath object holding `toolpath` (with its view provider when the GUI is up)."""
+    """A Toolpath object holding `toolpath` (gui/views.show gives it its view provider)."""
     obj = doc.addObject("App::FeaturePython", name)
     ToolpathFeature(obj)
     store_toolpath(obj, toolpath, segment_subparts)
-    if FreeCAD.GuiUp:
-        from freecad_conformal.gui.view_providers import ViewProviderToolpath
-
-        ViewProviderToolpath(obj.ViewObject)
     return obj

@@ -126,7 +126,7 @@ def test_batch_offers_every_plan_setting_with_the_same_default(tmp_path):
 @pytest.mark.parametrize("arguments, message", [
     (["--tool", "no_such_tool"], "no tool 'no_such_tool' in the library"),
     (["--machine", "no_such_machine"], "unknown machine 'no_such_machine'"),
-    (["--layer", "-1"], "layer height must be a positive"),
+    (["--layer", "-1"], "layer height (--layer-height / LayerHeight) must be > 0 mm, got -1"),
     (["--workers", "-2"], "--workers must be 0 or more"),
     (["--suffix", "gcode"], "suffix must start with a dot"),
 ])

@@ -41,16 +41,17 @@ def test_summary_figures_agree_with_the_toolpath():
 
 
 @pytest.mark.parametrize("arguments, message", [
-    (["--layer", "0"], "layer height must be a positive"),
-    (["--layer", "-0.2"], "layer height must be a positive"),
+    (["--layer", "0"], "layer height (--layer-height / LayerHeight) must be > 0 mm, got 0"),
+    (["--layer-height", "-0.2"], "layer height (--layer-height / LayerHeight) must be > 0 mm"),
     (["--layer", "100"], "larger than the part"),
-    (["--bead-width", "-0.4"], "bead width must be a positive"),
+    (["--bead-width", "-0.4"], "bead width (--bead-width / BeadWidth) must be > 0 mm, got -0.4"),
     (["--bead-width", "100"], "bead width 100 mm is larger than the part"),
     (["--tool", "no_such_tool"], "no tool 'no_such_tool' in the library"),
     (["--tool", "endmill_6mm"], "is a end_mill"),
     (["--machine", "no_such_machine"], "unknown machine 'no_such_machine'"),
-    (["--root", "1,0"], "--root must be auto or a direction x,y,z, got '1,0'"),
-    (["--root", "0,0,0"], "root direction must be a non-zero 3-vector"),
+    (["--root", "1,0"], "root direction (--root / Root) must be auto, as placed or a "
+                        "direction x,y,z, got '1,0'"),
+    (["--root", "0,0,0"], "got '0,0,0'"),
 ])
 def test_bad_input_writes_nothing(tmp_path, capsys, arguments, message):
     out = tmp_path / "x.ngc"

@@ -104,9 +104,10 @@ def main(params: dict) -> dict:
     out["feature_post"] = {"ok": ok, "message": message, "blocks": feature_post.BlockCount}
     # verify replays every block slowly (about 15 blocks/s): a short toolpath keeps it quick
     from freecad_conformal.objects.toolpath_feature import create_toolpath
+    from freecad_conformal.gui.views import show
     from objects_check import helix_toolpath
 
-    probe = create_toolpath(doc, helix_toolpath(60, 20), name="Probe")
+    probe = show(create_toolpath(doc, helix_toolpath(60, 20), name="Probe"))
     doc.recompute()
     ok, probe_post, message = accept(run_command("Conformal_Post", probe), Machine="trunnion_ac")
     ok, verify, message = accept(run_command("Conformal_Verify", probe_post))
@@ -134,7 +135,7 @@ def main(params: dict) -> dict:
     job.LayerHeight = 0.0                 # a bad parameter: marked, reported, no dialog
     doc.recompute()
     out["bad_job_valid"] = job.isValid()
-    out["report"] = gui_support.report_view_text()[-2000:]
+    out["report"] = gui_support.report_view_text()[-8000:]
     job.LayerHeight = 1.5
     doc.recompute()
     out["fixed_job_valid"] = job.isValid()

@@ -30,14 +30,15 @@ def helix_toolpath(points: int, per_segment: int):
 
 def _sections(doc, params) -> dict:
     from freecad_conformal.objects.sections_feature import create_sections
+    from freecad_conformal.gui.views import show
 
     nut = doc.addObject("Part::Feature", "PumpNut")
     nut.Shape = Part.read(os.path.join(params["parts"], "Pump_Nut.brep"))
-    planar = create_sections(doc, nut, name="NutSections")
+    planar = show(create_sections(doc, nut, name="NutSections"))
     planar.LayerHeight = 5.0
     sphere = doc.addObject("Part::Sphere", "Ball")
     sphere.Radius = 10.0
-    cylindrical = create_sections(doc, sphere, mode="Cylindrical", name="BallSections")
+    cylindrical = show(create_sections(doc, sphere, mode="Cylindrical", name="BallSections"))
     cylindrical.RadiusStart, cylindrical.RadiusEnd, cylindrical.RadiusStep = 2.0, 8.0, 2.0
     doc.recompute()
     out = {"nut_layers_5mm": planar.LayerCount, "nut_valid": planar.isValid(),
@@ -47,7 +48,7 @@ def _sections(doc, params) -> dict:
     doc.recompute()
     out.update(nut_layers_2mm=planar.LayerCount, ball_area_r9=cylindrical.SectionArea.Value,
                nut_wires=len(planar.Shape.Wires))
-    bad = create_sections(doc, nut, name="BadSections")
+    bad = show(create_sections(doc, nut, name="BadSections"))
     bad.LayerHeight = 0.0
     doc.recompute()
     out.update(bad_valid=bad.isValid(), bad_state=list(bad.State),
@@ -61,10 +62,11 @@ def _sections(doc, params) -> dict:
 
 def _toolpath(doc, params) -> dict:
     from freecad_conformal.objects.toolpath_feature import create_toolpath
+    from freecad_conformal.gui.views import show
 
     toolpath = helix_toolpath(100_000, 1000)
     started = time.perf_counter()
-    obj = create_toolpath(doc, toolpath, name="Helix")
+    obj = show(create_toolpath(doc, toolpath, name="Helix"))
     doc.recompute()
     gui_support.settle()
     seconds = time.perf_counter() - started
@@ -90,10 +92,11 @@ def _toolpath(doc, params) -> dict:
 def _job(doc, params) -> dict:
     from freecad_conformal.geometry.samples import overhang_bracket
     from freecad_conformal.objects.job_feature import create_job
+    from freecad_conformal.gui.views import show
 
     bracket = doc.addObject("Part::Feature", "Bracket")
     bracket.Shape = overhang_bracket()
-    job = create_job(doc, bracket, name="BracketJob")
+    job = show(create_job(doc, bracket, name="BracketJob"))
     job.LayerHeight = 0.5
     job.BeadWidth = 0.8
     job.Infill = 10

@@ -1,0 +1,40 @@
+"""Typed plan options from settings values: the one place the command line and the Job
+object turn user settings (settings/plan.py) into what the planner takes."""
+from __future__ import annotations
+
+import math
+from typing import Any, Mapping
+
+from freecad_conformal.jobs.plan import PlanOptions
+from freecad_conformal.layers.model import LayerSettings
+from freecad_conformal.paths.assemble import PathSettings
+from freecad_conformal.paths.fill2d import FillSettings
+from freecad_conformal.settings.plan import PLAN_SETTINGS
+from freecad_conformal.settings.schema import validate
+
+SECONDS_PER_MINUTE = 60.0
+#: The bead width fill settings start from when the material's is used (replaced in
+#: jobs/plan.py once the tool and material are known).
+PLACEHOLDER_WIDTH = 0.4
+
+
+def plan_options(values: Mapping[str, Any]) -> PlanOptions:
+    """PlanOptions from settings values (checked here: SettingError names the bad one)."""
+    v = validate(PLAN_SETTINGS, values)
+    angle = None if v["infill_angle"] is None else math.radians(v["infill_angle"])
+    fill = FillSettings(bead_width=v["bead_width"] or PLACEHOLDER_WIDTH,
+                        perimeters=v["perimeters"], density=v["infill"] / 100.0, angle=angle,
+                        seam=v["seam"], bead_model=v["bead_model"],
+                        infill_overlap=v["infill_overlap"] / 100.0,
+                        solid_below_area=v["solid_below_area"])
+    layers = LayerSettings(mode=v["layer_mode"], thickness=v["layer_height"],
+                           min_thickness=v["layer_min"], max_thickness=v["layer_max"],
+                           max_volume_difference=v["max_volume_difference"],
+                           max_cusp=v["max_cusp"], tilt=v["tilt"])
+    paths = PathSettings(fill=fill, top_layers=v["solid_layers"], bottom_layers=v["solid_layers"],
+                         min_layer_time=v["min_layer_time"],
+                         min_speed=v["min_speed"] * SECONDS_PER_MINUTE)
+    return PlanOptions(machine=v["machine"], tool=v["tool"], material=v["material"],
+                       layers=layers, paths=paths, bead_width=v["bead_width"],
+                       dialect=v["dialect"], root=v["root"], decompose=v["decompose"],
+                       settings=v)

@@ -1,0 +1,62 @@
+"""Settings of a conformal feature on one face (`feature` command, the GUI's Feature object).
+Keys are the attribute names the feature planners read (paths/features/planners.py)."""
+from __future__ import annotations
+
+from freecad_conformal.settings.schema import Setting
+
+KINDS = ("rods", "shell", "pattern", "channels")
+POSITIVE = dict(minimum=0.0, open_minimum=True)
+
+FEATURE_SETTINGS: tuple[Setting, ...] = (
+    Setting("tool", "text", None, "tool", "tool id", group="tool",
+            derived="uv_small for rods and pattern walls, uv_large for shells; channels "
+                    "choose by curvature"),
+    Setting("feed", "feed", None, "curing feed", "curing feed", group="tool", **POSITIVE,
+            derived="the tool's"),
+    Setting("tilt", "angle", 0.0, "tool tilt", "tilt of the tool from the surface normal (shell)",
+            group="tool", minimum=-90.0, maximum=90.0),
+    Setting("layer", "length", 1.0, "layer thickness", "layer thickness", group="tool",
+            prop="LayerThickness", **POSITIVE),
+    Setting("build_direction", "direction", (0.0, 0.0, 1.0), "build direction",
+            "direction tilts are measured from", group="tool"),
+    Setting("spacing", "length", 3.0, "rod spacing", "rod spacing d on the surface",
+            group="rods", **POSITIVE),
+    Setting("rod_length", "length", 3.0, "rod length", "rod height l", group="rods", **POSITIVE),
+    Setting("rod_diameter", "length", 1.2, "rod diameter", "rod diameter a", group="rods",
+            **POSITIVE),
+    Setting("diameter_profile", "numbers", None, "diameter profile",
+            "diameters along each rod, base to tip (varying speed)", group="rods",
+            derived="the rod diameter all along"),
+    Setting("rings", "int", None, "rings", "rings N on a sphere", group="rods", minimum=1,
+            derived="floor(W/θ)"),
+    Setting("width", "length", None, "shell width", "ring spacing / line width", group="shell",
+            **POSITIVE, derived="the tool's"),
+    Setting("layers", "int", 1, "shell layers", "shell layers", group="shell", minimum=1),
+    Setting("cup_height", "length", None, "cup height",
+            "on a cone face: build an inverse conical cup wall this tall", group="shell",
+            **POSITIVE, derived="no cup"),
+    Setting("first_layer", "length", 0.5, "cup first layer", "cup first layer", group="shell",
+            **POSITIVE),
+    Setting("svg", "text", None, "SVG path", "file holding one SVG path 'd' string (or an .svg "
+            "file)", group="pattern", derived="none"),
+    Setting("text", "text", None, "pattern text", "text to wrap onto the face", group="pattern",
+            prop="PatternText", derived="none"),
+    Setting("text_size", "length", 5.0, "text size", "text size", group="pattern", **POSITIVE),
+    Setting("outline", "text", None, "outline file",
+            "BREP/STEP/FCStd whose closed XY wires are the outline", group="pattern",
+            derived="none"),
+    Setting("height", "length", 1.0, "pattern height", "pattern height along the normal",
+            group="pattern", **POSITIVE),
+    Setting("fill", "choice", "contours", "pattern fill", "how the pattern is filled",
+            group="pattern", choices=("contours", "zigzag")),
+    Setting("at", "numbers", None, "pattern centre", "face parameters u,v of the pattern centre",
+            group="pattern", derived="the face's centre"),
+    Setting("channels", "int", 3, "channels", "number of parallel channels", group="channels",
+            minimum=1),
+    Setting("channel_length", "length", 15.0, "channel length", "channel length",
+            group="channels", **POSITIVE),
+    Setting("gap", "length", 1.0, "channel width", "channel width", group="channels", **POSITIVE),
+    Setting("wall", "length", 1.0, "wall width", "wall width", group="channels", **POSITIVE),
+    Setting("wall_height", "length", 1.0, "wall height", "wall height", group="channels",
+            **POSITIVE),
+)

@@ -1,0 +1,83 @@
+"""The plan job's settings (`plan`, `batch` and the GUI's Job object): machine, tool, layers,
+paths. jobs/options.py turns checked values into the planner's typed options."""
+from __future__ import annotations
+
+from freecad_conformal.settings.schema import Setting
+
+DEFAULT_MACHINE = "trunnion_ac"
+
+
+def machine_names() -> tuple[str, ...]:
+    """Shipped machines (resources/machines), the default first (an enumeration's default)."""
+    from freecad_conformal import RESOURCES
+
+    names = sorted(p.stem for p in (RESOURCES / "machines").glob("*.json"))
+    return tuple(sorted(names, key=lambda name: name != DEFAULT_MACHINE))
+
+
+ROOT = Setting("root", "direction", "auto", "root direction",
+               "build direction of each solid's first sub-part: auto (as placed unless "
+               "turning the solid leaves less overhang), 'as placed' (+Z) or x,y,z",
+               group="machine", choices=("auto",))
+
+PLAN_SETTINGS: tuple[Setting, ...] = (
+    Setting("machine", "machine", DEFAULT_MACHINE, "machine",
+            "machine name (resources/machines) or, on the command line, a .json path",
+            group="machine", choices=machine_names),
+    Setting("tool", "text", "fdm_0p4", "tool", "tool id in the tool library", group="machine"),
+    Setting("material", "text", None, "material", "material of the tool's settings",
+            group="machine", derived="the tool's first material"),
+    Setting("dialect", "text", None, "G-code dialect", "G-code dialect", group="machine",
+            derived="the machine's dialect"),
+    ROOT,
+    Setting("decompose", "bool", True, "decompose",
+            "split each solid into support-free sub-parts (off: one sub-part per solid)",
+            group="machine"),
+    Setting("layer_height", "length", 0.2, "layer height",
+            "layer height; also the nominal height of adaptive and 3-D layers",
+            group="layers", aliases=("--layer",), minimum=0.0, open_minimum=True),
+    Setting("layer_mode", "choice", "uniform", "layer mode",
+            "uniform layers, adaptive (volume difference) or cusp-height limited",
+            group="layers", choices=("uniform", "adaptive", "cusp")),
+    Setting("layer_min", "length", None, "minimum layer height",
+            "thinnest adaptive layer", group="layers", minimum=0.0, open_minimum=True,
+            derived="0.5 x layer height"),
+    Setting("layer_max", "length", None, "maximum layer height",
+            "thickest adaptive layer", group="layers", minimum=0.0, open_minimum=True,
+            derived="1.5 x layer height"),
+    Setting("max_volume_difference", "volume", 2.0, "maximum volume difference",
+            "adaptive layers: volume between a layer and its exact slab", group="layers",
+            minimum=0.0, open_minimum=True),
+    Setting("max_cusp", "length", 0.05, "maximum cusp height", "cusp layers: cusp height limit",
+            group="layers", minimum=0.0, open_minimum=True),
+    Setting("tilt", "bool", True, "3-D layers",
+            "tilt the layer planes where a sub-part's centroidal axis bends "
+            "(off: every layer planar)", group="layers", prop="TiltLayers"),
+    Setting("bead_width", "length", None, "bead width", "deposited bead width", group="paths",
+            minimum=0.0, open_minimum=True, derived="the material's width"),
+    Setting("perimeters", "int", 2, "perimeters", "perimeter loops per layer", group="paths",
+            minimum=0),
+    Setting("infill", "percent", 20.0, "infill density", "sparse infill density",
+            group="paths", minimum=0.0, maximum=100.0),
+    Setting("infill_angle", "angle", None, "infill angle", "direction of the infill lines",
+            group="paths", derived="the direction with the fewest turns"),
+    Setting("seam", "choice", "aligned", "seam", "where perimeter loops start",
+            group="paths", choices=("aligned", "nearest", "sharpest")),
+    Setting("solid_layers", "int", 3, "solid layers", "top and bottom solid layers",
+            group="paths", minimum=0),
+    Setting("bead_model", "choice", "rounded", "bead model",
+            "bead cross-section: rounded sides (PrusaSlicer's) or a rectangle",
+            group="paths", choices=("rounded", "rectangular")),
+    Setting("infill_overlap", "percent", 25.0, "infill overlap",
+            "infill reach into the innermost perimeter, percent of a bead spacing",
+            group="paths", minimum=0.0, maximum=100.0, open_maximum=True),
+    Setting("solid_below_area", "area", 70.0, "solid below area",
+            "sparse infill pieces smaller than this are printed solid", group="paths",
+            minimum=0.0),
+    Setting("min_layer_time", "time", 5.0, "minimum layer time",
+            "layers faster than this are slowed down so they can cool", group="cooling",
+            minimum=0.0),
+    Setting("min_speed", "speed", 10.0, "minimum print speed",
+            "cooling never slows printing below this", group="cooling",
+            minimum=0.0, open_minimum=True),
+)

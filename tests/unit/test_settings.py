@@ -1,0 +1,119 @@
+"""The settings schema: one definition per setting, the flags and checks made from it."""
+from __future__ import annotations
+
+import argparse
+
+import pytest
+
+from freecad_conformal.settings.cli import add_arguments, values_from_args
+from freecad_conformal.settings.feature import FEATURE_SETTINGS
+from freecad_conformal.settings.plan import PLAN_SETTINGS
+from freecad_conformal.settings.schema import (
+    Setting, SettingError, as_json, defaults, validate)
+
+ALL = PLAN_SETTINGS + FEATURE_SETTINGS
+
+
+def _parse(settings, argv):
+    parser = argparse.ArgumentParser()
+    add_arguments(parser, settings)
+    return values_from_args(parser.parse_args(argv), settings)
+
+
+@pytest.mark.parametrize("settings", [PLAN_SETTINGS, FEATURE_SETTINGS])
+def test_every_default_passes_its_own_check(settings):
+    assert validate(settings, {}) == validate(settings, defaults(settings))
+
+
+@pytest.mark.parametrize("settings", [PLAN_SETTINGS, FEATURE_SETTINGS])
+def test_keys_flags_and_properties_are_unique(settings):
+    for name in ("key", "cli_flag", "property_name"):
+        values = [getattr(s, name) for s in settings if getattr(s, name)]
+        assert len(values) == len(set(values)), name
+
+
+@pytest.mark.parametrize("settings", [PLAN_SETTINGS, FEATURE_SETTINGS])
+def test_no_flags_gives_the_schema_defaults(settings):
+    assert validate(settings, _parse(settings, [])) == validate(settings, {})
+
+
+def test_flags_reach_their_settings_and_old_spellings_still_work():
+    values = validate(PLAN_SETTINGS, _parse(PLAN_SETTINGS, [
+        "--layer", "0.3", "--no-tilt", "--infill", "35", "--root", "0,1,0", "--seam", "nearest"]))
+    assert values["layer_height"] == 0.3 and values["tilt"] is False
+    assert values["infill"] == 35.0 and values["root"] == (0.0, 1.0, 0.0)
+    assert values["seam"] == "nearest"
+    assert validate(PLAN_SETTINGS, _parse(PLAN_SETTINGS, ["--layer-height", "0.1"]))[
+        "layer_height"] == 0.1
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--layer-height", "0"], ["layer height", "--layer-height", "LayerHeight", "> 0", "got 0"]),
+    (["--infill", "120"], ["infill density", "--infill", "<= 100", "got 120"]),
+    (["--infill-overlap", "100"], ["infill overlap", "< 100"]),
+    (["--perimeters", "-1"], ["perimeters", ">= 0", "got -1"]),
+    (["--root", "0,0,0"], ["root direction", "--root", "'0,0,0'"]),
+    (["--root", "up"], ["root direction", "'up'"]),
+    (["--layer-height", "nan"], ["layer height", "finite"]),
+])
+def test_bad_values_are_refused_naming_the_setting_and_the_value(argv, words):
+    with pytest.raises(SettingError) as caught:
+        validate(PLAN_SETTINGS, _parse(PLAN_SETTINGS, argv))
+    for word in words:
+        assert word in str(caught.value)
+
+
+def test_unknown_keys_and_wrong_types_are_refused():
+    with pytest.raises(SettingError, match="unknown setting.*layer_hieght"):
+        validate(PLAN_SETTINGS, {"layer_hieght": 0.2})
+    with pytest.raises(SettingError, match="whole number"):
+        validate(PLAN_SETTINGS, {"perimeters": 2.5})
+    with pytest.raises(SettingError, match="true or false"):
+        validate(PLAN_SETTINGS, {"tilt": "yes"})
+    with pytest.raises(SettingError, match="one of uniform, adaptive, cusp"):
+        validate(PLAN_SETTINGS, {"layer_mode": "fast"})
+
+
+def test_directions_and_number_lists_read_text_and_sequences():
+    root = next(s for s in PLAN_SETTINGS if s.key == "root")
+    assert root.check("auto") == "auto"
+    assert root.check("as placed") == (0.0, 0.0, 1.0)
+    assert root.check(" 1, 0 ,0 ") == (1.0, 0.0, 0.0)
+    assert root.check([0, 0, -1]) == (0.0, 0.0, -1.0)
+    profile = next(s for s in FEATURE_SETTINGS if s.key == "diameter_profile")
+    assert profile.check("1.2, 1.0,0.8") == (1.2, 1.0, 0.8)
+    with pytest.raises(SettingError, match="numbers"):
+        profile.check("1.2, wide")
+
+
+def test_plan_options_carry_the_values(monkeypatch):
+    from freecad_conformal.jobs.options import plan_options
+
+    options = plan_options({"layer_height": 0.3, "infill": 40, "infill_angle": 45,
+                            "min_speed": 12, "decompose": False, "solid_layers": 4})
+    assert options.layers.thickness == 0.3
+    assert options.paths.fill.density == pytest.approx(0.4)
+    assert options.paths.fill.angle == pytest.approx(0.7853981633974483)
+    assert options.paths.min_speed == pytest.approx(12 * 60)      # mm/s in, mm/min inside
+    assert options.paths.top_layers == options.paths.bottom_layers == 4
+    assert options.decompose is False
+    assert options.settings["layer_height"] == 0.3
+
+
+def test_json_report_names_units_and_derived_values():
+    report = as_json(PLAN_SETTINGS, validate(PLAN_SETTINGS, {}))
+    assert report["layer_height"] == {"value": 0.2, "unit": "mm"}
+    assert report["bead_width"]["derived"] == "the material's width"
+    assert report["root"] == {"value": "auto"}
+
+
+def test_a_setting_of_unknown_kind_is_a_programming_error():
+    with pytest.raises(ValueError, match="unknown kind"):
+        Setting("x", "colour", None, "x", "x")
+
+
+def test_every_setting_says_what_it_is():
+    for setting in ALL:
+        assert setting.label and setting.help, setting.key
+        if setting.optional:
+            assert setting.derived, f"{setting.key}: what does leaving it unset mean?"
