@@ -22,3 +22,15 @@ DEFAULT_LINEAR_TOLERANCE = 0.01
 #: Tool-axis deviation allowed when linearising rotary moves (rad): 0.05° keeps the tip of a
 #: 50 mm long tool within ~0.04 mm of its path.
 DEFAULT_ANGULAR_TOLERANCE = 0.05 * 3.141592653589793 / 180.0
+
+#: Two build directions within this angle (rad, 1°) are one direction: the decomposition
+#: merges them (concurrent sub-parts) and the build order treats their layers as one stack.
+SAME_DIRECTION_ANGLE = 1.0 * 3.141592653589793 / 180.0
+
+#: A point this close (mm) to a sub-part's base level is on it. Base levels come from the
+#: B-rep's own vertices, so they agree to rounding; 0.1 µm is far below any layer.
+BASE_LEVEL_TOLERANCE = 1e-4
+
+#: Slack when testing rotary limits and reachability (rad / unit vector), so values computed
+#: as exactly the limit are not rejected through rounding.
+LIMIT_SLACK = 1e-9

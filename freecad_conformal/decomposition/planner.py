@@ -20,16 +20,16 @@ from freecad_conformal.geometry.splitting_faces import SplitCandidate, split_sol
 from freecad_conformal.decomposition.cut_search import CutSearch, best_cut
 from freecad_conformal.decomposition.cuts import (LazyAxis, SavingEstimate, area_jump_candidates,
                                              face_candidates)
-from freecad_conformal.geometry.overhang import (lowest_level, overhang_report)
+from freecad_conformal.geometry.overhang import lowest_level, overhang_report
+from freecad_conformal.tolerances import BASE_LEVEL_TOLERANCE, SAME_DIRECTION_ANGLE
 
 #: A cut must save at least this much overhang (mm², and this fraction of what remains) to
 #: be worth a new sub-part: below it the split only adds a rotation and a seam.
 MIN_SAVING = 1e-3
 MIN_SAVING_FRACTION = 1e-4
-#: Two directions within this angle (rad) are the same build direction.
-SAME_DIRECTION = math.radians(1.0)
+SAME_DIRECTION = SAME_DIRECTION_ANGLE
 #: A piece reaches its base level when its lowest point is within this (mm) of it.
-LEVEL_TOLERANCE = 1e-4
+LEVEL_TOLERANCE = BASE_LEVEL_TOLERANCE
 
 
 @dataclass

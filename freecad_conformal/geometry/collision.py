@@ -13,6 +13,7 @@ import math
 import numpy as np
 
 from freecad_conformal.process.tools import Envelope
+from freecad_conformal.tolerances import BASE_LEVEL_TOLERANCE, SAME_DIRECTION_ANGLE
 
 #: Deposit height above the surface (mm): the nozzle tip sits one layer above what it lays
 #: on, so the surface it deposits onto is not reported as a collision.
@@ -24,11 +25,10 @@ DEFAULT_STANDOFF = 0.2
 SPACING_FRACTION = 0.1
 MIN_SPACING = 1.0
 
-#: Two build directions within this angle (rad) are one direction (concurrent layers).
-SAME_DIRECTION = math.radians(1.0)
+SAME_DIRECTION = SAME_DIRECTION_ANGLE
 #: Base levels closer than this (mm) are one level; the samples include the vertices, so
 #: the lowest sample of a flat-bottomed sub-part is its base level to rounding.
-LEVEL_TOLERANCE = 1e-3
+LEVEL_TOLERANCE = BASE_LEVEL_TOLERANCE
 
 #: Obstacle × tool point pairs tested in one numpy block (bounds the memory to ~100 MB).
 PAIRS_PER_BLOCK = 2_000_000

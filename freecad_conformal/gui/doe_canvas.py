@@ -35,16 +35,16 @@ def draw_half_normal(canvas, result: Analysis) -> None:
     if not hasattr(canvas, "figure"):
         raise ProcessError("matplotlib is not installed: no half-normal plot")
     # the panel drawing is the command line's (doe_plot), shared rather than copied
-    from freecad_conformal.process.doe.plot import _panel
+    from freecad_conformal.process.doe.plot import half_normal_panel
 
     figure = canvas.figure
     figure.clear()
     panels = 2 if result.effects_ln_s2 is not None else 1
     axes = figure.subplots(1, panels, squeeze=False)[0]
-    _panel(axes[0], result.half_normal("mean"), result.lenth_mean,
+    half_normal_panel(axes[0], result.half_normal("mean"), result.lenth_mean,
            set(result.location.coefficients), "effects on the mean")
     if panels == 2:
-        _panel(axes[1], result.half_normal("ln_s2"), result.lenth_ln_s2,
+        half_normal_panel(axes[1], result.half_normal("ln_s2"), result.lenth_ln_s2,
                set(result.dispersion.coefficients), "effects on ln s²")
     figure.tight_layout()
     canvas.draw()

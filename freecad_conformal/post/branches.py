@@ -14,8 +14,8 @@ from typing import Callable
 import numpy as np
 
 from freecad_conformal.errors import KinematicsError
-from freecad_conformal.post.kinematics import LIMIT_SLACK
 from freecad_conformal.post.machine import Machine
+from freecad_conformal.tolerances import LIMIT_SLACK
 
 TWO_PI = 2.0 * math.pi
 

@@ -15,15 +15,13 @@ import numpy as np
 
 from freecad_conformal.errors import KinematicsError
 from freecad_conformal.post.machine import Machine, RotaryAxis
+from freecad_conformal.tolerances import LIMIT_SLACK
 
 #: Below this |sin| the tool axis is parallel to a rotary axis and that axis' angle is
 #: undefined (e.g. A ≈ 0 on an A/C table): keep its previous value. 1e-9 rad of tool axis
 #: is far below any angular tolerance, so ignoring the angle there costs nothing.
 SINGULAR_SIN = 1e-9
 
-#: Slack when testing limits and reachability (rad / unit vector), so values computed as
-#: exactly the limit are not rejected through rounding.
-LIMIT_SLACK = 1e-9
 
 #: An axis orientation that misses the reachable cone by more than this is an error.
 #: 1e-6 rad is the accuracy of a toolpath written with 7 significant digits.

@@ -19,7 +19,7 @@ from freecad_conformal.process.doe.words import (
 
 #: A real value this close (relative to the half range) to a level is that level; CSV
 #: round-trips print 12 significant digits, so 1e-6 is loose enough and still exact.
-LEVEL_TOLERANCE = 1e-6
+LEVEL_MATCH_RELATIVE = 1e-6
 #: Largest design generated: 2^16 runs per replicate is far beyond any physical study.
 MAX_BASE_FACTORS = 16
 
@@ -71,7 +71,7 @@ class Factor:
             half = (self.high - self.low) / 2
             coded = (number - (self.low + self.high) / 2) / half
             for level in (-1.0, 0.0, 1.0):
-                if abs(coded - level) <= LEVEL_TOLERANCE:
+                if abs(coded - level) <= LEVEL_MATCH_RELATIVE:
                     return level
             raise ProcessError(f"factor {self.name}: {value!r} is none of the levels "
                                f"{self.low:g}, {(self.low + self.high) / 2:g}, {self.high:g}")

@@ -12,7 +12,7 @@ from freecad_conformal.process.doe.analysis import Analysis, HalfNormal
 from freecad_conformal.process.doe.stats import Lenth
 
 
-def _panel(axes, points: HalfNormal, margins: Lenth, chosen: set[str], title: str) -> None:
+def half_normal_panel(axes, points: HalfNormal, margins: Lenth, chosen: set[str], title: str) -> None:
     colours = ["tab:red" if label in chosen else "tab:blue" for label in points.labels]
     axes.scatter(points.quantiles, points.magnitudes, c=colours, zorder=3)
     for label, x, y in zip(points.labels, points.quantiles, points.magnitudes):
@@ -42,10 +42,10 @@ def write_half_normal_png(result: Analysis, path: str | os.PathLike, dpi: int = 
     panels = 2 if result.effects_ln_s2 is not None else 1
     figure = Figure(figsize=(5.5 * panels, 4.5))
     axes = figure.subplots(1, panels, squeeze=False)[0]
-    _panel(axes[0], result.half_normal("mean"), result.lenth_mean,
+    half_normal_panel(axes[0], result.half_normal("mean"), result.lenth_mean,
            set(result.location.coefficients), "effects on the mean")
     if panels == 2:
-        _panel(axes[1], result.half_normal("ln_s2"), result.lenth_ln_s2,
+        half_normal_panel(axes[1], result.half_normal("ln_s2"), result.lenth_ln_s2,
                set(result.dispersion.coefficients), "effects on ln s²")
     figure.tight_layout()
     with atomic_write(path, "wb") as handle:
