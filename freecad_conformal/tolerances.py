@@ -1,17 +1,11 @@
-"""Named tolerances, each with the reason for its value (all lengths in mm, angles in rad)."""
+"""Named tolerances, each with the reason for its value (all lengths in mm, angles in rad).
 
-#: OCC's own confusion distance (Precision::Confusion, 1e-7 mm): two points closer than this
-#: are the same point for OpenCASCADE, so nothing we compute can be finer.
-OCC_CONFUSION = 1e-7
+OpenCASCADE's own values (Part.Precision: confusion 1e-7 mm, angular 1e-12 rad) are read from
+OCC where a shape is at hand (geometry/solids.occ_confusion); this module stays pure."""
 
 #: Default chord tolerance for turning exact section curves into polygons for path planning.
 #: 1 µm is well below any deposition bead (>= 0.1 mm) yet keeps polygons small.
 DEFAULT_CHORD_TOLERANCE = 1e-3
-
-#: A section plane this close to a face or vertex is nudged off it by this much (mm) so
-#: the cut is well defined; 1e-6 mm changes a section's area by far less than 1e-9 relative
-#: for any part larger than 1 mm, the accuracy asked of exact sections.
-SECTION_NUDGE = 1e-6
 
 #: Areas below this (mm²) are treated as empty sections: slivers left by tangencies.
 MIN_SECTION_AREA = 1e-9
@@ -34,3 +28,19 @@ BASE_LEVEL_TOLERANCE = 1e-4
 #: Slack when testing rotary limits and reachability (rad / unit vector), so values computed
 #: as exactly the limit are not rejected through rounding.
 LIMIT_SLACK = 1e-9
+
+#: Floating-point slack for a computed value that should land exactly on a bound or a whole
+#: count (a height over a step, a tilt over a pitch, a cosine of ±1): such values carry a few
+#: ulps of error; 1e-9 on values of order 1 is far above that and far below any user setting.
+ROUNDING_SLACK = 1e-9
+
+#: Unit vectors whose |dot| is within this of 1 are parallel (about 4.5e-5 rad apart).
+PARALLEL_COS_SLACK = 1e-9
+
+#: A vector shorter than this has no direction. Valid input gives exact zeros here, rounding
+#: leaves ~1e-16, so the value only has to sit between the two.
+ZERO_LENGTH = 1e-12
+
+#: Path points closer than this (mm) are the same point (moves of zero length). Far below
+#: OCC's 1e-7 mm confusion, so only points that are equal to rounding merge.
+COINCIDENT_POINTS = 1e-9

@@ -31,3 +31,11 @@ def parts_dir() -> Path:
 def artifacts_dir() -> Path:
     ARTIFACTS.mkdir(parents=True, exist_ok=True)
     return ARTIFACTS
+
+
+def pytest_collection_modifyitems(config, items):
+    """GUI tests start FreeCAD under Xvfb (tens of seconds a module): they are slow too, so
+    `./dev.sh test -m "not slow"` is the quick loop."""
+    for item in items:
+        if item.get_closest_marker("gui") is not None or "tests/gui/" in item.nodeid:
+            item.add_marker(pytest.mark.slow)

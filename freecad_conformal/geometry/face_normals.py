@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.tolerances import ZERO_LENGTH
 
 #: Tessellation points and the triangulation's UV nodes are matched by position rounded to
 #: this (mm): far below the mesh spacing, far above the 1e-12 scatter of one evaluation.
@@ -66,7 +67,7 @@ def _fill_missing(normals: np.ndarray, points: np.ndarray, triangles: np.ndarray
         oriented = flat * np.where(sign == 0, 1.0, sign)[:, None]
         for node in np.nonzero(bad)[0]:
             mean = oriented[np.any(triangles == node, axis=1)].sum(axis=0)
-            normals[node] = mean / max(np.linalg.norm(mean), 1e-12)
+            normals[node] = mean / max(np.linalg.norm(mean), ZERO_LENGTH)
     return normals
 
 

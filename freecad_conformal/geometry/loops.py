@@ -9,6 +9,7 @@ import shapely
 from shapely.geometry import MultiPolygon, Polygon
 
 from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.tolerances import COINCIDENT_POINTS
 
 #: Maps discretised 3D points (N, 3) of a loop to 2D coordinates (N, 2).
 Mapping = Callable[[np.ndarray], np.ndarray]
@@ -102,7 +103,7 @@ def discretize_wire(wire, chord_tolerance: float) -> np.ndarray:
             run.reverse()
         runs.append(run if not runs else run[1:])
     points = np.array([p for run in runs for p in run]) if runs else np.zeros((0, 3))
-    if len(points) > 1 and np.linalg.norm(points[0] - points[-1]) < 1e-9:
+    if len(points) > 1 and np.linalg.norm(points[0] - points[-1]) < COINCIDENT_POINTS:
         points = points[:-1]
     return points
 

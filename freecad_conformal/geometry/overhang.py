@@ -18,6 +18,7 @@ import numpy as np
 from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry.face_normals import plane_normal
 from freecad_conformal.geometry.surface_mesh import face_part, mesh_deflection
+from freecad_conformal.tolerances import PARALLEL_COS_SLACK, ZERO_LENGTH
 
 #: Default allowed overhang from the build direction (the common 45° self-support rule of FDM).
 DEFAULT_OVERHANG_ANGLE = math.radians(45.0)
@@ -47,7 +48,7 @@ class OverhangReport:
 
 def _direction(direction: Sequence[float]) -> np.ndarray:
     d = np.asarray(direction, dtype=float).reshape(-1)
-    if d.shape != (3,) or not np.all(np.isfinite(d)) or np.linalg.norm(d) < 1e-12:
+    if d.shape != (3,) or not np.all(np.isfinite(d)) or np.linalg.norm(d) < ZERO_LENGTH:
         raise PlanError(f"build direction must be a non-zero 3-vector, got {list(np.ravel(direction))!r}")
     return d / np.linalg.norm(d)
 
@@ -111,12 +112,12 @@ def _supported_area(face, normal: np.ndarray, d: np.ndarray, low: float | None,
                     base_faces: Sequence) -> float:
     """How much of a downward planar face rests on the bed or on the base faces."""
     level = float(np.array(tuple(face.Vertexes[0].Point)) @ d)
-    if low is not None and abs(normal @ d + 1.0) < 1e-9 and abs(level - low) < ON_PLANE_TOLERANCE:
+    if low is not None and abs(normal @ d + 1.0) < PARALLEL_COS_SLACK and abs(level - low) < ON_PLANE_TOLERANCE:
         return float(face.Area)
     supported = 0.0
     for base in base_faces:
         base_normal = plane_normal(base)
-        if base_normal is None or abs(abs(base_normal @ normal) - 1.0) > 1e-9:
+        if base_normal is None or abs(abs(base_normal @ normal) - 1.0) > PARALLEL_COS_SLACK:
             continue
         if abs(float(np.array(tuple(base.Vertexes[0].Point)) @ normal)
                - float(np.array(tuple(face.Vertexes[0].Point)) @ normal)) > ON_PLANE_TOLERANCE:

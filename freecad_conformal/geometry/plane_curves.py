@@ -13,6 +13,7 @@ import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.torus_sections import torus_plane_curves
+from freecad_conformal.tolerances import ROUNDING_SLACK
 
 #: A vertex closer than this (mm) to the plane sends the layer to the Boolean: the plane
 #: passes through an edge end, where curve pieces of several faces meet at one point.
@@ -81,7 +82,7 @@ class CircleCrosser:
             return None if abs(height - self.centre_height) < VERTEX_CLEARANCE else []
         c = (height - self.centre_height) / self.amplitude
         if abs(c) >= TANGENT_COS:
-            return None if abs(c) < 1.0 + 1e-9 else []
+            return None if abs(c) < 1.0 + ROUNDING_SLACK else []
         spread = math.acos(c)
         found = []
         for theta in (self.phase + spread, self.phase - spread):

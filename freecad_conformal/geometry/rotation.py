@@ -10,6 +10,7 @@ from typing import Sequence
 import numpy as np
 
 from freecad_conformal.errors import PlanError
+from freecad_conformal.tolerances import ZERO_LENGTH
 
 #: Two unit vectors whose dot product is within this of ±1 are treated as (anti)parallel:
 #: the cross product is then shorter than ~1.4e-6 and no longer defines an axis reliably.
@@ -25,7 +26,7 @@ def _unit(vector: Sequence[float], what: str) -> np.ndarray:
     if array.shape != (3,) or not np.all(np.isfinite(array)):
         raise PlanError(f"{what} must be three finite numbers, got {list(np.ravel(vector))!r}")
     length = float(np.linalg.norm(array))
-    if length < 1e-12:
+    if length < ZERO_LENGTH:
         raise PlanError(f"{what} must not be the zero vector")
     return array / length
 

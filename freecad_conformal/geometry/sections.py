@@ -19,6 +19,7 @@ from typing import Callable, Iterable, Sequence
 import numpy as np
 
 from freecad_conformal.errors import GeometryError
+from freecad_conformal.geometry.solids import occ_confusion
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.boxes import box_reach, optimal_box
 from freecad_conformal.geometry.face_sections import FaceCutter
@@ -27,7 +28,7 @@ from freecad_conformal.geometry.section_pool import cut_sections
 from freecad_conformal.geometry.frames import LayerFrame
 from freecad_conformal.geometry.loops import Loop, loops_of_faces, polygons_of_loops
 from freecad_conformal.geometry.solids import solids_of
-from freecad_conformal.tolerances import DEFAULT_CHORD_TOLERANCE, MIN_SECTION_AREA
+from freecad_conformal.tolerances import DEFAULT_CHORD_TOLERANCE, MIN_SECTION_AREA, ROUNDING_SLACK
 
 #: The cutting plane extends this far (relative) beyond the solid's bounding box, so no
 #: section is clipped by the plane's own border.
@@ -121,7 +122,7 @@ def uniform_heights(shape, direction: Sequence[float], layer: float) -> list[flo
         raise GeometryError(f"layer thickness must be a positive number of mm, got {layer!r}")
     frame = LayerFrame.for_direction(direction)
     low, high = extent_along(shape, frame.n)
-    count = int(np.ceil((high - low) / layer - 1e-9))
+    count = int(np.ceil((high - low) / layer - ROUNDING_SLACK))
     if count > 1_000_000:
         raise GeometryError(f"layer {layer} mm gives {count} layers over {high - low:.3f} mm; "
                             "use a thicker layer")
@@ -292,7 +293,7 @@ def _plane_meets_box(box, n: np.ndarray, height: float) -> bool:
     corners = np.array([[x, y, z] for x in (box.XMin, box.XMax) for y in (box.YMin, box.YMax)
                         for z in (box.ZMin, box.ZMax)])
     heights = corners @ n
-    slack = 1e-7 * (1.0 + box.DiagonalLength)
+    slack = occ_confusion() * (1.0 + box.DiagonalLength)
     return heights.min() - slack <= height <= heights.max() + slack
 
 

@@ -72,3 +72,10 @@ def solids_of(shape, what: str = "shape") -> list:
             raise GeometryError(f"{what}: solid {index + 1} of {len(solids)} has non-positive "
                                 f"volume {solid.Volume:.6g} mm³ (reversed orientation?)")
     return solids
+
+
+def occ_confusion() -> float:
+    """OpenCASCADE's confusion distance (Precision::Confusion, mm): points closer than this
+    are one point for OCC, so no geometric test here can be finer."""
+    _, Part = import_freecad()
+    return float(Part.Precision.confusion())

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from freecad_conformal.errors import GeometryError
+from freecad_conformal.geometry.solids import occ_confusion
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.concave_edges import EdgeAngle
 
@@ -58,7 +59,7 @@ def _inner_point(face) -> np.ndarray:
     """A point inside the face: its centre of mass when inside, else a triangle centre."""
     App, _ = import_freecad()
     com = face.CenterOfMass
-    if face.isInside(com, 1e-7, True):
+    if face.isInside(com, occ_confusion(), True):
         return _vec(com)
     points, triangles = face.tessellate(0.1)
     a, b, c = (np.array(tuple(points[i])) for i in triangles[0])

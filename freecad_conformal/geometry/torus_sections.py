@@ -22,6 +22,7 @@ import math
 import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.tolerances import ROUNDING_SLACK
 
 #: Largest distance (mm) of the fitted curve from the plane and from the torus. OCC's own
 #: walked curves on the Pump_Nut fillets deviate by 2e-8 to 6e-8 (measured), so this is
@@ -144,7 +145,7 @@ def _u_map(torus, section: _TorusSection) -> tuple[float, float]:
 
 
 def _within(angle: np.ndarray, low: float, high: float) -> np.ndarray:
-    if high - low >= 2 * math.pi - 1e-9:
+    if high - low >= 2 * math.pi - ROUNDING_SLACK:
         return np.ones(angle.shape, dtype=bool)
     return np.mod(angle - low, 2 * math.pi) <= (high - low)
 

@@ -16,6 +16,7 @@ from shapely.geometry import MultiPolygon
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry.frames import LayerFrame
+from freecad_conformal.tolerances import ROUNDING_SLACK
 
 MODES = ("uniform", "adaptive", "cusp")
 
@@ -143,7 +144,7 @@ def thickness_report(layers: Sequence[Layer]) -> tuple[float, float]:
 def check_thickness(layers: Sequence[Layer], settings: LayerSettings) -> None:
     """Refuse any layer thinner than ΔL_min or thicker than ΔL_max, naming it."""
     low, high = settings.bounds
-    slack = 1e-9
+    slack = ROUNDING_SLACK
     for layer in layers:
         if layer.thickness_min < low - slack or layer.thickness_max > high + slack:
             raise PlanError(

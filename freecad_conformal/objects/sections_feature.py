@@ -7,6 +7,7 @@ import math
 import FreeCAD
 
 from freecad_conformal.objects.properties import reports_errors, StoredState, add_properties, source_shape, vector3
+from freecad_conformal.tolerances import ROUNDING_SLACK
 
 MODES = ("Planar", "Cylindrical")
 GROUP = "Sections"
@@ -76,7 +77,7 @@ def radii(obj) -> list[float]:
     if step <= 0 or end < start:
         raise GeometryError(f"{obj.Label}: radii from {start:g} to {end:g} mm by {step:g} mm "
                             "need step > 0 and end >= start")
-    count = int(math.floor((end - start) / step + 1e-9)) + 1
+    count = int(math.floor((end - start) / step + ROUNDING_SLACK)) + 1
     return [start + k * step for k in range(count)]
 
 

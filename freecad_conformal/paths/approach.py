@@ -18,6 +18,7 @@ import numpy as np
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.tolerances import COINCIDENT_POINTS
 
 #: Clearance (mm) between the safe sphere and the built material's bounding sphere: several
 #: layer heights and nozzle diameters, so a travel never skims a surface.
@@ -66,7 +67,7 @@ def slerp_directions(a: np.ndarray, b: np.ndarray, count: int, fallback: np.ndar
         return np.repeat(a[None], count, axis=0)
     if math.pi - angle < 1e-6:
         side = fallback - (fallback @ a) * a
-        if np.linalg.norm(side) < 1e-9:
+        if np.linalg.norm(side) < COINCIDENT_POINTS:
             side = np.eye(3)[int(np.argmin(np.abs(a)))]
             side = side - (side @ a) * a
         side /= np.linalg.norm(side)

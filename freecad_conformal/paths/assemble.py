@@ -29,6 +29,7 @@ from freecad_conformal.paths.map3d import Path3D, map_paths, skin_regions
 from freecad_conformal.layers.model import Layer
 from freecad_conformal.decomposition.subparts import BuildPlan
 from freecad_conformal.toolpath import Toolpath, ToolpathBuilder
+from freecad_conformal.tolerances import COINCIDENT_POINTS
 
 #: Perimeter loops this short (mm) are printed at `Feeds.small_perimeter`: PrusaSlicer's
 #: rule, a circle of 6.5 mm radius.
@@ -232,7 +233,7 @@ def assemble(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSett
                 elif k == 0:
                     rise = position + float((path.points[0] - position) @ new_axis) * new_axis
                     travel(np.array([rise, start]), np.array([new_axis, new_axis]))
-                elif np.linalg.norm(start - position) > 1e-9:
+                elif np.linalg.norm(start - position) > COINCIDENT_POINTS:
                     travel(start[None], new_axis[None])
                 first = False
                 builder.event("extruder_on")

@@ -14,6 +14,7 @@ import math
 import numpy as np
 
 from freecad_conformal.toolpath import KINDS, Toolpath
+from freecad_conformal.tolerances import COINCIDENT_POINTS
 
 #: Marlin's and PrusaSlicer's default X/Y jerk (mm/s): the instantaneous speed change a
 #: corner may take without slowing to it.
@@ -63,7 +64,7 @@ def move_seconds(tp: Toolpath, acceleration: float, jerk: float = DEFAULT_JERK,
                  rapid_feed: float | None = None) -> tuple[np.ndarray, np.ndarray]:
     """(seconds, segment index) of every move of `tp` that has a length (see estimate_time)."""
     lengths = tp.move_lengths()[1:]
-    keep = lengths > 1e-9
+    keep = lengths > COINCIDENT_POINTS
     segment = tp.segment_index[1:]
     feed = tp.feed[segment].astype(float)
     travel = tp.kind[segment] == KINDS.index("travel")

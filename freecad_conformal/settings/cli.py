@@ -32,7 +32,7 @@ def add_arguments(parser: argparse.ArgumentParser, settings: Iterable[Setting]) 
         if group is None:
             group = groups[setting.group] = parser.add_argument_group(setting.group)
         flags = (setting.cli_flag, *setting.aliases)
-        common = dict(dest=setting.key, default=None, help=_help(setting))
+        common: dict[str, Any] = dict(dest=setting.key, default=None, help=_help(setting))
         if setting.kind == "bool":
             group.add_argument(*flags, action=argparse.BooleanOptionalAction, **common)
         elif setting.kind == "choice":

@@ -20,6 +20,7 @@ def test_mesh_profile_areas_of_a_stepped_cylinder(App, Part):
     assert across[0] == pytest.approx(600.0, rel=5e-3)
 
 
+@pytest.mark.slow
 @pytest.mark.parts
 def test_mesh_and_exact_profiles_find_the_same_jumps_on_the_crank_arm(parts_dir):
     from freecad_conformal.geometry.solids import load_shape

@@ -23,6 +23,7 @@ def _csv_rows(path):
         return list(csv.DictReader(handle))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("workers", [1, 2])
 def test_batch_plans_every_part_and_reports_the_broken_one(parts, tmp_path, capsys, workers):
     out = tmp_path / "out"
@@ -57,6 +58,7 @@ def test_batch_plans_every_part_and_reports_the_broken_one(parts, tmp_path, caps
     assert report["settings"]["options"]["layers"]["thickness"] == 1.0
 
 
+@pytest.mark.slow
 def test_batch_gcode_is_what_the_plan_command_writes(parts, tmp_path):
     """Same part, same options: the batch plans exactly as `plan` does."""
     assert main(["plan", str(parts["cyl"]), "--layer", "1", "-o", str(tmp_path / "plan.gcode")]) == 0

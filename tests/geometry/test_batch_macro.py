@@ -33,6 +33,7 @@ def _freecadcmd(arguments: list[str], cwd: Path) -> subprocess.CompletedProcess:
                           capture_output=True, timeout=FREECADCMD_TIMEOUT_S)
 
 
+@pytest.mark.slow
 def test_macro_plans_the_parts_and_exits_with_the_batch_code(tmp_path):
     make_parts(tmp_path / "parts")
     run = _freecadcmd(["--", "parts/box.step", "parts/two.FCStd", "parts/broken.step",

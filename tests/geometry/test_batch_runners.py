@@ -37,6 +37,7 @@ def parts(tmp_path_factory):
     return make_parts(tmp_path_factory.mktemp("batch-runners"))
 
 
+@pytest.mark.slow
 def test_a_dying_worker_fails_only_its_part(parts, tmp_path):
     inputs = [str(parts[name]) for name in ("cyl", "box", "two")]
     result = run_batch(inputs, PlanOptions(), tmp_path, workers=2, task=crash_on_cylinder)
@@ -71,6 +72,7 @@ def test_missing_dask_says_how_to_install_it(monkeypatch, parts, tmp_path):
     assert not (tmp_path / "batch-report.csv").exists()
 
 
+@pytest.mark.slow
 def test_dask_local_cluster_runs_the_same_jobs(parts, tmp_path):
     """Two worker processes of a LocalCluster, the same rows as a local run."""
     distributed = pytest.importorskip("distributed")

@@ -79,6 +79,7 @@ def test_pieces_concave_edges_are_found_among_their_ancestors(name, point, norma
         assert ancestor and all(concave_edges(p) == [] for p in pieces)
 
 
+@pytest.mark.slow
 def test_pieces_of_a_free_form_part_keep_their_concave_edges(parts_dir):
     from freecad_conformal.geometry.solids import load_shape
 

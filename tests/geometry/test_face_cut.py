@@ -40,6 +40,7 @@ def _compare(shape, direction, spacing):
     return rows
 
 
+@pytest.mark.slow
 @pytest.mark.parts
 @pytest.mark.parametrize("name, direction", [
     ("Pump_Nut.brep", (0, 0, 1)), ("Pump_Nut.brep", (0.3, -0.5, 0.8)),
@@ -128,6 +129,7 @@ def test_torus_cases_occ_solves_in_closed_form_are_left_to_it(Part):
     assert torus_plane_curves(torus, np.array([1.0, 0.0, 0.0]), 0.0) is None  # contains the axis
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mirrored", [False, True])
 def test_torus_segment_sections_match_the_boolean_in_a_mirrored_frame_too(App, Part, mirrored):
     """Three quarters of a torus: faces trimmed in u (and u running backwards once mirrored)."""

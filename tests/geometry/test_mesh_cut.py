@@ -71,6 +71,7 @@ def test_mesh_trials_leave_the_overhang_exact_cuts_leave(name, direction, App, P
     _assert_agree(_trials(solid, direction), relative=1e-4 if name == "holed_column" else 1e-9)
 
 
+@pytest.mark.slow
 def test_mesh_trials_on_a_free_form_part_are_within_a_thousandth(parts_dir):
     arm = max(load_shape(parts_dir / "CrankArm.brep").Solids, key=lambda s: s.Volume)
     for direction in ((0, 0, 1), (-1, 0, 0)):
@@ -119,6 +120,7 @@ def test_only_the_cuts_the_mesh_ranks_best_are_made_exactly(monkeypatch):
     assert not made
 
 
+@pytest.mark.slow
 def test_splits_occ_leaves_undone_are_made_with_a_little_fuzz(parts_dir):
     """Cut along the regions of two of its planar faces, CrankArm's arm comes back from
     OCC whole (or short of a piece); the second try with 1e-6 mm of fuzz splits it."""

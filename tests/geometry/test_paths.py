@@ -124,6 +124,7 @@ def test_bounding_sphere(Part):
     assert radius == pytest.approx(1.5)
 
 
+@pytest.mark.slow
 def test_small_layers_are_slowed_to_the_minimum_layer_time(envelope):
     jack_arm = samples.jack()
     plan = BuildPlan([SubPart(0, jack_arm, np.array([0.0, 0, 1]))], order=[0])

@@ -23,6 +23,7 @@ def test_turn_up_puts_the_direction_along_z():
     assert not still.turned and same.BoundBox.ZMax == pytest.approx(jack.BoundBox.ZMax)
 
 
+@pytest.mark.slow
 def test_the_hinge_is_turned_until_the_trunnion_reaches_every_sub_part():
     """As modelled its lugs need the tool along −Z (A = 180°, beyond ±120°)."""
     hinge = samples.hinge()

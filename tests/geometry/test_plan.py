@@ -11,6 +11,7 @@ from freecad_conformal.jobs.plan import PlanOptions, run_job, single_plan
 from freecad_conformal.decomposition.subparts import BuildPlan, SubPart
 
 
+@pytest.mark.slow
 def test_plan_command_writes_gcode_preview_and_summary(tmp_path, capsys):
     out = tmp_path / "jack.ngc"
     summary = tmp_path / "jack.txt"
@@ -28,6 +29,7 @@ def test_plan_command_writes_gcode_preview_and_summary(tmp_path, capsys):
     assert (tmp_path / "jack.npz").stat().st_size > 0
 
 
+@pytest.mark.slow
 def test_summary_figures_agree_with_the_toolpath():
     shape = samples.jack()
     result = run_job(shape, single_plan(shape), PlanOptions(), part="jack")

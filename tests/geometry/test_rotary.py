@@ -82,6 +82,7 @@ def test_one_block_per_straight_line_of_the_unrolled_plane(rotary):
     assert max(swept) > 360 * (TURNS - 0.5)            # a multi-turn helix in one G1
 
 
+@pytest.mark.slow
 def test_rotary_program_replays_onto_the_design(rotary):
     deviation = verify_program(rotary.gcode, load_machine("rotary_mandrel"), rotary.toolpath)
     assert deviation.position < 0.011 and math.degrees(deviation.angle) < 0.051

@@ -130,6 +130,7 @@ def test_uniform_heights_are_mid_layer(App, Part):
     assert heights == pytest.approx([2.125, 2.375, 2.625, 2.875])
 
 
+@pytest.mark.slow
 def test_parallel_sections_equal_serial(Part):
     torus = Part.makeTorus(10, 2)
     serial = planar_sections(torus, (0.3, 0.2, 1.0), layer=0.1)

@@ -16,6 +16,7 @@ KNOWN_VOLUMES = {
 LAYERS = 60
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(KNOWN_VOLUMES))
 @pytest.mark.parametrize("direction", [(0, 0, 1), (1, 0, 0)])
 def test_layer_areas_integrate_to_the_volume(parts_dir, name, direction):
@@ -41,6 +42,7 @@ def test_layer_areas_integrate_to_the_volume(parts_dir, name, direction):
 DEFLECTION = 0.01
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(KNOWN_VOLUMES))
 def test_extent_is_the_parts_own_not_its_box(parts_dir, name):
     """The first and last layers start on the part: the extent lies within a tessellation's
@@ -57,6 +59,7 @@ def test_extent_is_the_parts_own_not_its_box(parts_dir, name):
         assert heights.max() - 1e-6 <= high <= heights.max() + DEFLECTION, (direction, high)
 
 
+@pytest.mark.slow
 def test_crankarm_two_solids_are_both_sectioned(parts_dir):
     shape = load_shape(parts_dir / "CrankArm.brep")
     assert len(shape.Solids) == 2

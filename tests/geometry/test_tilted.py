@@ -41,6 +41,7 @@ def rod():
     return samples.inclined_rod()
 
 
+@pytest.mark.slow
 def test_an_inclined_rod_tilts_and_its_planes_are_square_or_clearly_tilted(rod):
     settings = LayerSettings(thickness=0.2, tilt=True)
     layers = plan_layers(_sub(rod), settings)

@@ -71,6 +71,7 @@ def test_grbl_error_stops_the_job_naming_the_line(simulator, tmp_path):
     assert load_state(tmp_path / "s.json").status == "failed"
 
 
+@pytest.mark.slow
 def test_pause_holds_the_feed_and_resume_finishes(simulator):
     program = make_program(600)
     simulator.block_seconds = 0.002

@@ -167,6 +167,7 @@ def test_emergency_abort_sends_m112(printer_factory):
     wait_for(lambda: printer.printer._killed, timeout=2)
 
 
+@pytest.mark.slow
 def test_temperature_wait_and_busy_keep_the_line_alive(printer_factory, tmp_path):
     """M109 keeps the printer silent but for temperature reports and "busy:" for ~2 s,
     longer than both timeouts here: that traffic must stop the streamer from repeating."""
@@ -182,6 +183,7 @@ def test_temperature_wait_and_busy_keep_the_line_alive(printer_factory, tmp_path
     assert "repeating line" not in log
 
 
+@pytest.mark.slow
 def test_cli_streams_and_resumes_after_a_disconnect(printer_factory, tmp_path, capsys):
     program_path = tmp_path / "job.gcode"
     program_path.write_text("\n".join(f"G1 X{i}.5 F60000" for i in range(300)) + "\n")
