@@ -100,7 +100,8 @@ def _property_type(setting) -> str:
 def _tooltip(setting) -> str:
     unit = f" ({setting.unit})" if setting.kind in ("time", "float") and setting.unit else ""
     derived = f"; empty or 0: {setting.derived}" if setting.optional and setting.derived else ""
-    return f"{setting.help[0].upper()}{setting.help[1:]}{unit}{derived} [{setting.cli_flag}]"
+    only = f"; only with {setting.condition}" if setting.condition else ""
+    return f"{setting.help[0].upper()}{setting.help[1:]}{unit}{derived}{only} [{setting.cli_flag}]"
 
 
 def setting_properties(settings, group: str) -> list[PropertySpec]:

@@ -11,7 +11,7 @@ _TYPES = {"int": int, "length": float, "angle": float, "speed": float, "area": f
 
 
 def _help(setting: Setting) -> str:
-    unit = f" in {setting.unit}" if setting.unit and setting.unit != "%" else ""
+    unit = f"{setting.unit}; " if setting.unit and setting.unit != "%" else ""
     if setting.optional:
         default = f"default: {setting.derived}" if setting.derived else "optional"
     elif setting.kind == "bool":
@@ -19,7 +19,8 @@ def _help(setting: Setting) -> str:
     else:
         default = f"default {setting.default:g}" if isinstance(setting.default, float) \
             else f"default {setting.default}"
-    return f"{setting.help}{unit} ({default})"
+    only = f"; only with {setting.condition}" if setting.condition else ""
+    return f"{setting.help} ({unit}{default}{only})"
 
 
 def add_arguments(parser: argparse.ArgumentParser, settings: Iterable[Setting]) -> None:

@@ -5,6 +5,8 @@ from __future__ import annotations
 from freecad_conformal.settings.schema import Setting
 
 DEFAULT_MACHINE = "trunnion_ac"
+#: Layer modes whose thickness varies between the minimum and maximum layer heights.
+VARIABLE_LAYERS = ("layer_mode", ("adaptive", "cusp"))
 
 
 def machine_names() -> tuple[str, ...]:
@@ -41,15 +43,15 @@ PLAN_SETTINGS: tuple[Setting, ...] = (
             group="layers", choices=("uniform", "adaptive", "cusp")),
     Setting("layer_min", "length", None, "minimum layer height",
             "thinnest adaptive layer", group="layers", minimum=0.0, open_minimum=True,
-            derived="0.5 x layer height"),
+            derived="0.5 x layer height", only_when=VARIABLE_LAYERS),
     Setting("layer_max", "length", None, "maximum layer height",
             "thickest adaptive layer", group="layers", minimum=0.0, open_minimum=True,
-            derived="1.5 x layer height"),
+            derived="1.5 x layer height", only_when=VARIABLE_LAYERS),
     Setting("max_volume_difference", "volume", 2.0, "maximum volume difference",
-            "adaptive layers: volume between a layer and its exact slab", group="layers",
-            minimum=0.0, open_minimum=True),
-    Setting("max_cusp", "length", 0.05, "maximum cusp height", "cusp layers: cusp height limit",
-            group="layers", minimum=0.0, open_minimum=True),
+            "volume between a layer and its exact slab", group="layers",
+            minimum=0.0, open_minimum=True, only_when=("layer_mode", ("adaptive",))),
+    Setting("max_cusp", "length", 0.05, "maximum cusp height", "cusp height limit",
+            group="layers", minimum=0.0, open_minimum=True, only_when=("layer_mode", ("cusp",))),
     Setting("tilt", "bool", True, "3-D layers",
             "tilt the layer planes where a sub-part's centroidal axis bends "
             "(off: every layer planar)", group="layers", prop="TiltLayers"),

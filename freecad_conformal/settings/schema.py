@@ -32,6 +32,8 @@ class Setting:
     prop: the FreeCAD property name (default CamelCase of the key); "" keeps it off the GUI.
     minimum/maximum: inclusive limits unless `open_minimum` (then value > minimum).
     choices: allowed values (a callable for lists known only at run time, e.g. machines).
+    only_when: (key, values): the setting matters only when that setting has one of the
+        values (max_cusp only for layer_mode cusp); help texts say so.
     """
 
     key: str
@@ -49,6 +51,7 @@ class Setting:
     open_maximum: bool = False
     choices: Sequence[str] | Callable[[], Sequence[str]] | None = None
     derived: str = ""
+    only_when: tuple[str, tuple[str, ...]] | None = None
 
     def __post_init__(self) -> None:
         if self.kind not in UNITS:
@@ -67,6 +70,14 @@ class Setting:
     @property
     def unit(self) -> str:
         return UNITS[self.kind]
+
+    @property
+    def condition(self) -> str:
+        """ "" or where the setting applies, e.g. "layer mode adaptive or cusp"."""
+        if self.only_when is None:
+            return ""
+        key, values = self.only_when
+        return f"{key.replace('_', ' ')} {' or '.join(values)}"
 
     @property
     def optional(self) -> bool:

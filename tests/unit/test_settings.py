@@ -117,3 +117,15 @@ def test_every_setting_says_what_it_is():
         assert setting.label and setting.help, setting.key
         if setting.optional:
             assert setting.derived, f"{setting.key}: what does leaving it unset mean?"
+
+
+def test_settings_that_apply_to_one_mode_name_a_real_setting_and_value():
+    by_key = {s.key: s for s in PLAN_SETTINGS}
+    conditional = [s for s in PLAN_SETTINGS if s.only_when]
+    assert {s.key for s in conditional} >= {"layer_min", "layer_max", "max_cusp"}
+    for setting in conditional:
+        key, values = setting.only_when
+        assert set(values) <= set(by_key[key].allowed()), setting.key
+    parser = argparse.ArgumentParser()
+    add_arguments(parser, PLAN_SETTINGS)
+    assert "only with layer mode cusp" in " ".join(parser.format_help().split())
