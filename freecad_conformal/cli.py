@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import logging
+import os
 import sys
 from typing import Sequence
 
@@ -32,6 +34,31 @@ COMMANDS: dict[str, tuple[str, str]] = {
 }
 
 
+#: Per command, the arguments that name files it reads and files it writes: an output must
+#: never replace an input or another output, and its folder must exist (fileio.guard_outputs).
+FILE_ARGUMENTS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
+    "plan": (("part",), ("output", "png", "summary", "toolpath")),
+    "feature": (("part", "svg", "outline"), ("output", "gcode")),
+    "mandrel": (("part",), ("output", "toolpath")),
+    "post": (("toolpath",), ("output",)),
+    "sections": (("part",), ("json",)),
+    "decompose": (("part",), ("json",)),
+    "stream": (("program",), ("state", "log")),
+}
+
+
+def guard_files(args: argparse.Namespace) -> None:
+    """Refuse, before any work, outputs that would overwrite an input or cannot be written."""
+    from freecad_conformal.fileio import guard_outputs
+
+    inputs, outputs = FILE_ARGUMENTS.get(args.command, ((), ()))
+    named = {f"--{name}" if name != "output" else "-o/--output": getattr(args, name, None)
+             for name in outputs}
+    paths = {name: value for name, value in named.items() if isinstance(value, (str, os.PathLike))}
+    guard_outputs([getattr(args, name, None) for name in inputs
+                   if isinstance(getattr(args, name, None), (str, os.PathLike))], paths)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="python -m freecad_conformal",
@@ -48,11 +75,26 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+class WarningPrinter(logging.Handler):
+    """Prints the package's warnings (repaired or skipped input) as `warning: ...` lines on the
+    stderr of the moment (so redirections made after start-up are honoured)."""
+
+    def __init__(self) -> None:
+        super().__init__(logging.WARNING)
+
+    def emit(self, record: logging.LogRecord) -> None:
+        print(f"warning: {record.getMessage()}", file=sys.stderr)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run one command; return its exit code (2 for usage errors, 1 for failures)."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    log = logging.getLogger("freecad_conformal")
+    if not any(isinstance(h, WarningPrinter) for h in log.handlers):
+        log.addHandler(WarningPrinter())
     try:
+        guard_files(args)
         return int(args._run(args) or 0)
     except ConformalError as exc:
         print(f"error: {exc}", file=sys.stderr)

@@ -27,3 +27,7 @@ class ProcessError(ConformalError):
 
 class StreamError(ConformalError):
     """Sending a program to a machine failed (port, protocol, state file)."""
+
+
+class OutputError(ConformalError):
+    """An output cannot be written where asked (missing folder, a folder, an input, no access)."""

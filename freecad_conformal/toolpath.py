@@ -39,6 +39,7 @@ metadata), read without pickle.
 """
 from __future__ import annotations
 
+import io
 import json
 import math
 from dataclasses import dataclass, field
@@ -171,15 +172,22 @@ class Toolpath:
 
     def save(self, path: str | Path) -> None:
         """Write an .npz archive atomically (arrays + JSON header)."""
+        data = self.to_bytes()
+        with atomic_write(path, "wb") as handle:
+            handle.write(data)
+
+    def to_bytes(self) -> bytes:
+        """The .npz archive `save` writes, in memory (arrays + JSON header)."""
         validate_toolpath(self)
         header = {"format": "conformal-toolpath", "version": FORMAT_VERSION, "kinds": list(KINDS),
                   "interpolations": list(INTERPOLATIONS), "metadata": self.metadata,
                   "events": [e.to_json() for e in self.events]}
-        with atomic_write(path, "wb") as handle:
-            np.savez(handle, header=np.array(json.dumps(header)), points=self.points,
-                     axes=self.axes, segment_index=self.segment_index, kind=self.kind,
-                     feed=self.feed, tool=self.tool, flow=self.flow,
-                     interpolation=self.interpolation)
+        buffer = io.BytesIO()
+        np.savez(buffer, header=np.array(json.dumps(header)), points=self.points,
+                 axes=self.axes, segment_index=self.segment_index, kind=self.kind,
+                 feed=self.feed, tool=self.tool, flow=self.flow,
+                 interpolation=self.interpolation)
+        return buffer.getvalue()
 
     @classmethod
     def load(cls, path: str | Path) -> "Toolpath":

@@ -50,13 +50,13 @@ def plan_part(shape, name: str, options, output: str | Path, png: str | Path | N
     toolpath); returns (result, written)."""
     from freecad_conformal.jobs.plan import plan_job
 
-    result = plan_job(shape, options, part=name)
+    from freecad_conformal.fileio import guard_outputs
+
     png = png or Path(output).with_suffix(".png")
-    written = result.write(output, png, summary)
-    if toolpath:
-        result.assembly.toolpath.save(toolpath)
-        written.append(Path(toolpath))
-    return result, written
+    guard_outputs([], {"-o/--output": output, "--png": png, "--summary": summary,
+                       "--toolpath": toolpath})
+    result = plan_job(shape, options, part=name)
+    return result, result.write(output, png, summary, toolpath)
 
 
 def run_mandrel(args: argparse.Namespace) -> int:

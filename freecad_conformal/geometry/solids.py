@@ -1,6 +1,7 @@
 """Loading shapes and checking that they are valid solids, with errors a user understands."""
 from __future__ import annotations
 
+import logging
 import os
 from pathlib import Path
 
@@ -9,6 +10,8 @@ from freecad_conformal.freecad_env import import_freecad, make_workbench_types_l
 
 #: File suffixes `load_shape` reads, lower case.
 SHAPE_SUFFIXES = (".step", ".stp", ".brep", ".brp", ".iges", ".igs", ".fcstd")
+#: Warnings about inputs the loader repaired or skipped (the CLI prints them as "warning: ...").
+LOG = logging.getLogger("freecad_conformal")
 
 
 def load_shape(path: str | os.PathLike):
@@ -29,12 +32,39 @@ def load_shape(path: str | os.PathLike):
         raise GeometryError(f"cannot read {file.name}: {exc}") from exc
     if shape.isNull():
         raise GeometryError(f"{file.name} holds no shape")
+    if not shape.Solids and shape.Faces:
+        shape = _sewn_solids(Part, shape, file.name)
     return shape
+
+
+def _sewn_solids(Part, shape, name: str):
+    """Faces with no solid (an IGES of trimmed surfaces, a STEP of a shell) sewn into solids
+    where they close; the shape unchanged (and refused later, by name) where they do not."""
+    sewn = shape.copy()
+    sewn.sewShape()
+    solids = []
+    for shell in sewn.Shells:
+        if not shell.isClosed():
+            continue
+        solid = Part.Solid(shell)
+        if solid.Volume < 0:
+            solid.reverse()
+        if solid.isValid() and solid.Volume > 0:
+            solids.append(solid)
+    if not solids:
+        return shape
+    LOG.warning("%s holds faces but no solid: sewed %d face(s) into %d closed solid(s)",
+                name, len(shape.Faces), len(solids))
+    return Part.Compound(solids) if len(solids) > 1 else solids[0]
 
 
 def _load_fcstd(App, Part, file: Path):
     make_workbench_types_loadable()
-    doc = App.openDocument(str(file), True)
+    try:
+        doc = App.openDocument(str(file), True)
+    except Exception as exc:  # a damaged archive or document.xml: FreeCAD's own message
+        raise GeometryError(f"cannot read {file.name}: not a readable FreeCAD document ({exc})") \
+            from exc
     try:
         solids = []
         for obj in doc.Objects:
@@ -60,6 +90,11 @@ def solids_of(shape, what: str = "shape") -> list:
     if shape.isNull():
         raise GeometryError(f"{what} is empty (null shape)")
     solids = list(shape.Solids)
+    empty = [i for i, solid in enumerate(solids) if not solid.Faces]
+    if empty and len(empty) < len(solids):
+        LOG.warning("%s: skipped %d empty solid(s) (no faces): %s", what, len(empty),
+                    ", ".join(f"solid {i + 1} of {len(solids)}" for i in empty))
+        solids = [solid for i, solid in enumerate(solids) if i not in empty]
     if not solids:
         kind = shape.ShapeType
         hint = " (a closed shell can be made a solid with Part.Solid(shell))" if kind == "Shell" else ""
@@ -68,6 +103,8 @@ def solids_of(shape, what: str = "shape") -> list:
         if not solid.isValid():
             raise GeometryError(f"{what}: solid {index + 1} of {len(solids)} is invalid "
                                 f"(OCC check failed; try Part > Check geometry / refine)")
+        if not solid.Faces:
+            raise GeometryError(f"{what}: solid {index + 1} of {len(solids)} is empty (no faces)")
         if solid.Volume <= 0:
             raise GeometryError(f"{what}: solid {index + 1} of {len(solids)} has non-positive "
                                 f"volume {solid.Volume:.6g} mm³ (reversed orientation?)")

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from freecad_conformal.errors import KinematicsError, PlanError
-from freecad_conformal.fileio import atomic_write, write_text_atomic
+from freecad_conformal.fileio import write_all
 from freecad_conformal.paths.bead import bead_area
 from freecad_conformal.paths.assemble import Assembly, PathSettings, assemble
 from freecad_conformal.paths.timing import DEFAULT_JERK, estimate_time
@@ -100,26 +100,21 @@ class JobResult:
         return summary_text(self)
 
     def write(self, gcode: str | Path, png: str | Path | None = None,
-              summary: str | Path | None = None) -> list[Path]:
-        """Render the preview in memory first, then write each file atomically."""
-        image = None
+              summary: str | Path | None = None, toolpath: str | Path | None = None) -> list[Path]:
+        """Render everything in memory first, then write the files as one result: all of
+        them or, when one cannot be written, none (fileio.write_all)."""
+        contents: dict[str | Path, str | bytes] = {gcode: self.post.text}
         if png is not None:
             from freecad_conformal.paths.preview import render_png
 
             buffer = io.BytesIO()
             render_png(self.assembly, buffer, title=f"{self.part}: {len(self.subparts)} sub-parts")
-            image = buffer.getvalue()
-        text = self.summary()
-        write_text_atomic(gcode, self.post.text)
-        written = [Path(gcode)]
-        if image is not None:
-            with atomic_write(png, "wb") as handle:
-                handle.write(image)
-            written.append(Path(png))
+            contents[png] = buffer.getvalue()
         if summary is not None:
-            write_text_atomic(summary, text)
-            written.append(Path(summary))
-        return written
+            contents[summary] = self.summary()
+        if toolpath is not None:
+            contents[toolpath] = self.assembly.toolpath.to_bytes()
+        return write_all(contents)
 
 
 def resolve_tool(tool_id: str, material: str | None, library=None):

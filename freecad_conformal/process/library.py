@@ -203,6 +203,8 @@ class ToolLibrary:
         written = []
         for path, tools in sorted(by_file.items()):
             if tools:
+                # the user tool folder is the library's own: made on first save
+                path.parent.mkdir(parents=True, exist_ok=True)
                 write_text_atomic(path, tools_to_json(tools))
                 written.append(path)
             else:

@@ -53,13 +53,13 @@ def test_sections_direction_and_cylindrical(tmp_path, App, Part):
     (["sections", "missing.step"], "not found"),
     (["sections", "{part}", "--layer", "0"], "positive"),
     (["sections", "{part}", "--direction", "0,0,0"], "zero vector"),
-    (["sections", "{shell}"], "not a solid"),
+    (["sections", "{shell}"], "not a solid"),      # an open shell (a closed one is sewn)
 ])
 def test_bad_input_exits_non_zero_without_output(tmp_path, App, Part, args, message):
     part = tmp_path / "box.brep"
     Part.makeBox(1, 1, 1).exportBrep(str(part))
     shell = tmp_path / "shell.brep"
-    Part.makeBox(1, 1, 1).Shells[0].exportBrep(str(shell))
+    Part.Shell(Part.makeBox(1, 1, 1).Faces[:5]).exportBrep(str(shell))
     out = tmp_path / "never.json"
     argv = [a.format(part=part, shell=shell) for a in args] + ["--json", str(out)]
     result = run_cli(*argv, cwd=tmp_path)

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import dataclasses
+import os
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Sequence
@@ -10,8 +11,8 @@ from freecad_conformal.jobs.batch import runners
 from freecad_conformal.jobs.batch.jobs import expand_inputs
 from freecad_conformal.jobs.batch.report import FAILED, counts, write_report
 from freecad_conformal.jobs.batch.worker import run_part
-from freecad_conformal.errors import ConformalError
-from freecad_conformal.fileio import write_text_atomic
+from freecad_conformal.errors import ConformalError, OutputError
+from freecad_conformal.fileio import guard_outputs, write_text_atomic
 
 REPORT_STEM = "batch-report"
 
@@ -70,8 +71,11 @@ def run_batch(inputs: Sequence[str], options, out_dir: str | Path, *, workers: i
     """
     if not suffix.startswith(".") or len(suffix) < 2:
         raise ConformalError(f"G-code suffix must start with a dot, like .gcode, got {suffix!r}")
+    if any(sep in suffix for sep in ("/", "\\", os.sep)) or ".." in suffix:
+        raise ConformalError(f"G-code suffix {suffix!r} must not hold a folder separator or '..': "
+                             "every file stays in the output folder")
     check_plan_options(options)
-    out = Path(out_dir)
+    out = _output_folder(out_dir)
     expansion = expand_inputs(inputs, suffix)
     rows = dict(expansion.rejected)
     progress = make_progress(expansion.total) if make_progress is not None else None
@@ -80,7 +84,7 @@ def run_batch(inputs: Sequence[str], options, out_dir: str | Path, *, workers: i
             progress.update(len(rows))
         if expansion.jobs:
             for job, outcome in _outcomes(expansion.jobs, options, workers, dask, start_method, task):
-                rows[job.index] = _store(outcome, out / job.output)
+                rows[job.index] = _store(outcome, out / job.output, job.path)
                 if progress is not None:
                     progress.update(1)
     finally:
@@ -95,15 +99,32 @@ def run_batch(inputs: Sequence[str], options, out_dir: str | Path, *, workers: i
     return BatchResult(ordered, csv_path, json_path)
 
 
-def _store(outcome: dict, path: Path) -> dict:
-    """Write the part's G-code (atomically); a disk error fails only this part."""
+def _output_folder(out_dir: str | Path) -> Path:
+    """The output folder, made if missing, but only one level: a typo in `-o` must not
+    create a directory tree."""
+    out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise OutputError(f"output folder {out} is a file")
+    if not out.parent.is_dir():
+        raise OutputError(f"output folder {out}: its parent {out.parent} does not exist")
+    try:
+        out.mkdir(exist_ok=True)
+    except OSError as exc:
+        raise OutputError(f"cannot make output folder {out}: {exc.strerror or exc}") from exc
+    return out
+
+
+def _store(outcome: dict, path: Path, source: str) -> dict:
+    """Write the part's G-code (atomically); a disk error, or a G-code path that is the part's
+    own file, fails only this part."""
     row = outcome["row"]
     if outcome["gcode"] is None:
         return row
     try:
+        guard_outputs([source], {"G-code": path})
         write_text_atomic(path, outcome["gcode"])
-    except OSError as exc:
-        row.update(status=FAILED, error=f"cannot write {path}: {exc}")
+    except (OSError, OutputError) as exc:
+        row.update(status=FAILED, error=str(exc))
         return row
     row["gcode"] = path.name
     return row

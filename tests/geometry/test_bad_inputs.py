@@ -1,0 +1,128 @@
+"""A corpus of a new user's mistakes: each gives exit code 1 or 2, a message naming the thing
+and the value, no traceback, nothing written, and every input left as it was."""
+from __future__ import annotations
+
+import hashlib
+import os
+from pathlib import Path
+
+import pytest
+
+from freecad_conformal.cli import main
+
+
+@pytest.fixture
+def folder(tmp_path, Part):
+    """A folder with a box part, a toolpath, a G-code program, a corrupt FCStd and a subfolder."""
+    from freecad_conformal.toolpath import ToolpathBuilder
+
+    import numpy as np
+
+    Part.makeBox(20, 20, 10).exportStep(str(tmp_path / "box.step"))
+    builder = ToolpathBuilder(part="line")
+    builder.add_segment(np.array([[0.0, 0, 0], [10, 0, 0]]), np.array([[0.0, 0, 1], [0, 0, 1]]),
+                        kind="deposit", feed=600.0)
+    builder.build().save(tmp_path / "t.npz")
+    (tmp_path / "p.ngc").write_text("G21\nG90\nG1 X1 Y1 Z1 F600\nM2\n")
+    (tmp_path / "broken.FCStd").write_bytes(b"PK\x03\x04 this is not a FreeCAD document")
+    (tmp_path / "sub").mkdir()
+    return tmp_path
+
+
+def _snapshot(folder: Path) -> dict[str, str]:
+    return {str(p.relative_to(folder)): hashlib.sha256(p.read_bytes()).hexdigest()
+            for p in sorted(folder.rglob("*")) if p.is_file()}
+
+
+CASES = [
+    # outputs that would replace an input
+    (["plan", "box.step", "-o", "box.step"], ["-o/--output box.step is the input file", "overwritten"]),
+    (["plan", "box.step", "-o", "x.ngc", "--png", "box.step"], ["--png", "input file"]),
+    (["sections", "box.step", "--layer", "1", "--json", "box.step"], ["--json box.step", "input"]),
+    (["decompose", "box.step", "--json", "box.step"], ["--json box.step", "input"]),
+    (["post", "t.npz", "--machine", "trunnion_ac", "-o", "t.npz"], ["t.npz is the input file"]),
+    (["feature", "box.step", "--face", "Face1", "--kind", "rods", "-o", "box.step"],
+     ["box.step is the input file"]),
+    (["mandrel", "box.step", "-o", "box.step"], ["box.step is the input file"]),
+    (["stream", "p.ngc", "--port", "/dev/ttyNOPE0", "--state", "p.ngc"], ["--state p.ngc", "input"]),
+    (["stream", "p.ngc", "--port", "/dev/ttyNOPE0", "--log", "p.ngc"], ["--log p.ngc", "input"]),
+    # outputs that cannot be written where asked
+    (["plan", "box.step", "-o", "nowhere/x.ngc"], ["nowhere/x.ngc", "folder nowhere does not exist"]),
+    (["plan", "box.step", "-o", "sub"], ["-o/--output sub is a folder"]),
+    (["plan", "box.step", "-o", "x.ngc", "--summary", "x.ngc"], ["same file x.ngc"]),
+    (["plan", "box.step", "-o", "x.ngc", "--summary", "box.step/s.txt"], ["does not exist"]),
+    (["plan", "box.step", "-o", "x.ngc", "--toolpath", "nowhere/t.npz"], ["--toolpath", "nowhere"]),
+    (["batch", "box.step", "-o", "out", "--suffix", "./../../X.gcode"], ["folder separator"]),
+    (["batch", "box.step", "-o", "nowhere/out"], ["parent nowhere does not exist"]),
+    # inputs that cannot be read
+    (["plan", "broken.FCStd", "-o", "x.ngc"], ["cannot read broken.FCStd"]),
+    (["plan", "missing.step", "-o", "x.ngc"], ["missing.step"]),
+    # settings out of range, named with their flag and value, before any geometry work
+    (["plan", "box.step", "-o", "x.ngc", "--layer-height", "0"], ["--layer-height", "got 0"]),
+    (["plan", "box.step", "-o", "x.ngc", "--solid-layers", "-3"], ["--solid-layers", "got -3"]),
+    (["plan", "box.step", "-o", "x.ngc", "--root", "nan,0,1"], ["--root", "'nan,0,1'"]),
+    (["plan", "box.step", "-o", "x.ngc", "--layer-height", "inf"], ["--layer-height", "finite"]),
+    (["feature", "box.step", "--face", "Face1", "--kind", "rods", "-o", "x.npz",
+      "--build-direction", "0,0,0"], ["--build-direction", "'0,0,0'"]),
+    (["feature", "box.step", "--face", "Face1", "--kind", "rods", "-o", "x.npz",
+      "--rings", "-3"], ["--rings", "got -3"]),
+    (["feature", "box.step", "--face", "Face1", "--kind", "rods", "-o", "x.npz",
+      "--feed", "-5"], ["--feed", "got -5"]),
+    (["feature", "box.step", "--face", "Face1", "--kind", "rods", "-o", "x.npz",
+      "--layer", "nan"], ["--layer", "finite"]),
+]
+
+
+@pytest.mark.parametrize("argv, words", CASES, ids=[" ".join(c[0][:6]) for c in CASES])
+def test_a_mistake_is_named_and_nothing_is_written(folder, capsys, monkeypatch, argv, words):
+    monkeypatch.chdir(folder)
+    before = _snapshot(folder)
+    code = main(argv)
+    err = capsys.readouterr().err
+    assert code in (1, 2), err
+    assert "Traceback" not in err
+    for word in words:
+        assert word in err, err
+    assert _snapshot(folder) == before, "an input changed or an output was written"
+
+
+def test_batch_never_writes_over_a_part(folder, capsys, monkeypatch):
+    """`batch D/box.step -o D --suffix .step` would write box.step's G-code over box.step."""
+    monkeypatch.chdir(folder)
+    before = (folder / "box.step").read_bytes()
+    assert main(["batch", "box.step", "-o", ".", "--suffix", ".step", "--workers", "0"]) == 1
+    assert (folder / "box.step").read_bytes() == before
+    assert "input file" in (folder / "batch-report.csv").read_text()
+
+
+def test_a_killed_runs_temporaries_are_cleaned_and_a_live_ones_kept(folder):
+    from freecad_conformal.fileio import write_text_atomic
+
+    dead = folder / ".x.ngc.999999999.abc.part"       # no process has this pid
+    alive = folder / f".x.ngc.{os.getpid()}.abc.part"
+    dead.write_text("half a program")
+    alive.write_text("being written")
+    write_text_atomic(folder / "x.ngc", "G21\n")
+    assert not dead.exists() and alive.exists()
+    assert (folder / "x.ngc").read_text() == "G21\n"
+
+
+def test_several_outputs_appear_together_or_not_at_all(folder):
+    from freecad_conformal.errors import OutputError
+    from freecad_conformal.fileio import write_all
+
+    with pytest.raises(OutputError, match="does not exist"):
+        write_all({folder / "a.ngc": "G21\n", folder / "nowhere" / "a.png": b"png"})
+    assert not (folder / "a.ngc").exists()
+    assert not [p for p in folder.iterdir() if p.name.endswith(".part")]
+    written = write_all({folder / "a.ngc": "G21\n", folder / "a.txt": "summary"})
+    assert [p.name for p in written] == ["a.ngc", "a.txt"]
+
+
+def test_faces_without_a_solid_are_sewn_and_the_user_is_told(tmp_path, Part, capsys):
+    from freecad_conformal.geometry.solids import load_shape
+
+    Part.makeCompound(Part.makeBox(10, 10, 10).Faces).exportIges(str(tmp_path / "faces.igs"))
+    assert main(["sections", str(tmp_path / "faces.igs"), "--layer", "5"]) == 0
+    assert "sewed 6 face(s) into 1 closed solid(s)" in capsys.readouterr().err
+    assert load_shape(tmp_path / "faces.igs").Volume == pytest.approx(1000.0, rel=1e-9)
