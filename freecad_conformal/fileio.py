@@ -55,6 +55,21 @@ def check_output_path(path: str | os.PathLike, what: str = "output") -> Path:
     return target
 
 
+def make_output_folder(folder: str | os.PathLike) -> Path:
+    """An output folder, made if missing, but only one level: a typo in `-o` must not
+    create a directory tree."""
+    out = Path(folder)
+    if out.exists() and not out.is_dir():
+        raise OutputError(f"output folder {out} is a file")
+    if not out.parent.is_dir():
+        raise OutputError(f"output folder {out}: its parent {out.parent} does not exist")
+    try:
+        out.mkdir(exist_ok=True)
+    except OSError as exc:
+        raise OutputError(f"cannot make output folder {out}: {exc.strerror or exc}") from exc
+    return out
+
+
 def _same_file(a: Path, b: Path) -> bool:
     with contextlib.suppress(OSError):
         if a.exists() and b.exists():

@@ -6,7 +6,6 @@ machine and tool, a PNG preview coloured by sub-part and the plan summary.
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -21,15 +20,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from freecad_conformal.commands.plan import plan_part
     from freecad_conformal.errors import ConformalError
+    from freecad_conformal.fileio import make_output_folder
     from freecad_conformal.geometry import samples
     from freecad_conformal.geometry.report import section_report
     from freecad_conformal.jobs.options import plan_options
+    from freecad_conformal.jobs.plan import check_options
 
     if args.sample not in samples.SAMPLES:
         raise ConformalError(f"unknown sample {args.sample!r}; choose from {', '.join(samples.SAMPLES)}")
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    options = plan_options({"machine": args.machine, "tool": args.tool,
+                            "layer_height": args.plan_layer})
     shape = samples.SAMPLES[args.sample]()
+    check_options(shape, options)          # a bad machine or tool writes nothing
+    out = make_output_folder(args.out)
     step_path = out / f"{args.sample}.step"
     shape.exportStep(str(step_path))
     json_path = out / f"{args.sample}_sections.json"
@@ -38,8 +41,6 @@ def run(args: argparse.Namespace) -> int:
     table = report.table()
     (out / f"{args.sample}_sections.txt").write_text(table, encoding="utf-8")
     print(table, end="")
-    options = plan_options({"machine": args.machine, "tool": args.tool,
-                            "layer_height": args.plan_layer})
     result, written = plan_part(shape, args.sample, options, out / f"{args.sample}.ngc",
                                 out / f"{args.sample}_plan.png", out / f"{args.sample}_plan.txt")
     print()

@@ -116,6 +116,13 @@ class FillSettings:
             raise PlanError(f"solid infill area threshold must be >= 0 mm2, got {self.solid_below_area!r}")
 
 
+def valid_region(geometry):
+    """The geometry, repaired when invalid (shapely.make_valid keeps every covered area)."""
+    if geometry is None or geometry.is_empty or geometry.is_valid:
+        return geometry
+    return shapely.make_valid(geometry)
+
+
 def polygons_of(geometry) -> list[Polygon]:
     if geometry.is_empty:
         return []
@@ -309,12 +316,19 @@ def fill_layer(region, settings: FillSettings, layer_index: int = 0, solid=None,
     settings.validate()
     spacing = bead_spacing(settings.bead_width, height, settings.bead_model)
     here = np.zeros(2) if position is None else np.asarray(position, dtype=float)
-    islands = polygons_of(region)
+    # Offsets and scan lines of an invalid region (a self-touching section outline) raise
+    # GEOS topology errors: repair first, so only what cannot be repaired is an error.
+    islands = polygons_of(valid_region(region))
+    solid = None if solid is None else valid_region(solid)
     ordered: list[Path2D] = []
     while islands:
         k = int(np.argmin([island.exterior.distance(shapely.Point(here)) for island in islands]))
         island = islands.pop(k)
-        paths = _island_paths(island, settings, spacing, layer_index, solid, here)
+        try:
+            paths = _island_paths(island, settings, spacing, layer_index, solid, here)
+        except shapely.errors.GEOSException as exc:
+            raise PlanError(f"layer {layer_index}: the island at {island.representative_point().wkt} "
+                            f"({island.area:.3f} mm²) cannot be filled: {exc}") from None
         ordered.extend(paths)
         if paths:
             here = paths[-1].points[-1]

@@ -54,6 +54,9 @@ CASES = [
     (["plan", "box.step", "-o", "x.ngc", "--toolpath", "nowhere/t.npz"], ["--toolpath", "nowhere"]),
     (["batch", "box.step", "-o", "out", "--suffix", "./../../X.gcode"], ["folder separator"]),
     (["batch", "box.step", "-o", "nowhere/out"], ["parent nowhere does not exist"]),
+    (["demo", "--out", "demo", "--machine", "nosuch"], ["nosuch"]),
+    (["demo", "--out", "demo", "--tool", "nosuch"], ["nosuch"]),
+    (["demo", "--out", "nowhere/demo"], ["parent nowhere does not exist"]),
     # inputs that cannot be read
     (["plan", "broken.FCStd", "-o", "x.ngc"], ["cannot read broken.FCStd"]),
     (["plan", "missing.step", "-o", "x.ngc"], ["missing.step"]),

@@ -119,3 +119,19 @@ def test_zigzag_rows_link_along_the_boundary_where_a_straight_connector_would_le
     assert all(guard.covers(LineString(p.points)) for p in lines)
     dense = zigzag(Point(0, 0).buffer(15, quad_segs=64), 0.4, 0.3, WIDTH, "solid_infill")
     assert len(dense) <= 3
+
+
+def test_a_self_touching_outline_is_repaired_before_filling():
+    """A bow-tie outline (the two triangles meet at one point) is an invalid polygon; GEOS
+    raises topology errors on it. The fill repairs it and fills both triangles."""
+    from shapely.geometry import Polygon
+
+    from freecad_conformal.paths.fill2d import FillSettings, fill_layer
+
+    bow_tie = Polygon([(0, 0), (10, 10), (10, 0), (0, 10)])
+    assert not bow_tie.is_valid
+    paths = fill_layer(bow_tie, FillSettings(bead_width=0.4, perimeters=1, density=0.5))
+    perimeters = [p for p in paths if p.role == "external_perimeter"]
+    assert len(perimeters) == 2
+    xs = np.concatenate([p.points[:, 0] for p in perimeters])
+    assert xs.min() < 2.0 and xs.max() > 8.0              # both triangles are printed

@@ -12,7 +12,7 @@ from freecad_conformal.jobs.batch.jobs import expand_inputs
 from freecad_conformal.jobs.batch.report import FAILED, counts, write_report
 from freecad_conformal.jobs.batch.worker import run_part
 from freecad_conformal.errors import ConformalError, OutputError
-from freecad_conformal.fileio import guard_outputs, write_text_atomic
+from freecad_conformal.fileio import guard_outputs, make_output_folder, write_text_atomic
 
 REPORT_STEM = "batch-report"
 
@@ -75,7 +75,7 @@ def run_batch(inputs: Sequence[str], options, out_dir: str | Path, *, workers: i
         raise ConformalError(f"G-code suffix {suffix!r} must not hold a folder separator or '..': "
                              "every file stays in the output folder")
     check_plan_options(options)
-    out = _output_folder(out_dir)
+    out = make_output_folder(out_dir)
     expansion = expand_inputs(inputs, suffix)
     rows = dict(expansion.rejected)
     progress = make_progress(expansion.total) if make_progress is not None else None
@@ -97,21 +97,6 @@ def run_batch(inputs: Sequence[str], options, out_dir: str | Path, *, workers: i
     csv_path, json_path = out / f"{REPORT_STEM}.csv", out / f"{REPORT_STEM}.json"
     write_report(ordered, csv_path, json_path, settings)
     return BatchResult(ordered, csv_path, json_path)
-
-
-def _output_folder(out_dir: str | Path) -> Path:
-    """The output folder, made if missing, but only one level: a typo in `-o` must not
-    create a directory tree."""
-    out = Path(out_dir)
-    if out.exists() and not out.is_dir():
-        raise OutputError(f"output folder {out} is a file")
-    if not out.parent.is_dir():
-        raise OutputError(f"output folder {out}: its parent {out.parent} does not exist")
-    try:
-        out.mkdir(exist_ok=True)
-    except OSError as exc:
-        raise OutputError(f"cannot make output folder {out}: {exc.strerror or exc}") from exc
-    return out
 
 
 def _store(outcome: dict, path: Path, source: str) -> dict:
