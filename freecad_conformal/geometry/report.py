@@ -44,6 +44,8 @@ class SectionReport:
             lines.append(f"{index:5d} {level:10.4f} {loops:5d} {area:14.6f}   {where}")
         if self.volume is not None and not cylindrical:
             lines.append(f"solid volume {self.volume:.4f} mm3")
+        for height, how in sorted(getattr(self.stack, "repairs", {}).items()):
+            lines.append(f"note: the section at {height:.4f} came back empty at first; {how}")
         return "\n".join(lines) + "\n"
 
     def to_dict(self) -> dict:

@@ -85,6 +85,8 @@ class SectionStack:
     frame: LayerFrame
     layers: list[PlanarSection]
     chord_tolerance: float
+    #: heights whose first cuts came back empty inside the part, and how each was recovered
+    repairs: dict[float, str] = field(default_factory=dict)
 
     @property
     def direction(self) -> np.ndarray:
@@ -99,6 +101,7 @@ class SectionStack:
             "frame": {"u": [float(c) for c in self.frame.u], "v": [float(c) for c in self.frame.v]},
             "chord_tolerance": self.chord_tolerance,
             "layers": [layer.to_dict(with_points) for layer in self.layers],
+            "repaired_layers": [{"height": h, "how": how} for h, how in sorted(self.repairs.items())],
         }
 
     def wires_compound(self):
@@ -180,6 +183,17 @@ def _plane_face(Part, App, height: float, direction: Sequence[float], size: floa
     return Part.makePlane(size, size, App.Vector(*corner), App.Vector(*frame.n), App.Vector(*frame.u))
 
 
+#: An empty section this far (mm) inside a solid's exact extent is a failed cut: closer to the
+#: ends it may be a true tangency with nothing to cut.
+EXTENT_MARGIN = 1e-6
+#: A failed plane is cut again this far (mm) above, then below: off the vertex or tangency
+#: that defeated both cuts, and far below any layer height (the error is area × 1e-4 mm).
+RETRY_NUDGE = 1e-4
+#: Fuzzy value (mm) of the last-resort Boolean: OCC's fuzzy common glues near-coincident
+#: geometry within this distance.
+FUZZY_VALUE = 1e-5
+
+
 class PlanarSlicer:
     """Cuts the solids of one shape with planes normal to one direction.
 
@@ -207,6 +221,10 @@ class PlanarSlicer:
         self._cutters: dict[int, FaceCutter] = {}
         #: Layers (per solid) cut face by face and by the Boolean fallback, for reports.
         self.counts = {"face_by_face": 0, "boolean": 0}
+        #: Heights that came back empty inside a solid and how each was recovered
+        #: ("nudged +1e-04 mm", "fuzzy Boolean"): a report says which layers needed what.
+        self.repairs: dict[float, str] = {}
+        self._extents: dict[int, tuple[float, float]] = {}
 
     def section(self, height: float) -> PlanarSection:
         return self.sections([height])[0]
@@ -219,7 +237,49 @@ class PlanarSlicer:
         Boolean afterwards, up to `CHUNK` of them (per solid) in one Boolean
         (`section_pool.cut_sections`).
         """
-        return cut_sections(self, heights, workers, progress)
+        layers = cut_sections(self, heights, workers, progress)
+        return [self._recover_if_empty(layer) for layer in layers]
+
+    def extent(self, solid_index: int) -> tuple[float, float]:
+        """Exact (min, max) of one solid along the direction, computed once."""
+        if solid_index not in self._extents:
+            self._extents[solid_index] = extent_along(self.solids[solid_index], self.frame.n)
+        return self._extents[solid_index]
+
+    def _recover_if_empty(self, layer: PlanarSection) -> PlanarSection:
+        """A plane strictly inside a solid's extent crosses it (a solid is connected), so an
+        empty section there is a failed cut, not a gap: cut again with the plane nudged by
+        up to RETRY_NUDGE, then with a fuzzy Boolean; GeometryError when all fail."""
+        if layer.area > 0:
+            return layer
+        h = layer.height
+        crossed = [i for i in range(len(self.solids))
+                   if self.extent(i)[0] + EXTENT_MARGIN < h < self.extent(i)[1] - EXTENT_MARGIN]
+        if not crossed:
+            return layer
+        for nudge in (RETRY_NUDGE, -RETRY_NUDGE):
+            faces = [f for i in crossed for f in self.cut_boolean(i, np.array([h + nudge]))[0]]
+            if faces:
+                self.repairs[h] = f"nudged {nudge:+.0e} mm"
+                return self._make_section(h, faces)
+        faces = [f for i in crossed for f in self._fuzzy_common(i, h)]
+        if faces:
+            self.repairs[h] = f"fuzzy Boolean ({FUZZY_VALUE:g} mm)"
+            return self._make_section(h, faces)
+        raise GeometryError(f"the section at height {h:.6g} mm came back empty although the plane "
+                            f"crosses solid {crossed[0] + 1} of {len(self.solids)} (its extent "
+                            f"{self.extent(crossed[0])[0]:.6g}..{self.extent(crossed[0])[1]:.6g} mm); "
+                            "face-by-face, Boolean, nudged and fuzzy cuts all failed")
+
+    def _fuzzy_common(self, solid_index: int, height: float) -> list[SectionFace]:
+        solid, box = self.solids[solid_index], self._boxes[solid_index]
+        size = box.DiagonalLength * (1 + 2 * PLANE_MARGIN) + 1.0
+        plane = _plane_face(self._Part, self._App, height, self.frame.n, size, box)
+        try:
+            common = solid.common([plane], FUZZY_VALUE)
+        except Exception:   # OCC's Boolean errors are plain exceptions; the caller reports
+            return []
+        return [SectionFace.of(f) for f in common.Faces if f.Area > MIN_SECTION_AREA]
 
     def _chunks(self, solid_index: int, levels: np.ndarray, size: int | None = None) -> list[np.ndarray]:
         """Indices of `levels` that meet the solid's box, grouped into chunks of `size`."""
@@ -324,4 +384,5 @@ def planar_sections(shape, direction: Sequence[float] = (0.0, 0.0, 1.0), *,
         levels = [float(h) for h in heights]
     # Forking costs more than a chunk of layers takes.
     layers = slicer.sections(levels, progress, workers if len(levels) > PlanarSlicer.CHUNK else 1)
-    return SectionStack(frame=slicer.frame, layers=layers, chord_tolerance=chord_tolerance)
+    return SectionStack(frame=slicer.frame, layers=layers, chord_tolerance=chord_tolerance,
+                        repairs=dict(slicer.repairs))
