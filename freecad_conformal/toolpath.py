@@ -200,8 +200,9 @@ class Toolpath:
                 header = json.loads(str(data["header"]))
                 arrays = {name: data[name] for name in ("points", "axes", "segment_index", "kind",
                                                         "feed", "tool", "flow", "interpolation")}
-        except (OSError, ValueError, KeyError) as exc:
-            raise ToolpathError(f"toolpath file {source} is not a Conformal toolpath: {exc}") from exc
+        except (OSError, ValueError, KeyError, EOFError) as exc:   # EOFError: an empty file
+            raise ToolpathError(f"toolpath file {source} is not a Conformal toolpath: "
+                                f"{exc or type(exc).__name__}") from exc
         if header.get("format") != "conformal-toolpath" or header.get("version") != FORMAT_VERSION:
             raise ToolpathError(f"toolpath file {source}: unsupported header {header.get('format')!r} "
                                 f"version {header.get('version')!r}")

@@ -29,6 +29,10 @@ def run(args: argparse.Namespace) -> int:
     from freecad_conformal.geometry.samples import load_part
     from freecad_conformal.jobs.export import plan_table, write_plan
 
+    if args.step_dir:                   # before the work: the folder's parent must exist
+        from freecad_conformal.fileio import make_output_folder
+
+        make_output_folder(args.step_dir)
     shape, _ = load_part(args.part)
     plan = decompose(shape, overhang_angle=math.radians(args.overhang), tool=args.tool,
                      method=args.method, check_collisions=not args.no_collision,

@@ -22,8 +22,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     mandrel.add_argument("--mandrel", action="store_true",
                          help="build around the machine's rotary mandrel in unrolled cylindrical layers "
                               "(machine default rotary_mandrel)")
-    mandrel.add_argument("--mapping", choices=("rotary", "linear"), default="rotary",
-                         help="with --mandrel: A in degrees, or the rotation as a linear axis at R0")
+    mandrel.add_argument("--mapping", choices=("rotary", "linear"),
+                         help="with --mandrel: A in degrees (rotary, default), or the rotation as "
+                              "a linear axis at R0")
 
 
 def add_plan_settings(parser: argparse.ArgumentParser) -> None:
@@ -68,7 +69,7 @@ def run_mandrel(args: argparse.Namespace) -> int:
     shape, name = load_part(args.part)
     machine = "rotary_mandrel" if options.machine == "trunnion_ac" else options.machine
     result = plan_mandrel(shape, machine, options.tool, options.layers.thickness, args.output,
-                          mapping=args.mapping,
+                          mapping=args.mapping or "rotary",
                           width=options.bead_width, part=name, toolpath_out=args.toolpath)
     print(result.report())
     print(f"wrote {args.output}", file=sys.stderr)
@@ -76,10 +77,13 @@ def run_mandrel(args: argparse.Namespace) -> int:
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.mandrel:
-        return run_mandrel(args)
+    from freecad_conformal.errors import PlanError
     from freecad_conformal.geometry.samples import load_part
 
+    if args.mandrel:
+        return run_mandrel(args)
+    if args.mapping is not None:
+        raise PlanError(f"--mapping {args.mapping} applies to mandrel builds only: add --mandrel")
     options = options_from(args)
     shape, name = load_part(args.part)
     result, written = plan_part(shape, name, options, args.output, args.png, args.summary,

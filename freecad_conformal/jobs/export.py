@@ -7,7 +7,7 @@ import os
 import tempfile
 from pathlib import Path
 
-from freecad_conformal.fileio import write_text_atomic
+from freecad_conformal.fileio import make_output_folder, write_text_atomic
 from freecad_conformal.decomposition.subparts import BuildPlan
 
 def _direction(vector) -> str:
@@ -41,8 +41,7 @@ def write_plan(plan: BuildPlan, json_path: str | os.PathLike | None = None,
         write_text_atomic(path, json.dumps(plan.to_dict(), indent=1) + "\n")
         written.append(path)
     if step_dir:
-        folder = Path(step_dir)
-        folder.mkdir(parents=True, exist_ok=True)
+        folder = make_output_folder(step_dir)
         for sub in plan.subparts:
             target = folder / f"{sub.name}.step"
             # OCC writes STEP by file name only: write beside the target, then rename.

@@ -26,6 +26,11 @@ def folder(tmp_path, Part):
     (tmp_path / "p.ngc").write_text("G21\nG90\nG1 X1 Y1 Z1 F600\nM2\n")
     (tmp_path / "broken.FCStd").write_bytes(b"PK\x03\x04 this is not a FreeCAD document")
     (tmp_path / "sub").mkdir()
+    Part.makeSphere(10).exportStep(str(tmp_path / "ball.step"))
+    (tmp_path / "empty.step").write_text("")
+    (tmp_path / "garbage.step").write_text("ISO-10303-21;\nthis is not step\n")
+    (tmp_path / "text.brep").write_text("hello")
+    (tmp_path / "zero.npz").write_bytes(b"")
     return tmp_path
 
 
@@ -76,11 +81,85 @@ CASES = [
 ]
 
 
+P = ["plan", "box.step", "-o", "x.ngc"]
+S = ["sections", "box.step"]
+R = ["feature", "ball.step", "--face", "Face1", "-o", "x.npz", "--kind"]
+CASES += [
+    # unreadable parts
+    (["plan", "empty.step", "-o", "x.ngc"], ["cannot read empty.step"]),
+    (["plan", "garbage.step", "-o", "x.ngc"], ["cannot read garbage.step"]),
+    (["plan", "text.brep", "-o", "x.ngc"], ["text.brep holds no shape"]),
+    (["plan", "sub", "-o", "x.ngc"], ["not found: sub"]),
+    # library and machine names
+    (P + ["--machine", "nosuch"], ["unknown machine 'nosuch'"]),
+    (P + ["--tool", "nosuch"], ["no tool 'nosuch'"]),
+    (P + ["--material", "nosuch"], ["no settings for material 'nosuch'"]),
+    (P + ["--dialect", "nosuch"], ["unknown G-code dialect 'nosuch'"]),
+    (P + ["--layer-mode", "fast"], ["--layer-mode", "'fast'"]),
+    # plan settings
+    (P + ["--layer-min", "-1"], ["--layer-min", "got -1"]),
+    (P + ["--layer-min", "0.3", "--layer-max", "0.1", "--layer-mode", "adaptive"],
+     ["minimum layer height 0.3 mm exceeds the maximum 0.1 mm"]),
+    (P + ["--infill", "-1"], ["--infill", "got -1"]),
+    (P + ["--infill-angle", "nan"], ["--infill-angle", "finite"]),
+    (P + ["--perimeters", "2.5"], ["--perimeters", "'2.5'"]),
+    (P + ["--bead-width", "0"], ["--bead-width", "got 0"]),
+    (P + ["--max-cusp", "0"], ["--max-cusp", "got 0"]),
+    (P + ["--min-speed", "0"], ["--min-speed", "got 0"]),
+    (P + ["--min-layer-time", "-1"], ["--min-layer-time", "got -1"]),
+    (P + ["--solid-below-area", "-1"], ["--solid-below-area", "got -1"]),
+    (P + ["--max-volume-difference", "0"], ["--max-volume-difference", "got 0"]),
+    (P + ["--mapping", "linear"], ["--mapping linear applies to mandrel builds only"]),
+    # sections
+    (S + ["--layer", "-1"], ["layer thickness", "-1"]),
+    (S + ["--layer", "nan"], ["layer thickness", "nan"]),
+    (S + ["--heights", "a,b"], ["--heights", "'a,b'"]),
+    (S + ["--radii", "-1"], ["cylinder radius", "-1"]),
+    (S + ["--direction", "0,0,0"], ["zero vector"]),
+    (S + ["--direction", "nan,0,1"], ["finite", "nan"]),
+    (S + ["--chord", "0"], ["chord tolerance", "0"]),
+    (S + ["--workers", "-1"], ["--workers", "-1"]),
+    (S + ["--layer", "1", "--json", "sub"], ["--json sub is a folder"]),
+    # decompose
+    (["decompose", "box.step", "--overhang", "95"], ["overhang angle", "95"]),
+    (["decompose", "box.step", "--overhang", "nan"], ["overhang angle", "nan"]),
+    (["decompose", "box.step", "--tool", "nosuch"], ["no tool 'nosuch'"]),
+    (["decompose", "box.step", "--method", "nosuch"], ["--method", "'nosuch'"]),
+    (["decompose", "box.step", "--step-dir", "nowhere/deep"], ["parent nowhere does not exist"]),
+    # post and verify
+    (["post", "t.npz", "--machine", "nosuch", "-o", "x.ngc"], ["unknown machine 'nosuch'"]),
+    (["post", "zero.npz", "--machine", "trunnion_ac", "-o", "x.ngc"], ["zero.npz is not a Conformal toolpath"]),
+    (["post", "p.ngc", "--machine", "trunnion_ac", "-o", "x.ngc"], ["p.ngc is not a Conformal toolpath"]),
+    (["post", "missing.npz", "--machine", "trunnion_ac", "-o", "x.ngc"], ["missing.npz does not exist"]),
+    (["verify", "p.ngc", "--machine", "trunnion_ac", "--toolpath", "zero.npz"], ["zero.npz"]),
+    (["verify", "missing.ngc", "--machine", "trunnion_ac", "--toolpath", "t.npz"], ["missing.ngc"]),
+    # features
+    (["feature", "box.step", "--face", "Face99", "--kind", "rods", "-o", "x.npz"], ["Face99", "6 faces"]),
+    (["feature", "box.step", "--face", "nonsense", "--kind", "rods", "-o", "x.npz"], ["'nonsense'"]),
+    (R + ["rods", "--spacing", "0"], ["--spacing", "got 0"]),
+    (R + ["rods", "--rod-length", "inf"], ["--rod-length", "finite"]),
+    (R + ["shell", "--width", "0"], ["--width", "got 0"]),
+    (R + ["pattern", "--at", "nan,nan"], ["--at", "finite"]),
+    (R + ["rods", "--tool", "nosuch"], ["no tool 'nosuch'"]),
+    (R + ["rods", "--gcode", "nowhere/x.ngc"], ["--gcode", "nowhere"]),
+    (["mandrel", "box.step", "-o", "x.ngc", "--machine", "nosuch"], ["unknown machine 'nosuch'"]),
+    # batch, tools, demo
+    (["batch", "box.step", "-o", "out", "--workers", "-1"], ["--workers", "-1"]),
+    (["batch", "box.step", "-o", "out", "--suffix", "gcode"], ["suffix must start with a dot"]),
+    (["batch", "box.step", "-o", "box.step"], ["output folder box.step is a file"]),
+    (["tools", "show", "nosuch"], ["no tool 'nosuch'"]),
+    (["demo", "--sample", "nosuch", "--out", "demo"], ["unknown sample 'nosuch'"]),
+]
+
+
 @pytest.mark.parametrize("argv, words", CASES, ids=[" ".join(c[0][:6]) for c in CASES])
 def test_a_mistake_is_named_and_nothing_is_written(folder, capsys, monkeypatch, argv, words):
     monkeypatch.chdir(folder)
     before = _snapshot(folder)
-    code = main(argv)
+    try:
+        code = main(argv)
+    except SystemExit as exc:           # argparse's usage errors
+        code = exc.code
     err = capsys.readouterr().err
     assert code in (1, 2), err
     assert "Traceback" not in err
