@@ -135,3 +135,26 @@ def test_a_self_touching_outline_is_repaired_before_filling():
     assert len(perimeters) == 2
     xs = np.concatenate([p.points[:, 0] for p in perimeters])
     assert xs.min() < 2.0 and xs.max() > 8.0              # both triangles are printed
+
+
+def test_fewest_turns_from_the_boundary_matches_counting_the_scan_pieces():
+    """The direction chosen from the boundary's crossings has as few zigzag pieces as the
+    best of the candidates counted piece by piece with GEOS."""
+    import random
+
+    import shapely
+
+    from freecad_conformal.paths.fill2d import (CANDIDATE_ANGLES, _scan_segments,
+                                                fewest_turns_angle)
+
+    rng = random.Random(7)
+    for _ in range(60):
+        points = [(rng.uniform(0, 50), rng.uniform(0, 50)) for _ in range(rng.randint(3, 9))]
+        blob = Polygon(points).convex_hull.union(
+            Point(rng.uniform(0, 50), rng.uniform(0, 50)).buffer(rng.uniform(2, 10)))
+        area = shapely.make_valid(blob).difference(Point(25, 25).buffer(rng.uniform(0, 8)))
+        for spacing in (0.45, 2.0):
+            pieces = [sum(len(row) for row in _scan_segments(area, spacing, a))
+                      for a in CANDIDATE_ANGLES]
+            chosen = CANDIDATE_ANGLES.index(fewest_turns_angle(area, spacing))
+            assert pieces[chosen] == min(pieces), (pieces, chosen)
