@@ -1,0 +1,134 @@
+"""Wall time of `plan` against PrusaSlicer's CLI on the same part, in the same run.
+
+For every part in ../shared/parts and the built-in samples: our plan in a fresh process (its
+wall time, peak memory and time per stage: decomposition, layers, paths, post, preview and
+files) and PrusaSlicer slicing the part's STL as modelled with the settings of
+`benchmarks/compare_planar.py` (PRUSA_SETTINGS), timed the same way. Prints the ratio per part
+and checks the goals of issue 21: plan <= 5x PrusaSlicer, no stage above 40 % of our total,
+no part above 60 s, peak memory under 2 GB.
+
+Run: `.venv/bin/python benchmarks/plan_speed.py [PART ...]` (needs prusa-slicer:
+`TMPDIR=/var/tmp apt-get install -y prusa-slicer`).
+"""
+from __future__ import annotations
+
+import json
+import resource
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "benchmarks"))
+
+PARTS_DIR = ROOT.parent / "shared" / "parts"
+SAMPLES = ("bracket", "jack", "hinge")
+#: What each stage of ours is: (module, function) wrapped with a timer in the child process.
+STAGES = {"decomposition": ("freecad_conformal.jobs.plan", "machine_plan"),
+          "layers": ("freecad_conformal.jobs.plan", "plan_layers"),
+          "paths": ("freecad_conformal.jobs.plan", "assemble"),
+          "post": ("freecad_conformal.jobs.plan", "post_toolpath"),
+          "preview": ("freecad_conformal.paths.preview", "render_png")}
+RATIO_GOAL, STAGE_SHARE_GOAL, PART_SECONDS_GOAL, MEMORY_GOAL_MB = 5.0, 0.40, 60.0, 2048.0
+
+
+def child(part: str, out: str) -> None:
+    """Plan one part here, timing each stage; print one JSON line."""
+    import importlib
+
+    spent: dict[str, float] = {name: 0.0 for name in STAGES}
+
+    def timed(name, function):
+        def wrapper(*args, **kwargs):
+            start = time.perf_counter()
+            try:
+                return function(*args, **kwargs)
+            finally:
+                spent[name] += time.perf_counter() - start
+        return wrapper
+
+    for name, (module_name, attribute) in STAGES.items():
+        module = importlib.import_module(module_name)
+        setattr(module, attribute, timed(name, getattr(module, attribute)))
+    from freecad_conformal.cli import main
+
+    start = time.perf_counter()
+    code = main(["plan", part, "-o", out])
+    total = time.perf_counter() - start
+    peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    print(json.dumps({"code": code, "seconds": total, "stages": spent, "peak_mb": peak_mb}))
+
+
+def ours(part: str, work: Path) -> dict:
+    started = time.perf_counter()
+    run = subprocess.run([sys.executable, __file__, "--child", part, str(work / "ours.ngc")],
+                         capture_output=True, text=True)
+    wall = time.perf_counter() - started
+    lines = [line for line in run.stdout.splitlines() if line.startswith("{")]
+    if run.returncode != 0 or not lines:
+        return {"error": (run.stderr.strip().splitlines() or ["failed"])[-1], "wall": wall}
+    result = json.loads(lines[-1])
+    result["wall"] = wall
+    return result
+
+
+def prusa(shape, work: Path) -> float:
+    from compare_planar import PRUSA_SETTINGS
+
+    stl = work / "part.stl"
+    shape.exportStl(str(stl))
+    started = time.perf_counter()
+    subprocess.run(["prusa-slicer", "--export-gcode", *PRUSA_SETTINGS, "--center", "100,100",
+                    "-o", str(work / "prusa.gcode"), str(stl)], check=True, capture_output=True)
+    return time.perf_counter() - started
+
+
+def main(names: list[str]) -> int:
+    from freecad_conformal.geometry.samples import load_part
+
+    if shutil.which("prusa-slicer") is None:
+        print("prusa-slicer is not installed: TMPDIR=/var/tmp apt-get install -y prusa-slicer")
+        return 1
+    parts = names or [str(p) for p in sorted(PARTS_DIR.glob("*"))
+                      if p.suffix.lower() in (".step", ".brep")] + list(SAMPLES)
+    print(f"{'part':22} {'ours s':>8} {'prusa s':>8} {'ratio':>6} {'peak MB':>8}  "
+          "largest stage        stages (s)")
+    misses = []
+    for part in parts:
+        shape, name = load_part(part)
+        with tempfile.TemporaryDirectory() as folder:
+            work = Path(folder)
+            mine = ours(part, work)
+            theirs = prusa(shape, work)
+        if "error" in mine:
+            print(f"{name:22} failed after {mine['wall']:.1f} s: {mine['error']}")
+            misses.append(f"{name}: failed")
+            continue
+        wall, stages = mine["wall"], mine["stages"]
+        largest = max(stages, key=stages.get)
+        share = stages[largest] / mine["seconds"]
+        ratio = wall / theirs
+        print(f"{name:22} {wall:8.2f} {theirs:8.2f} {ratio:6.1f} {mine['peak_mb']:8.0f}  "
+              f"{largest:12} {share:5.0%}   "
+              + ", ".join(f"{k} {v:.1f}" for k, v in stages.items()))
+        if ratio > RATIO_GOAL:
+            misses.append(f"{name}: {ratio:.1f}x PrusaSlicer (goal {RATIO_GOAL:g}x)")
+        if share > STAGE_SHARE_GOAL:
+            misses.append(f"{name}: {largest} is {share:.0%} of the time (goal {STAGE_SHARE_GOAL:.0%})")
+        if wall > PART_SECONDS_GOAL:
+            misses.append(f"{name}: {wall:.0f} s (goal {PART_SECONDS_GOAL:g} s)")
+        if mine["peak_mb"] > MEMORY_GOAL_MB:
+            misses.append(f"{name}: {mine['peak_mb']:.0f} MB peak (goal {MEMORY_GOAL_MB:g} MB)")
+    print("goals met" if not misses else "goals missed:\n  " + "\n  ".join(misses))
+    return 0
+
+
+if __name__ == "__main__":
+    if sys.argv[1:2] == ["--child"]:
+        child(sys.argv[2], sys.argv[3])
+    else:
+        sys.exit(main(sys.argv[1:]))
