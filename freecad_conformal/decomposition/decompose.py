@@ -27,8 +27,8 @@ from freecad_conformal.decomposition.planner import (LEVEL_TOLERANCE, MIN_SAVING
 from freecad_conformal.decomposition.trial import Trial, can_start_child, worth_a_trial
 from freecad_conformal.decomposition.subparts import BuildPlan, SubPart
 from freecad_conformal.geometry.overhang import (DEFAULT_OVERHANG_ANGLE, best_single_direction,
-                                                check_angle, lowest_level, overhang_area,
-                                                overhang_report)
+                                                check_angle, lowest_level, orientation_candidates,
+                                                overhang_area, overhang_report)
 
 METHODS = ("true-direction", "published")
 #: `root_direction` value that lets each solid's root be built along the best of ±X, ±Y, ±Z
@@ -84,12 +84,25 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
         budget = max_subparts - len(pieces)
         plan = Planner(solid, solid_index, overhang_angle, method, axis_step, budget)
         trial = None
+        if auto:
+            # Its mesh first: the overhang in every candidate direction reads faces from it.
+            plan.root_mesh()
+            whole = _support_free_whole(solid, root, overhang_angle)
+            if whole is not None:
+                # Turned whole it prints without support: one piece beats any split of the
+                # part as placed (a planar slicer would simply turn it over).
+                axis, refined = plan(whole, notes)
+                notes.append(f"solid {solid_index + 1}: root built along {_text(whole)}: "
+                             "the whole solid is support-free that way")
+                axes.append(_label(axis, refined))
+                first = len(pieces)
+                pieces.extend(refined)
+                parents.extend(_parents_of(refined, first))
+                continue
         try:
             if auto:
                 if worth_a_trial(solid) and can_start_child():
                     trial = Trial()  # starting up while the direction is found
-                # Its mesh first: the overhang in six directions then reads faces from it.
-                plan.root_mesh()
                 direction, area = best_single_direction(solid, overhang_angle)
                 turn = _angle(direction, root) > SAME_DIRECTION
                 if (trial is not None and turn
@@ -137,6 +150,16 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
     return BuildPlan(subparts=subparts, order=order, support_area_single_direction=single[1],
                      notes=notes, overhang_angle=overhang_angle, method=method,
                      single_direction=single[0], axes=axes)
+
+
+def _support_free_whole(solid, root: np.ndarray, angle: float) -> np.ndarray | None:
+    """The build direction in which the whole solid has no overhang, when the part as placed
+    has some; None otherwise. Candidates: the cube's 26 directions and standing the part on
+    one of its largest planar faces (geometry/overhang.orientation_candidates)."""
+    if overhang_area(solid, root, angle) <= MIN_SAVING:
+        return None
+    direction, area = best_single_direction(solid, angle, orientation_candidates(solid))
+    return direction if area <= MIN_SAVING else None
 
 
 def _label(axis: LazyAxis, pieces: list[Piece]):

@@ -133,6 +133,33 @@ AXIS_DIRECTIONS = tuple(np.array(v, dtype=float) for v in
                         ((0, 0, 1), (0, 0, -1), (1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0)))
 
 
+#: The 26 directions of a cube's faces, edges and corners (unit), axis directions first so
+#: ties keep the simplest turn.
+CUBE_DIRECTIONS = AXIS_DIRECTIONS + tuple(
+    np.array(v, dtype=float) / np.linalg.norm(v)
+    for v in ((x, y, z) for x in (-1, 0, 1) for y in (-1, 0, 1) for z in (-1, 0, 1))
+    if sum(map(abs, v)) > 1)
+#: Planar faces whose outward normal may be put down on the bed ("place on face"): the
+#: largest few, as a planar slicer offers them.
+PLACE_ON_FACES = 6
+
+
+def orientation_candidates(shape, largest: int = PLACE_ON_FACES) -> list[np.ndarray]:
+    """Build directions to try for the whole part: the cube's 26 and, for each of its
+    `largest` planar faces, the direction that stands the part on that face (the face's
+    outward normal pointing down), without repeats."""
+    candidates = list(CUBE_DIRECTIONS)
+    planar = sorted((f for f in shape.Faces if type(f.Surface).__name__ == "Plane"),
+                    key=lambda f: f.Area, reverse=True)[:largest]
+    for face in planar:
+        u0, u1, v0, v1 = face.ParameterRange
+        normal = np.array(tuple(face.normalAt(0.5 * (u0 + u1), 0.5 * (v0 + v1))), dtype=float)
+        direction = -normal / np.linalg.norm(normal)
+        if all(float(direction @ c) < 1.0 - PARALLEL_COS_SLACK for c in candidates):
+            candidates.append(direction)
+    return candidates
+
+
 def best_single_direction(shape, angle: float = DEFAULT_OVERHANG_ANGLE,
                           candidates: Sequence[np.ndarray] = AXIS_DIRECTIONS
                           ) -> tuple[np.ndarray, float]:

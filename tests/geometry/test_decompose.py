@@ -135,3 +135,28 @@ def test_regions_are_computed_only_for_planes_whose_cuts_are_tried(name, monkeyp
     plan = decompose(samples.SAMPLES[name]())
     assert len(plan.subparts) > 1 and computed
     assert all(any(id(region) in tried for region in regions) for regions in computed if regions)
+
+
+@pytest.mark.parametrize("make, direction", [
+    (samples.t_block, (0.0, 0.0, -1.0)),       # a T turned over stands on its bar
+    (samples.l_block, (0.0, 0.0, -1.0)),       # an upside-down L stands on its arm
+])
+def test_a_part_support_free_when_turned_whole_is_not_split(make, direction):
+    """A planar slicer would simply turn these over; splitting them costs material and time."""
+    plan = decompose(make(), root_direction="auto")
+    assert len(plan.subparts) == 1
+    assert np.allclose(plan.subparts[0].build_direction, direction)
+    assert plan.subparts[0].overhang_area == pytest.approx(0.0, abs=1e-3)
+    assert any("whole solid is support-free" in note for note in plan.notes)
+
+
+def test_a_u_channel_with_inward_lips_builds_whole_on_its_side(App, Part):
+    """It fails as placed ("no collision-free build order") but prints support-free whole
+    standing on one of its ends or sides."""
+    V = App.Vector
+    channel = Part.makeBox(40, 30, 20)
+    channel = channel.cut(Part.makeBox(40, 20, 12, V(0, 5, 4)))       # the U's inside
+    channel = channel.cut(Part.makeBox(40, 10, 4, V(0, 10, 16)))      # the gap between the lips
+    plan = decompose(channel, root_direction="auto")
+    assert len(plan.subparts) == 1
+    assert plan.subparts[0].overhang_area == pytest.approx(0.0, abs=1e-3)
