@@ -138,7 +138,14 @@ def prusa_on_subparts(plan, work: Path) -> Slice:
         assert abs(up.z - 1.0) < 1e-9, f"{sub.name} turned to {up}, not +Z"
         stl = work / f"{sub.name}.stl"
         shape.exportStl(str(stl))
-        result = prusa_slice(stl, "as modelled", False, work)
+        try:
+            result = prusa_slice(stl, "as modelled", False, work)
+        except subprocess.CalledProcessError as exc:
+            # e.g. a sub-part too thin for PrusaSlicer to slice: say so, keep the others
+            reason = (exc.stderr or b"").decode(errors="replace").strip().splitlines()
+            print(f"  PrusaSlicer could not slice sub-part {sub.name}: "
+                  f"{reason[-1] if reason else 'exit ' + str(exc.returncode)}", flush=True)
+            continue
         volume += result.volume_cm3
         seconds += result.seconds
     return Slice("our sub-parts", volume, 0.0, seconds, work)

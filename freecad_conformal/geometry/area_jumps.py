@@ -19,6 +19,7 @@ from freecad_conformal.errors import GeometryError
 from freecad_conformal.geometry.sections import PlanarSlicer, extent_along
 from freecad_conformal.geometry.splitting_faces import SplitCandidate, interior_regions
 from freecad_conformal.geometry.surface_mesh import below_fraction, mesh_deflection, surface_mesh
+from freecad_conformal.tolerances import PARALLEL_COS_SLACK
 
 #: Sections per axis when `d` is not given (the jump test only needs to see the steps).
 DEFAULT_SLICES = 40
@@ -123,11 +124,39 @@ def area_jump_planes(shape, build_direction: np.ndarray, d: float | None = None,
             # Exact extents (OCC's extrema, whatever the shape's triangulation): the heights
             # are those the exact sections would use.
             heights, areas, step = _mesh_area_profile(mesh, extent_along(shape, axis), axis, d)
-        jumps.extend((rate, height, axis) for height, rate in _jumps(heights, areas, step))
-        jumps.extend((rate, -height, -axis)
+        levels = _face_levels(shape, axis)
+        # Along +axis a jump's plane sits at height h (x·axis = h); along −axis the same areas
+        # are read backwards at heights −h, and its point is (−axis)·(−h): the same place.
+        jumps.extend((rate, _snap(height, step, levels), axis)
+                     for height, rate in _jumps(heights, areas, step))
+        jumps.extend((rate, -_snap(-height, step, levels), -axis)
                      for height, rate in _jumps(-heights[::-1], areas[::-1], step))
     jumps.sort(key=lambda item: -item[0])
     return [(rate, axis * height, axis) for rate, height, axis in jumps[:limit]]
+
+
+def _face_levels(shape, axis: np.ndarray) -> np.ndarray:
+    """Heights along `axis` of the shape's planar faces perpendicular to it: where a section's
+    area can jump (the underside of a cap, the top of a column)."""
+    levels = []
+    for face in shape.Faces:
+        surface = face.Surface
+        if type(surface).__name__ != "Plane":
+            continue
+        normal = np.array(tuple(surface.Axis), dtype=float)
+        if abs(abs(float(normal @ axis)) - 1.0) < PARALLEL_COS_SLACK:
+            levels.append(float(np.array(tuple(surface.Position), dtype=float) @ axis))
+    return np.array(levels)
+
+
+def _snap(height: float, step: float, levels: np.ndarray) -> float:
+    """The jump between the two sections around `height` happens at a face level inside that
+    interval when there is one: the plane goes there (the nearest), not onto the sampling
+    grid's midpoint, which may cut through the member the jump belongs to."""
+    inside = levels[np.abs(levels - height) <= step / 2]
+    if len(inside) == 0:
+        return height
+    return float(inside[np.argmin(np.abs(inside - height))])
 
 
 def plane_candidates(shape, point: np.ndarray, normal: np.ndarray) -> list[SplitCandidate]:

@@ -31,3 +31,27 @@ def test_mesh_and_exact_profiles_find_the_same_jumps_on_the_crank_arm(parts_dir)
     mesh = area_jump_planes(arm, up, limit=100, exact=False)
     key = lambda planes: sorted((tuple(np.round(n, 9)), round(float(p @ n), 6)) for _, p, n in planes)
     assert key(mesh) == key(exact)
+
+
+def test_planes_lie_inside_the_part_and_on_the_face_where_the_area_jumps(App, Part):
+    """Along −X/−Y/−Z the planes were mirrored through the origin (a part spanning x 3..33
+    got a plane at x = −12.75), and every plane sat on the sampling grid's midpoint, which
+    can cut through the member the jump belongs to."""
+    import numpy as np
+
+    from freecad_conformal.geometry.area_jumps import area_jump_planes
+
+    V = App.Vector
+    column = Part.makeBox(10, 10, 30, V(13, 10, 0))
+    cap = Part.makeBox(30, 30, 5, V(3, 0, 30))
+    part = column.fuse(cap).removeSplitter()
+    box = part.BoundBox
+    planes = area_jump_planes(part, np.array([1.0, 0.0, 0.0]))
+    assert planes
+    for _, point, axis in planes:
+        assert box.XMin - 1e-9 <= point[0] <= box.XMax + 1e-9 or abs(axis[0]) < 0.5
+        assert box.YMin - 1e-9 <= point[1] <= box.YMax + 1e-9 or abs(axis[1]) < 0.5
+        assert box.ZMin - 1e-9 <= point[2] <= box.ZMax + 1e-9 or abs(axis[2]) < 0.5
+    by_axis = {tuple(np.round(axis, 6)): point for _, point, axis in planes}
+    assert by_axis[(0.0, 0.0, 1.0)][2] == 30.0            # the cap's underside, exactly
+    assert by_axis[(0.0, -1.0, 0.0)][1] == 20.0           # the column's far side, not y = -20
