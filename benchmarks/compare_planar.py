@@ -286,6 +286,9 @@ def main(names: list[str], roles: bool = False) -> int:
           "support-free geometry under the same rules; the difference is path planning):")
     print(f"{'part':<10} {'sub-parts':>9} {'PS cm3':>10} {'ours/PS':>8} | {'PS t':>7} {'t ours/PS':>9}")
     for name, _, _, result, our_time, pieces in rows:
+        if pieces.volume_cm3 <= 0 or pieces.seconds <= 0:
+            print(f"{name:<10} {len(result.plan.subparts):>9}   (PrusaSlicer sliced none of them)")
+            continue
         print(f"{name:<10} {len(result.plan.subparts):>9} {pieces.volume_cm3:>10.2f} "
               f"{result.material_volume / 1000.0 / pieces.volume_cm3:>8.3f} | {hms(pieces.seconds):>7} "
               f"{our_time / pieces.seconds:>9.3f}")

@@ -26,8 +26,9 @@ from freecad_conformal.decomposition.planner import (LEVEL_TOLERANCE, MIN_SAVING
                                                      Piece, Planner, touch_area)
 from freecad_conformal.decomposition.trial import Trial, can_start_child, worth_a_trial
 from freecad_conformal.decomposition.subparts import BuildPlan, SubPart
-from freecad_conformal.geometry.overhang import (DEFAULT_OVERHANG_ANGLE, best_single_direction,
-                                                check_angle, lowest_level, orientation_candidates,
+from freecad_conformal.geometry.overhang import (DEFAULT_OVERHANG_ANGLE, MIN_BASE_AREA,
+                                                base_area, best_single_direction, check_angle,
+                                                lowest_level, orientation_candidates,
                                                 overhang_area, overhang_report)
 
 METHODS = ("true-direction", "published")
@@ -153,13 +154,17 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
 
 
 def _support_free_whole(solid, root: np.ndarray, angle: float) -> np.ndarray | None:
-    """The build direction in which the whole solid has no overhang, when the part as placed
-    has some; None otherwise. Candidates: the cube's 26 directions and standing the part on
-    one of its largest planar faces (geometry/overhang.orientation_candidates)."""
+    """The build direction in which the whole solid has no overhang and stands on a flat face
+    (geometry/overhang.MIN_BASE_AREA), when the part as placed has overhang; None otherwise.
+    Candidates, in order: the cube's 26 directions, then standing the part on one of its
+    largest planar faces (geometry/overhang.orientation_candidates)."""
     if overhang_area(solid, root, angle) <= MIN_SAVING:
         return None
-    direction, area = best_single_direction(solid, angle, orientation_candidates(solid))
-    return direction if area <= MIN_SAVING else None
+    for direction in orientation_candidates(solid):
+        if (overhang_area(solid, direction, angle) <= MIN_SAVING
+                and base_area(solid, direction) >= MIN_BASE_AREA):
+            return direction
+    return None
 
 
 def _label(axis: LazyAxis, pieces: list[Piece]):

@@ -65,6 +65,27 @@ def lowest_level(shape, d: np.ndarray) -> float:
     return float(min(np.array(tuple(v.Point)) @ d for v in shape.Vertexes))
 
 
+#: A part stands on the bed only on a flat face at least this large (mm²): a vertex or an
+#: edge gives no adhesion (a cube balanced on a corner is support-free but not printable).
+MIN_BASE_AREA = 20.0
+
+
+def base_area(shape, d: np.ndarray) -> float:
+    """Area (mm²) of the shape's planar faces lying flat on the bed when built along `d`:
+    facing straight down at the shape's lowest level."""
+    low = lowest_level(shape, d)
+    area = 0.0
+    for face in shape.Faces:
+        if type(face.Surface).__name__ != "Plane":
+            continue
+        u0, u1, v0, v1 = face.ParameterRange
+        normal = np.array(tuple(face.normalAt(0.5 * (u0 + u1), 0.5 * (v0 + v1))), dtype=float)
+        point = np.array(tuple(face.Vertexes[0].Point), dtype=float)
+        if float(normal @ d) < -1.0 + PARALLEL_COS_SLACK and abs(float(point @ d) - low) < ON_PLANE_TOLERANCE:
+            area += float(face.Area)
+    return area
+
+
 def curved_overhang(face, d: np.ndarray, threshold: float, deflection: float) -> float:
     """Overhang area of a curved face on its mesh part (geometry/surface_mesh.py)."""
     part = face_part(face, deflection)

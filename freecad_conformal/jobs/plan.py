@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import copy
 import io
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -151,6 +152,49 @@ def check_reach(machine: Machine, plan: BuildPlan) -> None:
                             f"{sub.index}'s build direction {np.round(axis[0], 4).tolist()}: {exc}") from exc
 
 
+def check_fits(shape, machine: Machine) -> None:
+    """Refuse, before any geometry work, a part that fits the machine's travel in no
+    orientation: turned any way, its extent along some axis is at least its largest box
+    dimension / √3 (the part's diameter is at least that box dimension)."""
+    box = shape.BoundBox
+    largest = max(box.XLength, box.YLength, box.ZLength)
+    reach = max(high - low for low, high in (axis.limits for axis in machine.linear))
+    if largest / math.sqrt(3.0) > reach:
+        raise PlanError(f"the part ({box.XLength:.1f} x {box.YLength:.1f} x {box.ZLength:.1f} mm) "
+                        f"cannot fit {machine.name} in any orientation: its longest travel is "
+                        f"{reach:.1f} mm")
+
+
+def _platform_centre(machine: Machine) -> np.ndarray:
+    """Where a part goes on the platform: over the table's rotary pivot, else the middle of
+    the X and Y travel."""
+    for axis in machine.table_axes:
+        return np.array([axis.pivot[0], axis.pivot[1]], dtype=float)
+    limits = {axis.name: axis.limits for axis in machine.linear}
+    return np.array([0.5 * sum(limits.get(name, (0.0, 0.0))) for name in ("X", "Y")])
+
+
+def centred_if_off_platform(shape, machine: Machine):
+    """(shape, note): a part modelled outside the machine's X/Y travel is moved over the
+    platform's centre (a note says by how much); any other part is left as placed."""
+    limits = {axis.name: axis.limits for axis in machine.linear}
+    box = shape.BoundBox
+    inside = all(name not in limits or (limits[name][0] <= low and high <= limits[name][1])
+                 for name, low, high in (("X", box.XMin, box.XMax), ("Y", box.YMin, box.YMax)))
+    if inside:
+        return shape, None
+    centre = _platform_centre(machine)
+    shift = (float(centre[0] - box.Center.x), float(centre[1] - box.Center.y), 0.0)
+    from freecad_conformal.freecad_env import import_freecad
+
+    App, _ = import_freecad()
+    moved = shape.copy()
+    moved.translate(App.Vector(*shift))
+    return moved, (f"part modelled outside the machine's X/Y travel: moved by "
+                   f"({shift[0]:+.3f}, {shift[1]:+.3f}, +0.000) mm over the platform's centre; "
+                   "its G-code is in that frame")
+
+
 def _part_size(shape) -> float:
     box = shape.BoundBox
     return float(min(box.XLength, box.YLength, box.ZLength))
@@ -176,6 +220,8 @@ def check_options(shape, options: PlanOptions, library=None):
     Returns (tool, material name, bead width, path settings, machine).
     """
     size = _part_size(shape)
+    machine = load_machine(options.machine)
+    check_fits(shape, machine)
     options.layers.validate(part_size=size)
     tool, material_name, material = resolve_tool(options.tool, options.material, library)
     width, path_settings = _settings(options, tool, material)
@@ -183,7 +229,7 @@ def check_options(shape, options: PlanOptions, library=None):
     path_settings.feeds.validate()
     if width > size:
         raise PlanError(f"bead width {width:g} mm is larger than the part ({size:.3f} mm)")
-    return tool, material_name, width, path_settings, load_machine(options.machine)
+    return tool, material_name, width, path_settings, machine
 
 
 def plan_job(shape, options: PlanOptions, part: str = "part", library=None,
@@ -284,7 +330,10 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
                                      one_platform=True)
         return laid
 
+    shape, centred = centred_if_off_platform(shape, machine)
     placed, plan, _ = reachable_plan(shape, planned, lambda p: check_reach(machine, p))
+    if centred:
+        plan.notes.insert(0, centred)
     return placed, plan
 
 

@@ -160,3 +160,13 @@ def test_a_u_channel_with_inward_lips_builds_whole_on_its_side(App, Part):
     plan = decompose(channel, root_direction="auto")
     assert len(plan.subparts) == 1
     assert plan.subparts[0].overhang_area == pytest.approx(0.0, abs=1e-3)
+
+
+def test_a_part_is_never_stood_on_a_corner_to_avoid_support():
+    """The jack has no overhang balanced on a corner (every face 35° off vertical), but a
+    corner gives no adhesion: its root must stand on a flat face."""
+    from freecad_conformal.geometry.overhang import MIN_BASE_AREA, base_area
+
+    plan = decompose(samples.jack(), root_direction="auto")
+    root = next(s for s in plan.subparts if s.parent is None)
+    assert base_area(root.shape, root.build_direction) >= MIN_BASE_AREA

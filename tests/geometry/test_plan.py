@@ -69,3 +69,28 @@ def test_a_machine_that_cannot_reach_a_direction_is_refused(tmp_path):
     with pytest.raises(PlanError, match=r"machine 'Plain 3-axis' cannot point the tool along "
                                         r"sub-part 0's build direction \[1.0, 0.0, 0.0\]"):
         run_job(shape, plan, PlanOptions(machine="three_axis"), part="jack")
+
+
+def test_a_part_modelled_off_the_platform_is_moved_over_its_centre(Part):
+    """A chair modelled at x = 1000 failed "X outside [-300, 300]" after minutes of work."""
+    from freecad_conformal.freecad_env import import_freecad
+    from freecad_conformal.jobs.plan import machine_plan
+
+    App, _ = import_freecad()
+    far = Part.makeBox(20, 20, 10, App.Vector(1000, -700, 5))
+    placed, plan = machine_plan(far, PlanOptions(decompose=False))
+    centre = placed.BoundBox.Center
+    assert abs(centre.x) < 1e-6 and abs(centre.y) < 1e-6
+    assert plan.notes[0].startswith("part modelled outside the machine's X/Y travel: moved by "
+                                    "(-1010.000, +690.000, +0.000) mm")
+
+
+def test_a_part_that_fits_no_orientation_is_refused_before_any_geometry_work(Part, monkeypatch):
+    from freecad_conformal.jobs import plan as jobs_plan
+
+    def must_not_run(*_args, **_kwargs):
+        raise AssertionError("geometry work started on a part that cannot fit")
+
+    monkeypatch.setattr(jobs_plan, "machine_plan", must_not_run)
+    with pytest.raises(PlanError, match=r"cannot fit Table-table A/C trunnion in any orientation"):
+        jobs_plan.plan_job(Part.makeBox(1e6, 1e6, 1e6), PlanOptions())
