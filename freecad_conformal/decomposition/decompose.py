@@ -193,7 +193,7 @@ def _best_single(solids: list, angle: float) -> tuple[np.ndarray, float]:
     from freecad_conformal.freecad_env import import_freecad
 
     _, Part = import_freecad()
-    whole = solids[0] if len(solids) == 1 else Part.makeCompound(solids)
+    whole = solids[0] if len(solids) == 1 else Part.Compound(solids)
     return best_single_direction(whole, angle)
 
 

@@ -185,7 +185,7 @@ def _moved_axis(axis, move: SolidMove | None):
 
 def _compound(shapes: list):
     _, Part = import_freecad()
-    return shapes[0] if len(shapes) == 1 else Part.makeCompound(shapes)
+    return shapes[0] if len(shapes) == 1 else Part.Compound(shapes)
 
 
 def _footprint(shape, shift: np.ndarray) -> tuple[float, float, float, float]:

@@ -272,7 +272,7 @@ class _Search:
                 if s.distToShape(self.Part.Vertex(self.App.Vector(*centre)))[0] < 2 * self.step]
         if not near:
             return body
-        turned = near[0] if len(near) == 1 else self.Part.makeCompound(near)
+        turned = near[0] if len(near) == 1 else self.Part.Compound(near)
         self._kind_next = "turn"
         self.explore(turned, new_direction, restart, track.node, track.branch)
         rest = body.cut(turned)

@@ -37,7 +37,7 @@ def _as_brep(items: list | None):
     if items is None:
         return None
     _, Part = import_freecad()
-    text = Part.makeCompound([item.face for item in items]).exportBrepToString() if items else ""
+    text = Part.Compound([item.face for item in items]).exportBrepToString() if items else ""
     return text, [(item.area, item.centroid) for item in items]
 
 

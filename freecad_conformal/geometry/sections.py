@@ -106,7 +106,7 @@ class SectionStack:
 
     def wires_compound(self):
         _, Part = import_freecad()
-        return Part.makeCompound([wire for layer in self.layers for wire in layer.wires])
+        return Part.Compound([wire for layer in self.layers for wire in layer.wires])
 
 
 def _holes(face) -> list:
@@ -166,7 +166,7 @@ def _faces_reaching(Part, shape, n: np.ndarray):
     highest = max(float(np.array(tuple(v.Point)) @ n) for v in shape.Vertexes) \
         if shape.Vertexes else -np.inf
     reaching = [face for face in faces if box_reach(optimal_box(face), n) >= highest - BOX_MARGIN]
-    return Part.makeCompound(reaching) if reaching else shape
+    return Part.Compound(reaching) if reaching else shape
 
 
 #: Slack (mm) on the box test: boxes already enlarge by tolerances, this only guards rounding.
@@ -310,7 +310,7 @@ class PlanarSlicer:
         solid, box = self.solids[solid_index], self._boxes[solid_index]
         size = box.DiagonalLength * (1 + 2 * PLANE_MARGIN) + 1.0
         planes = [_plane_face(self._Part, self._App, h, self.frame.n, size, box) for h in heights]
-        tool = planes[0] if len(planes) == 1 else self._Part.makeCompound(planes)
+        tool = planes[0] if len(planes) == 1 else self._Part.Compound(planes)
         result = [[] for _ in heights]
         order = np.argsort(heights)
         sorted_heights = heights[order]

@@ -77,7 +77,7 @@ def _load_fcstd(App, Part, file: Path):
             solids.extend(shape.Solids)
         if not solids:
             raise GeometryError(f"{file.name} holds no solid body")
-        return Part.makeCompound(solids) if len(solids) > 1 else solids[0]
+        return Part.Compound(solids) if len(solids) > 1 else solids[0]
     finally:
         App.closeDocument(doc.Name)
 

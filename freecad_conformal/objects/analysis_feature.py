@@ -91,7 +91,7 @@ class AnalysisFeature(StoredState):
         store_axes(obj, graphs)
         obj.SplittingFaceCount = len(faces)
         obj.BreakCount = len(obj.BreakLinks) // 2
-        obj.Shape = Part.makeCompound(faces)
+        obj.Shape = Part.Compound(faces)
 
 
 class DecompositionFeature(StoredState):
@@ -139,7 +139,7 @@ class DecompositionFeature(StoredState):
         obj.BuildDirections = [FreeCAD.Vector(*map(float, s.build_direction)) for s in plan.subparts]
         obj.SupportAreaSaved = float(plan.support_area_saved)
         obj.Notes = list(plan.notes)
-        obj.Shape = Part.makeCompound([s.shape for s in plan.subparts])
+        obj.Shape = Part.Compound([s.shape for s in plan.subparts])
 
 
 def _create(doc, proxy_class, source, name: str):

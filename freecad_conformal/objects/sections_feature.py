@@ -66,7 +66,7 @@ class SectionsFeature(StoredState):
         layers = [layer for layer in stack.layers if not layer.is_empty]
         obj.LayerCount = len(layers)
         obj.SectionArea = float(sum(layer.area for layer in layers))
-        obj.Shape = Part.makeCompound(wires)
+        obj.Shape = Part.Compound(wires)
 
 
 def radii(obj) -> list[float]:

@@ -128,7 +128,7 @@ def check_clearance(points: np.ndarray, axes: np.ndarray, built: Sequence, envel
     tip = _trim(points, CONTACT_LENGTH)
     if len(tip) < 2:
         return
-    target = Part.makeCompound(list(built))
+    target = Part.Compound(list(built))
     V = App.Vector
     tip_wire = Part.makePolygon([V(*p) for p in tip])
     tip_gap = tip_wire.distToShape(target)[0]
@@ -144,7 +144,7 @@ def check_clearance(points: np.ndarray, axes: np.ndarray, built: Sequence, envel
     body = [Part.LineSegment(V(*(p + base * a)), V(*(p + max(top, base + 1e-3) * a))).toShape()
             for p, a in zip(points[1:-1], axes[1:-1])]
     if body:
-        body_gap = Part.makeCompound(body).distToShape(target)[0]
+        body_gap = Part.Compound(body).distToShape(target)[0]
         if body_gap < need_body - CHECK_SLACK:
             raise PlanError(f"{what}: the tool body passes {body_gap:.3f} mm from built {names} "
                             f"(needs {need_body:.3f} mm)")

@@ -37,11 +37,13 @@ def render_png(assembly, target: IO[bytes], title: str = "", dpi: int = 110) -> 
     order = list(dict.fromkeys(p.subpart for p in paths))
     for rank, subpart in enumerate(order):
         lines = [p.points for p in drawn if p.subpart == subpart]
-        axes.add_collection3d(Line3DCollection(lines, colors=[colours(rank % 10)], linewidths=0.4,
-                                               label=f"sub-part {subpart}"))
+        # add_collection, not add_collection3d: matplotlib 3.10's add_collection3d raises
+        # ValueError on lines of different lengths; a Line3DCollection projects itself.
+        axes.add_collection(Line3DCollection(lines, colors=[colours(rank % 10)], linewidths=0.4,
+                                             label=f"sub-part {subpart}"))
     if assembly.travels:
-        axes.add_collection3d(Line3DCollection([t for t in assembly.travels if len(t) > 1][::step],
-                                               colors=[(0.5, 0.5, 0.5, 0.35)], linewidths=0.2))
+        axes.add_collection(Line3DCollection([t for t in assembly.travels if len(t) > 1][::step],
+                                             colors=[(0.5, 0.5, 0.5, 0.35)], linewidths=0.2))
     every = np.concatenate([p.points for p in paths])
     low, high = every.min(axis=0), every.max(axis=0)
     centre, half = 0.5 * (low + high), 0.5 * float(np.max(high - low)) + 1.0

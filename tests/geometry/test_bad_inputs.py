@@ -204,7 +204,7 @@ def test_several_outputs_appear_together_or_not_at_all(folder):
 def test_faces_without_a_solid_are_sewn_and_the_user_is_told(tmp_path, Part, capsys):
     from freecad_conformal.geometry.solids import load_shape
 
-    Part.makeCompound(Part.makeBox(10, 10, 10).Faces).exportIges(str(tmp_path / "faces.igs"))
+    Part.Compound(Part.makeBox(10, 10, 10).Faces).exportIges(str(tmp_path / "faces.igs"))
     assert main(["sections", str(tmp_path / "faces.igs"), "--layer", "5"]) == 0
     assert "sewed 6 face(s) into 1 closed solid(s)" in capsys.readouterr().err
     assert load_shape(tmp_path / "faces.igs").Volume == pytest.approx(1000.0, rel=1e-9)

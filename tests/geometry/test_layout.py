@@ -47,7 +47,7 @@ def test_a_solid_hovering_over_another_is_set_down_beside_it(App, Part):
     platform and moved along +X clear of the pin; the pin keeps its place."""
     pin = Part.makeCylinder(3, 40, App.Vector(0, 0, 0))
     ring = Part.makeCylinder(10, 5, App.Vector(0, 0, 15)).cut(Part.makeCylinder(4, 5, App.Vector(0, 0, 15)))
-    plan = single_plan(Part.makeCompound([pin, ring]))
+    plan = single_plan(Part.Compound([pin, ring]))
     laid = lay_out(plan, GAP)
     check_standing(laid, 0.0)
     assert laid.subparts[0] is plan.subparts[0]
@@ -89,7 +89,7 @@ def test_the_plan_builds_every_solid_from_the_platform(App, Part):
     pin = Part.makeCylinder(3, 12, App.Vector(0, 0, 0))
     ring = Part.makeCylinder(10, 2, App.Vector(0, 0, 5)).cut(Part.makeCylinder(4, 2, App.Vector(0, 0, 5)))
     options = PlanOptions()
-    placed, plan = machine_plan(Part.makeCompound([pin, ring]), options)
+    placed, plan = machine_plan(Part.Compound([pin, ring]), options)
     result = run_job(placed, plan, options, part="pin and ring")
     for sub in plan.subparts:
         tips = np.vstack([path.points for path in result.assembly.paths if path.subpart == sub.index])

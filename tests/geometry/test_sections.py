@@ -109,7 +109,7 @@ def test_plane_through_edge_vertex_and_tangencies_is_empty_or_exact(App, Part):
 
 
 def test_compound_of_two_solids_is_cut_per_solid(App, Part):
-    pair = Part.makeCompound([Part.makeBox(10, 10, 10),
+    pair = Part.Compound([Part.makeBox(10, 10, 10),
                               Part.makeSphere(3, App.Vector(30, 0, 5))])
     section = PlanarSlicer(pair).section(5.0)
     assert rel_err(section.area, 100 + 9 * math.pi) < REL
@@ -150,7 +150,7 @@ def test_parallel_sections_share_the_work_and_the_boolean_fallbacks(App, Part):
     pyramid = pyramid.removeSplitter()
     other = pyramid.copy()
     other.translate(App.Vector(30, 0, 0))
-    steps = Part.makeCompound([pyramid, other])
+    steps = Part.Compound([pyramid, other])
     heights = [0.05 + 0.1 * k for k in range(80)]  # 1.05, 2.05, ...: generic; 1.0 ... below
     heights += [float(k) for k in range(1, 8)]
     serial_slicer = PlanarSlicer(steps, (0, 0, 1))
