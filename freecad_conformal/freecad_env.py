@@ -17,19 +17,30 @@ FREECAD_LIB_DIRS = (
 )
 
 
+_MODULES: tuple[ModuleType, ModuleType] | None = None
+
+
 def import_freecad() -> tuple[ModuleType, ModuleType]:
-    """Return (FreeCAD, Part), adding FreeCAD's library folder to sys.path when needed."""
+    """Return (FreeCAD, Part), adding FreeCAD's library folder to sys.path when needed and,
+    the first time, its Mod folders as FreeCAD's own start-up does (FreeCAD 1.0's Part looks
+    up `PartEnums` in Mod/Part; without it Part.makeCompound crashes a plain Python)."""
+    global _MODULES
+    if _MODULES is not None:
+        return _MODULES
     try:
-        return importlib.import_module("FreeCAD"), importlib.import_module("Part")
+        _MODULES = importlib.import_module("FreeCAD"), importlib.import_module("Part")
     except ImportError:
-        pass
-    for folder in FREECAD_LIB_DIRS:
-        if folder not in sys.path:
-            sys.path.append(folder)
-        try:
-            return importlib.import_module("FreeCAD"), importlib.import_module("Part")
-        except ImportError:
-            continue
+        for folder in FREECAD_LIB_DIRS:
+            if folder not in sys.path:
+                sys.path.append(folder)
+            try:
+                _MODULES = importlib.import_module("FreeCAD"), importlib.import_module("Part")
+                break
+            except ImportError:
+                continue
+    if _MODULES is not None:
+        _add_mod_folders(_MODULES[0])
+        return _MODULES
     raise ConformalError(
         "FreeCAD's Python modules were not found (looked in "
         + ", ".join(FREECAD_LIB_DIRS)
@@ -46,8 +57,16 @@ def make_workbench_types_loadable() -> None:
     and FreeCAD then drops the objects silently: a document of PartDesign bodies would look
     empty. Documents made from Python need it too (doc.addObject("PartDesign::Body")).
     """
-    App, _Part = import_freecad()
+    import_freecad()          # which puts the Mod folders on sys.path
+
+
+def _add_mod_folders(App) -> None:
+    """FreeCAD's Mod folder and each module folder in it, appended to sys.path (after the
+    user's own entries, as FreeCAD's start-up does)."""
     for root in (App.getResourceDir(), App.getHomePath()):
         folder = os.path.join(root, "Mod")
-        if os.path.isdir(folder) and folder not in sys.path:
-            sys.path.append(folder)
+        if not os.path.isdir(folder):
+            continue
+        for path in [folder] + sorted(os.path.join(folder, name) for name in os.listdir(folder)):
+            if os.path.isdir(path) and path not in sys.path:
+                sys.path.append(path)
