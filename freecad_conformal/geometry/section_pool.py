@@ -1,9 +1,12 @@
 """Planar sections of a `PlanarSlicer`, on one core or several: heights cut in this
-process and in forked workers.
+process and in worker processes.
 
 OCC does its work in C++, but FreeCAD's Python bindings do not release the GIL,
-so threads do not help; processes do. Workers are forked after the slicer is built, so they
-inherit the validated solids without re-reading the file, and they send back each job's
+so threads do not help; processes do. With OCCT before 7.8 (FreeCAD 0.20) workers are forked
+after the slicer is built, so they inherit the validated solids without re-reading the file.
+OCCT 7.8 (FreeCAD 1.0) runs Booleans on a thread pool whose threads do not survive `fork`
+(a forked worker deadlocks), so there workers come from a fork server started clean, and
+each builds the slicer once from its solids' BREP text. Workers send back each job's
 section faces as BREP text, OCC's own lossless format. This process cuts too: it takes jobs
 from the same shared counter as the workers, so N cores need N − 1 workers, the jobs it
 takes need no BREP round trip, and whoever is free takes the next job.
@@ -25,7 +28,43 @@ from freecad_conformal.geometry.planar_faces import SectionFace
 JOB_MIN = 4
 JOBS_PER_WORKER = 6
 
-_WORKER_SLICER = None  # set in the parent just before forking; inherited by the workers
+_WORKER_SLICER = None  # fork: set in the parent just before forking, inherited by workers
+#: First OCCT version whose Booleans run on a thread pool that does not survive fork.
+THREAD_POOL_OCC = (7, 8)
+
+
+def occ_version() -> tuple[int, ...]:
+    _, Part = import_freecad()
+    return tuple(int(p) for p in str(Part.OCC_VERSION).split(".")[:2] if p.isdigit())
+
+
+def start_method() -> str:
+    """"fork" where OCC survives it (workers inherit the built slicer), else "forkserver"."""
+    return "fork" if occ_version() < THREAD_POOL_OCC else "forkserver"
+
+
+def slicer_spec(slicer) -> tuple:
+    """What a fresh worker needs to build the same slicer: solids as BREP text, direction,
+    chord tolerance and the face-by-face switch (picklable)."""
+    return ([solid.exportBrepToString() for solid in slicer.solids], tuple(slicer.frame.n),
+            slicer.chord_tolerance, slicer.face_by_face)
+
+
+def _slicer_from(spec: tuple):
+    global _WORKER_SLICER
+    if _WORKER_SLICER is None:
+        from freecad_conformal.geometry.sections import PlanarSlicer
+
+        _, Part = import_freecad()
+        breps, direction, chord, face_by_face = spec
+        solids = []
+        for text in breps:
+            shape = Part.Shape()
+            shape.importBrepFromString(text, False)
+            solids.extend(shape.Solids)
+        shape = solids[0] if len(solids) == 1 else Part.Compound(solids)
+        _WORKER_SLICER = PlanarSlicer(shape, direction, chord, face_by_face=face_by_face)
+    return _WORKER_SLICER
 
 
 def default_workers() -> int:
@@ -46,9 +85,12 @@ def _cut(solid_index: int, heights: np.ndarray, boolean: bool, slicer=None) -> l
     return (slicer.cut_boolean if boolean else slicer.cut_faces)(solid_index, heights)
 
 
-def _worker(jobs: list, boolean: bool, counter, results) -> None:
-    """Forked worker: takes jobs from the shared counter until none is left."""
+def _worker(jobs: list, boolean: bool, counter, results, spec: tuple | None = None) -> None:
+    """Worker: takes jobs from the shared counter until none is left (`spec`: the slicer to
+    build, for workers that did not inherit it)."""
     try:
+        if spec is not None:
+            _slicer_from(spec)
         while (index := _claim(counter)) < len(jobs):
             solid_index, heights = jobs[index]
             results.put((index, [_as_brep(items) for items in _cut(solid_index, heights, boolean)]))
@@ -138,14 +180,21 @@ def _shared(slicer, levels: np.ndarray, jobs: list, boolean: bool, workers: int,
                 report(done)
         return results
     results: list = [None] * len(jobs)
-    context = multiprocessing.get_context("fork")
+    method = start_method()
+    context = multiprocessing.get_context(method)
     counter = context.Value("i", 0)
     queue = context.Queue()
-    _WORKER_SLICER = slicer
+    spec = None
+    if method == "fork":
+        _WORKER_SLICER = slicer
+    else:
+        spec = slicer_spec(slicer)
+        context.set_forkserver_preload(["freecad_conformal.geometry.sections"])
     processes = []
     try:
         for _ in range(min(workers, len(jobs)) - 1):
-            process = context.Process(target=_worker, args=(work, boolean, counter, queue), daemon=True)
+            process = context.Process(target=_worker, args=(work, boolean, counter, queue, spec),
+                                      daemon=True)
             process.start()
             processes.append(process)
         while (index := _claim(counter)) < len(jobs):

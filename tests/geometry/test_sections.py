@@ -131,7 +131,13 @@ def test_uniform_heights_are_mid_layer(App, Part):
 
 
 @pytest.mark.slow
-def test_parallel_sections_equal_serial(Part):
+@pytest.mark.parametrize("method", ["fork", "forkserver"])
+def test_parallel_sections_equal_serial(Part, monkeypatch, method):
+    """Both ways of starting workers: fork (OCCT < 7.8) and a fork server whose workers build
+    the slicer from BREP text (OCCT 7.8's Boolean thread pool does not survive fork)."""
+    from freecad_conformal.geometry import section_pool
+
+    monkeypatch.setattr(section_pool, "start_method", lambda: method)
     torus = Part.makeTorus(10, 2)
     serial = planar_sections(torus, (0.3, 0.2, 1.0), layer=0.1)
     parallel = planar_sections(torus, (0.3, 0.2, 1.0), layer=0.1, workers=2)
