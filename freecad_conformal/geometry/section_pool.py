@@ -44,26 +44,24 @@ def start_method() -> str:
 
 
 def slicer_spec(slicer) -> tuple:
-    """What a fresh worker needs to build the same slicer: solids as BREP text, direction,
-    chord tolerance and the face-by-face switch (picklable)."""
-    return ([solid.exportBrepToString() for solid in slicer.solids], tuple(slicer.frame.n),
-            slicer.chord_tolerance, slicer.face_by_face)
+    """What a fresh worker needs to build the same slicer: its class (pickled by name),
+    solids as BREP text, direction, chord tolerance and the face-by-face switch."""
+    return (type(slicer), [solid.exportBrepToString() for solid in slicer.solids],
+            tuple(slicer.frame.n), slicer.chord_tolerance, slicer.face_by_face)
 
 
 def _slicer_from(spec: tuple):
     global _WORKER_SLICER
     if _WORKER_SLICER is None:
-        from freecad_conformal.geometry.sections import PlanarSlicer
-
         _, Part = import_freecad()
-        breps, direction, chord, face_by_face = spec
+        slicer_class, breps, direction, chord, face_by_face = spec
         solids = []
         for text in breps:
             shape = Part.Shape()
             shape.importBrepFromString(text, False)
             solids.extend(shape.Solids)
         shape = solids[0] if len(solids) == 1 else Part.Compound(solids)
-        _WORKER_SLICER = PlanarSlicer(shape, direction, chord, face_by_face=face_by_face)
+        _WORKER_SLICER = slicer_class(shape, direction, chord, face_by_face=face_by_face)
     return _WORKER_SLICER
 
 

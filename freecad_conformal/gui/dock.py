@@ -41,7 +41,7 @@ def process_panel(show: bool = True) -> ProcessPanel:
     panel = window.findChild(QtWidgets.QDockWidget, DOCK_NAME)
     if panel is None:
         panel = ProcessPanel(window)
-        window.addDockWidget(QtCore.Qt.RightDockWidgetArea, panel)
+        window.addDockWidget(QtCore.Qt.DockWidgetArea.RightDockWidgetArea, panel)
     if show:
         panel.show()
         panel.raise_()

@@ -28,7 +28,7 @@ def _tr(text: str) -> str:
 def _item(text: str, editable: bool = True) -> QtWidgets.QTableWidgetItem:
     item = QtWidgets.QTableWidgetItem(text)
     if not editable:
-        item.setFlags(item.flags() & ~QtCore.Qt.ItemIsEditable)
+        item.setFlags(item.flags() & ~QtCore.Qt.ItemFlag.ItemIsEditable)
     return item
 
 

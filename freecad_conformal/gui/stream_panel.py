@@ -7,7 +7,7 @@ import threading
 import FreeCAD
 import FreeCADGui
 
-from freecad_conformal.gui.qt import QtCore, QtWidgets, translate
+from freecad_conformal.gui.qt import QtCore, QtWidgets, standard_buttons, translate
 from freecad_conformal.gui.widgets import MessageLine
 
 #: How often the panel reads the worker's progress (ms).
@@ -120,4 +120,4 @@ class StreamPanel:
     reject = accept
 
     def getStandardButtons(self) -> int:  # noqa: N802
-        return int(QtWidgets.QDialogButtonBox.Close)
+        return standard_buttons("Close")

@@ -11,7 +11,7 @@ from typing import Sequence
 import FreeCAD
 import FreeCADGui
 
-from freecad_conformal.gui.qt import QtWidgets, translate
+from freecad_conformal.gui.qt import QtWidgets, standard_buttons, translate
 from freecad_conformal.gui.widgets import MessageLine, quantity_field, quantity_value
 
 #: FreeCAD property types shown as quantity fields, with the unit typed values default to.
@@ -149,4 +149,4 @@ class ObjectTaskPanel:
         return True
 
     def getStandardButtons(self) -> int:  # noqa: N802 - FreeCAD's name
-        return int(QtWidgets.QDialogButtonBox.Ok | QtWidgets.QDialogButtonBox.Cancel)
+        return standard_buttons("Ok", "Cancel")

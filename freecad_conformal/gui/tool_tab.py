@@ -12,7 +12,7 @@ from freecad_conformal.gui.qt import QtCore, QtWidgets, translate
 from freecad_conformal.gui.tool_session import FormFields, ToolSession
 from freecad_conformal.gui.widgets import MessageLine, quantity_field, quantity_value, set_quantity
 
-ROLE_ID = QtCore.Qt.UserRole
+ROLE_ID = QtCore.Qt.ItemDataRole.UserRole
 JSON_FILTER = "Tool library (*.json)"
 
 
@@ -34,7 +34,7 @@ class ToolLibraryTab(QtWidgets.QWidget):
         layout.addLayout(self._buttons())
         layout.addLayout(self._form())
         self.json = QtWidgets.QPlainTextEdit()
-        self.json.setLineWrapMode(QtWidgets.QPlainTextEdit.NoWrap)
+        self.json.setLineWrapMode(QtWidgets.QPlainTextEdit.LineWrapMode.NoWrap)
         layout.addWidget(QtWidgets.QLabel(_tr("All settings (JSON):")))
         layout.addWidget(self.json, 3)
         apply_button = QtWidgets.QPushButton(_tr("Apply and save"))
@@ -173,7 +173,7 @@ class ToolLibraryTab(QtWidgets.QWidget):
         if path:
             replace = QtWidgets.QMessageBox.question(
                 self, _tr("Import tools"), _tr("Replace tools with the same id?")
-            ) == QtWidgets.QMessageBox.Yes
+            ) == QtWidgets.QMessageBox.StandardButton.Yes
             self.import_from(path, replace)
 
     def _ask_export(self) -> None:

@@ -123,3 +123,22 @@ def test_no_private_name_is_imported_from_another_module():
                           f"{node.module}.{a.name}" for a in node.names
                           if a.name.startswith("_") and not a.name.startswith("__")]
     assert not users, "\n".join(users)
+
+
+def test_gui_uses_full_qt_enum_names_and_no_int_of_an_enum():
+    """PySide6 (FreeCAD 1.1's Qt 6) accepts short enum names (QDialogButtonBox.Ok) only in
+    its forgiveness mode and refuses int() of its flags."""
+    import re
+
+    short = re.compile(r"\b(QtCore\.Qt|QtWidgets\.Q[A-Za-z]+)\.([A-Z][A-Za-z]+)\b(?!\.|\()")
+    full_scopes = {"StandardButton", "LineWrapMode", "DockWidgetArea", "ItemFlag",
+                   "ItemDataRole"}
+    found = []
+    for path in sorted((PACKAGE / "gui").glob("*.py")):
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), start=1):
+            for match in short.finditer(line):
+                if match.group(2) not in full_scopes:
+                    found.append(f"{path.name}:{number}: {match.group(0)}")
+            if re.search(r"\bint\((QtCore|QtWidgets)\.", line):
+                found.append(f"{path.name}:{number}: int() of a Qt enum")
+    assert not found, "\n".join(found)
