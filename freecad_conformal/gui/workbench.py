@@ -29,5 +29,18 @@ def initialize(workbench) -> None:
     FreeCAD.Console.PrintLog("Conformal workbench initialised\n")
 
 
+#: Shown in the status bar on activation (milliseconds): the report view stays for results.
+STATUS_MESSAGE_MS = 3000
+_WARNED: list[bool] = []
+
+
 def activated() -> None:
-    FreeCAD.Console.PrintMessage("Conformal workbench active\n")
+    from freecad_conformal.dependencies import install_hint, missing
+
+    window = FreeCADGui.getMainWindow()
+    if window is not None:
+        window.statusBar().showMessage("Conformal workbench active", STATUS_MESSAGE_MS)
+    hint = install_hint(missing())
+    if hint and not _WARNED:
+        _WARNED.append(True)
+        FreeCAD.Console.PrintWarning(hint)

@@ -11,7 +11,8 @@ PACKAGE = Path(__file__).resolve().parents[2] / "freecad_conformal"
 
 #: Rooms from the bottom up: a room may import its own modules and rooms below it only.
 ROOMS = [
-    {"package", "errors", "tolerances", "fileio", "progress", "freecad_env", "settings"},
+    {"package", "errors", "tolerances", "fileio", "progress", "freecad_env", "settings",
+     "dependencies"},
     {"toolpath"},
     {"process", "post", "stream"},
     {"geometry"},
@@ -26,7 +27,7 @@ ROOMS = [
 ]
 RANK = {room: level for level, rooms in enumerate(ROOMS) for room in rooms}
 #: Rooms that run in any Python with numpy: no FreeCAD, no Qt, not even lazily.
-PURE = {"errors", "tolerances", "fileio", "progress", "settings", "toolpath", "process",
+PURE = {"errors", "tolerances", "fileio", "progress", "settings", "dependencies", "toolpath", "process",
         "post", "stream"}
 FREECAD_MODULES = {"FreeCAD", "Part", "Mesh", "MeshPart", "FreeCADGui", "Import"}
 SCREEN_MODULES = {"FreeCADGui", "PySide", "PySide2", "PySide6", "pivy"}
