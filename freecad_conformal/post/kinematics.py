@@ -14,6 +14,7 @@ from typing import Callable
 import numpy as np
 
 from freecad_conformal.errors import KinematicsError
+from freecad_conformal.post.branches import choose_rotary
 from freecad_conformal.post.machine import Machine, RotaryAxis
 from freecad_conformal.tolerances import LIMIT_SLACK
 
@@ -21,7 +22,6 @@ from freecad_conformal.tolerances import LIMIT_SLACK
 #: undefined (e.g. A ≈ 0 on an A/C table): keep its previous value. 1e-9 rad of tool axis
 #: is far below any angular tolerance, so ignoring the angle there costs nothing.
 SINGULAR_SIN = 1e-9
-
 
 #: An axis orientation that misses the reachable cone by more than this is an error.
 #: 1e-6 rad is the accuracy of a toolpath written with 7 significant digits.
@@ -166,8 +166,6 @@ def inverse(machine: Machine, points: np.ndarray, axes: np.ndarray,
     KinematicsError naming the segment and point for unreachable or out-of-limit poses.
     With `with_undefined` also returns the (n, r) mask of angles that were free there.
     """
-    from freecad_conformal.post.branches import choose_rotary
-
     locate = locate or (lambda i: f"point {i}")
     points = np.asarray(points, dtype=float)
     axes = np.asarray(axes, dtype=float)
