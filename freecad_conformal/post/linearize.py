@@ -18,7 +18,8 @@ import numpy as np
 from freecad_conformal.errors import PostError
 from freecad_conformal.post.kinematics import forward, inverse, positions_for
 from freecad_conformal.post.machine import Machine
-from freecad_conformal.tolerances import DEFAULT_ANGULAR_TOLERANCE, DEFAULT_LINEAR_TOLERANCE
+from freecad_conformal.tolerances import (DEFAULT_ANGULAR_TOLERANCE, DEFAULT_LINEAR_TOLERANCE,
+                                         WRAP_MAX_STEP)
 from freecad_conformal.toolpath import INTERPOLATIONS, Toolpath
 
 #: Joint-space deviation (as tip mm) allowed when merging collinear moves, as a fraction of
@@ -109,7 +110,34 @@ def linearize(tp: Toolpath, machine: Machine, tolerance: float = DEFAULT_LINEAR_
     cumulative = np.cumsum(lengths)
     tip = np.diff(np.concatenate(([0.0], cumulative[kept])))
     tip[0] = 0.0
-    return Blocks(joints=joints[kept], segment=segment[kept], tip_length=tip, point=origin[kept])
+    blocks = Blocks(joints=joints[kept], segment=segment[kept], tip_length=tip, point=origin[kept])
+    return split_wrapped_turns(machine, blocks)
+
+
+def split_wrapped_turns(machine: Machine, blocks: Blocks) -> Blocks:
+    """Split blocks in which a `wrap` axis turns WRAP_MAX_STEP or more into equal parts.
+
+    A wrapping controller reads angles in [0, 360) and takes the short way, so a block that
+    turns half a turn or more would go the wrong way (a full turn would not move at all).
+    The controller interpolates joints linearly, so equal joint-space parts follow exactly
+    the path of the unsplit block.
+    """
+    wrapped = [3 + k for k, axis in enumerate(machine.rotary) if axis.wrap]
+    if not wrapped or len(blocks.joints) < 2:
+        return blocks
+    delta = np.diff(blocks.joints, axis=0)
+    turn = np.abs(delta[:, wrapped]).max(axis=1)
+    parts = np.maximum(np.ceil(turn / WRAP_MAX_STEP * (1.0 + 1e-9)), 1).astype(np.int64)
+    if np.all(parts == 1):
+        return blocks
+    move = np.repeat(np.arange(len(delta)), parts)                  # block each new row ends in
+    first = np.cumsum(parts) - parts
+    s = (np.arange(len(move)) - first[move] + 1) / parts[move]
+    joints = np.vstack([blocks.joints[:1], blocks.joints[move] + s[:, None] * delta[move]])
+    tip = np.concatenate(([0.0], blocks.tip_length[1:][move] / parts[move]))
+    segment = np.concatenate((blocks.segment[:1], blocks.segment[1:][move]))
+    point = np.concatenate((blocks.point[:1], blocks.point[1:][move]))
+    return Blocks(joints=joints, segment=segment, tip_length=tip, point=point)
 
 
 def _grow(parts: np.ndarray, order: np.ndarray, worst: np.ndarray, last_worst: np.ndarray,

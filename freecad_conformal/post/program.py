@@ -31,12 +31,13 @@ class PostResult:
     time_s: float            # estimated run time (toolpath summary, machine acceleration)
 
 
-def machine_values(machine: Machine, joints: np.ndarray) -> np.ndarray:
-    """Joints (mm, rad unwound) -> G-code values (mm, degrees; [0, 360) for wrapped axes)."""
+def machine_values(machine: Machine, joints: np.ndarray, wrap: bool = True) -> np.ndarray:
+    """Joints (mm, rad unwound) -> G-code values (mm, degrees; [0, 360) for wrapped axes
+    unless `wrap` is False)."""
     values = np.array(joints, dtype=float)
     values[:, 3:] = np.degrees(values[:, 3:])
     for k, axis in enumerate(machine.rotary):
-        if axis.wrap:
+        if axis.wrap and wrap:
             values[:, 3 + k] = np.mod(values[:, 3 + k], 360.0)
     return values
 
@@ -114,7 +115,8 @@ def _move_lines(tp: Toolpath, machine: Machine, writer: Dialect, blocks: Blocks,
     count = len(values) - 1
     if count <= 0:
         return []
-    delta = np.diff(values, axis=0)
+    # motion from the unwound joints: a wrapped axis written 350 -> 10 turns 20°, not 340°
+    delta = np.diff(machine_values(machine, blocks.joints, wrap=False), axis=0)
     linear = np.linalg.norm(delta[:, :3], axis=1)
     rotary = np.abs(delta[:, 3:]).max(axis=1) if machine.rotary else np.zeros(count)
     rotary_length = np.linalg.norm(delta[:, 3:], axis=1)
