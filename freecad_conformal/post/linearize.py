@@ -35,6 +35,14 @@ ZERO_CHORD = 1e-6
 #: Sample parameters along each sub-move where the deviation is measured.
 CHECK_PARAMETERS = (0.25, 0.5, 0.75)
 
+#: A move whose deviation falls slower than parts^-MIN_ORDER when split (a smooth move
+#: falls as parts^-2, one leaving a singular pose as parts^-1) has a jump in its joints.
+MIN_ORDER = 0.25
+
+#: More refined points than this in one round means the toolpath cannot be linearised
+#: sensibly (about 150 bytes each while linearising: 20 million are 3 GB).
+MAX_REFINED_POINTS = 20_000_000
+
 #: Refinement rounds; each multiplies the parts by the measured sqrt(deviation ratio), so
 #: smooth moves settle in two rounds and only near-singular ones need more.
 MAX_ROUNDS = 12
@@ -95,7 +103,14 @@ def linearize(tp: Toolpath, machine: Machine, tolerance: float = DEFAULT_LINEAR_
         worst[~part_linear] = 0.0
         if np.all(worst <= 1.0):
             break
+        _refuse_jumps(tp, machine, parts, worst, last_worst, last_parts, joints, origin)
         new_parts = _grow(parts, order, worst, last_worst, last_parts)
+        if int(new_parts.sum()) > MAX_REFINED_POINTS:
+            i = int(np.argmax(new_parts))
+            raise PostError(f"linearising within {tolerance} mm would take more than "
+                            f"{MAX_REFINED_POINTS:,} blocks ({int(new_parts[i]):,} for the move "
+                            f"into {tp.locate(i)} alone); loosen the tolerance or split the "
+                            "toolpath")
         last_worst, last_parts, parts = np.where(worst > 1.0, worst, np.inf), parts, new_parts
     else:
         i = int(np.argmax(worst))
@@ -138,6 +153,34 @@ def split_wrapped_turns(machine: Machine, blocks: Blocks) -> Blocks:
     segment = np.concatenate((blocks.segment[:1], blocks.segment[1:][move]))
     point = np.concatenate((blocks.point[:1], blocks.point[1:][move]))
     return Blocks(joints=joints, segment=segment, tip_length=tip, point=point)
+
+
+def _refuse_jumps(tp: Toolpath, machine: Machine, parts: np.ndarray, worst: np.ndarray,
+                  last_worst: np.ndarray, last_parts: np.ndarray, joints: np.ndarray,
+                  origin: np.ndarray) -> None:
+    """Refuse moves whose deviation does not fall as they are split: the joints jump there.
+
+    That happens when a rotary limit forces the other orientation solution in the middle
+    of a move (the tool would swing round); splitting more would only eat memory.
+    """
+    grown = (worst > 1.0) & np.isfinite(last_worst) & (parts >= 2 * last_parts)
+    stuck = grown & (worst > last_worst * (last_parts / np.maximum(parts, 1)) ** MIN_ORDER)
+    if not stuck.any():
+        return
+    move = int(np.flatnonzero(stuck)[np.argmax(worst[stuck])])
+    rows = np.flatnonzero(origin == move)
+    rows = rows[rows > 0]
+    step = np.abs(joints[rows, 3:] - joints[rows - 1, 3:]).max(axis=1)
+    row = int(rows[np.argmax(step)])
+    jumps = ", ".join(f"{a.name} {math.degrees(joints[row - 1, 3 + k]):.1f}° -> "
+                      f"{math.degrees(joints[row, 3 + k]):.1f}°" for k, a in enumerate(machine.rotary))
+    limits = "; ".join(f"{a.name} limits [{math.degrees(a.limits[0]):g}, {math.degrees(a.limits[1]):g}]°"
+                       for a in machine.rotary if a.limits is not None) or "no rotary limits"
+    raise PostError(f"cannot follow the move into {tp.locate(move)} on machine {machine.name}: "
+                    f"the rotary joints jump within it ({jumps}) and splitting it "
+                    f"{int(parts[move])}-fold did not help. A rotary limit probably forces the "
+                    f"other orientation solution there ({limits}); widen the limits or change "
+                    "the path's tool axes")
 
 
 def _grow(parts: np.ndarray, order: np.ndarray, worst: np.ndarray, last_worst: np.ndarray,

@@ -8,7 +8,7 @@ import re
 import numpy as np
 import pytest
 
-from freecad_conformal.errors import KinematicsError
+from freecad_conformal.errors import KinematicsError, PostError
 from freecad_conformal.post import samples
 from freecad_conformal.post.machine import MACHINES_DIR, machine_from_dict
 from freecad_conformal.post.program import post_toolpath
@@ -62,3 +62,36 @@ def test_full_turn_on_a_wrapped_mandrel_moves_and_has_a_feed():
     assert len([l for l in moves if " A" in l]) >= 4
     deviation = verify_program(result.text, machine, toolpath)
     assert deviation.position <= TOL * 1.05
+
+
+DATA_MACHINES = __import__("pathlib").Path(__file__).parent / "data" / "machines"
+
+
+def head_head(c_limits: list[float]):
+    data = json.loads((DATA_MACHINES / "head_head_cb.json").read_text())
+    data["rotary_axes"][0]["limits"] = c_limits
+    return machine_from_dict(data, source="head_head_cb.json")
+
+
+def test_limited_axis_fits_a_turn_and_a_half_by_a_whole_turn_offset():
+    machine, toolpath = head_head([-360, 360]), tilted_ring(1.5, points=92)
+    result = post_toolpath(toolpath, machine)
+    c = np.array(rotary_words(result.text, "C"))
+    assert c.min() >= -360 and c.max() <= 360 and c.max() - c.min() > 500
+    assert np.abs(np.diff(c)).max() < 10.0                     # no whole-turn jump
+    deviation = verify_program(result.text, machine, toolpath)
+    assert deviation.position <= TOL * 1.05 and math.degrees(deviation.angle) <= ATOL_DEG * 1.05
+
+
+def test_limited_axis_needing_more_travel_than_its_limits_is_refused_early():
+    machine, toolpath = head_head([-360, 360]), tilted_ring(2.5, points=152)
+    with pytest.raises(KinematicsError, match=r"axis C .* 900\.0° of travel .* allow 720°"):
+        post_toolpath(toolpath, machine)
+
+
+def test_limit_forcing_the_other_solution_mid_move_is_refused_not_split_forever():
+    # 0.6 turn with C within ±100°: one branch leaves the limits mid-ring, the other is
+    # 180° away; this used to split the move until 13 GB were gone
+    machine, toolpath = head_head([-100, 100]), tilted_ring(0.6, points=38)
+    with pytest.raises(PostError, match=r"joints jump .*C limits \[-100, 100\]"):
+        post_toolpath(toolpath, machine)
