@@ -16,7 +16,7 @@ import numpy as np
 from freecad_conformal.errors import KinematicsError
 from freecad_conformal.post.branches import choose_rotary
 from freecad_conformal.post.machine import Machine, RotaryAxis
-from freecad_conformal.tolerances import LIMIT_SLACK
+from freecad_conformal.tolerances import AXIS_UNIT_TOLERANCE, LIMIT_SLACK
 
 #: Below this |sin| the tool axis is parallel to a rotary axis and that axis' angle is
 #: undefined (e.g. A ≈ 0 on an A/C table): keep its previous value. 1e-9 rad of tool axis
@@ -155,6 +155,21 @@ def _raise_unreachable(bad: np.ndarray, axes: np.ndarray, locate: Locator, machi
                               f"reachable: machine {machine.name} {reason}")
 
 
+def unit_axes(axes: np.ndarray, locate: Locator) -> np.ndarray:
+    """Axes scaled to unit length; far from unit (AXIS_UNIT_TOLERANCE) is an error.
+
+    The orientation solution assumes unit vectors: an axis of length 0.9999999 would come
+    out tilted by about sqrt(2e-7) rad (A-0.0256° for a vertical tool).
+    """
+    norms = np.linalg.norm(axes, axis=1)
+    bad = ~(np.abs(norms - 1.0) <= AXIS_UNIT_TOLERANCE)
+    if np.any(bad):
+        i = int(np.argmax(bad))
+        raise KinematicsError(f"tool axis {axes[i].tolist()} at {locate(i)} has length "
+                              f"{norms[i]:.9g}, not 1 within {AXIS_UNIT_TOLERANCE:g}")
+    return axes / norms[:, None]
+
+
 def inverse(machine: Machine, points: np.ndarray, axes: np.ndarray,
             locate: Locator | None = None, previous: np.ndarray | None = None,
             with_undefined: bool = False):
@@ -168,7 +183,7 @@ def inverse(machine: Machine, points: np.ndarray, axes: np.ndarray,
     """
     locate = locate or (lambda i: f"point {i}")
     points = np.asarray(points, dtype=float)
-    axes = np.asarray(axes, dtype=float)
+    axes = unit_axes(np.asarray(axes, dtype=float), locate)
     start = machine.home_joints() if previous is None else np.asarray(previous, dtype=float)
     candidates = rotary_candidates(machine, axes, locate)
     rotary = choose_rotary(machine, candidates, start[3:], locate)

@@ -142,8 +142,9 @@ def machine_from_dict(data: dict, source: str = "<dict>") -> Machine:
     light = data.get("light_control", "spindle")
     if light not in LIGHT_CONTROLS:
         raise KinematicsError(f"{where}: light_control {light!r} must be one of {LIGHT_CONTROLS}")
-    for key in ("rapid_feed", "max_feed", "max_rotary_feed", "acceleration"):
-        if not data[key] > 0:
+    for key in ("rapid_feed", "max_feed", "max_rotary_feed", "acceleration", "spindle_max",
+                "filament_diameter"):
+        if key in data and not (_is_number(data[key]) and data[key] > 0):
             raise KinematicsError(f"{where}: {key} = {data[key]!r} must be > 0")
     return Machine(
         name=data["name"], source=source, dialect=data["dialect"], linear=linear, rotary=rotary,
