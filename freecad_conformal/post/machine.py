@@ -31,8 +31,12 @@ _TOP_KEYS = {"name": str, "dialect": str, "linear_axes": dict, "rotary_axes": li
              "tool_direction": list, "home": dict, "rapid_feed": (int, float),
              "max_feed": (int, float), "max_rotary_feed": (int, float),
              "acceleration": (int, float), "light_control": str, "spindle_max": (int, float),
-             "filament_diameter": (int, float), "description": str}
-_OPTIONAL_TOP = {"description", "light_control", "spindle_max", "filament_diameter"}
+             "filament_diameter": (int, float), "description": str, "start_gcode": list,
+             "end_gcode": list, "temperatures": dict, "home_on_start": bool,
+             "tool_change_z": (int, float)}
+_OPTIONAL_TOP = {"description", "light_control", "spindle_max", "filament_diameter",
+                 "start_gcode", "end_gcode", "temperatures", "home_on_start", "tool_change_z"}
+_HEATERS = ("hotend", "bed")
 _ROTARY_KEYS = {"name": str, "on": str, "direction": list, "pivot": list, "limits": list,
                 "continuous": bool, "wrap": bool}
 
@@ -73,6 +77,11 @@ class Machine:
     light_control: str
     spindle_max: float
     filament_diameter: float
+    start_gcode: tuple[str, ...] = ()    # lines after the dialect's preamble
+    end_gcode: tuple[str, ...] = ()      # lines before the dialect's postamble
+    temperatures: tuple[tuple[str, float], ...] = ()   # (heater, °C): waited for at the start
+    home_on_start: bool = False          # home (G28) before the first move (Marlin family)
+    tool_change_z: float | None = None   # machine-coordinate Z (G53) for tool changes
 
     @property
     def joint_names(self) -> tuple[str, ...]:
@@ -153,7 +162,39 @@ def machine_from_dict(data: dict, source: str = "<dict>") -> Machine:
         max_feed=float(data["max_feed"]), max_rotary_feed=float(data["max_rotary_feed"]),
         acceleration=float(data["acceleration"]), light_control=light,
         spindle_max=float(data.get("spindle_max", 1000.0)),
-        filament_diameter=float(data.get("filament_diameter", 1.75)))
+        filament_diameter=float(data.get("filament_diameter", 1.75)),
+        start_gcode=_gcode_lines(data.get("start_gcode", []), f"{where}: start_gcode"),
+        end_gcode=_gcode_lines(data.get("end_gcode", []), f"{where}: end_gcode"),
+        temperatures=_temperatures(data.get("temperatures", {}), f"{where}: temperatures"),
+        home_on_start=data.get("home_on_start", False),
+        tool_change_z=(float(data["tool_change_z"]) if _is_number(data.get("tool_change_z"))
+                       else _no_tool_change_z(data, where)))
+
+
+def _no_tool_change_z(data: dict, where: str) -> None:
+    if "tool_change_z" in data:
+        raise KinematicsError(f"{where}: tool_change_z = {data['tool_change_z']!r} is not a number")
+    return None
+
+
+def _gcode_lines(value: list, where: str) -> tuple[str, ...]:
+    """Machine-carried G-code: one command per string, no line breaks or comments (the
+    dialect writes comments its own way)."""
+    for line in value:
+        if not isinstance(line, str) or any(c in line for c in "\n\r;()"):
+            raise KinematicsError(f"{where}: {line!r} must be one G-code command without "
+                                  "line breaks or comments")
+    return tuple(line.strip() for line in value if line.strip())
+
+
+def _temperatures(value: dict, where: str) -> tuple[tuple[str, float], ...]:
+    out = []
+    for heater, celsius in value.items():
+        if heater not in _HEATERS or not _is_number(celsius) or not 0 < celsius < 500:
+            raise KinematicsError(f"{where}.{heater} = {celsius!r}: heaters are {_HEATERS}, "
+                                  "each a temperature in °C between 0 and 500")
+        out.append((heater, float(celsius)))
+    return tuple(out)
 
 
 def _is_number(value: object) -> bool:

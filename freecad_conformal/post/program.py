@@ -57,7 +57,8 @@ def post_toolpath(tp: Toolpath, machine: Machine, dialect: str | None = None,
     moves = _move_lines(tp, machine, writer, blocks, values, rapid, relative_e)
     lines = _header(tp, machine, writer, summary, tolerance, angular_tolerance, len(values))
     lines += writer.preamble(machine, relative_e)
-    events = _events_by_place(tp.events)
+    lines += writer.start(machine)
+    events = _events_by_place(tp.events if writer.extrusion else implied_extruder_events(tp))
     first_tools = [e for e in events.pop((0, "before"), []) if e.action == "tool_change"]
     other_first = [e for e in tp.events if (e.segment, e.position) == (0, "before")
                    and e.action != "tool_change"]
@@ -67,14 +68,62 @@ def post_toolpath(tp: Toolpath, machine: Machine, dialect: str | None = None,
     lines.append("G0 " + " ".join(f"{n}{number(v)}" for n, v in zip(names, values[0])))
     events[(0, "before")] = other_first
     bounds = np.searchsorted(blocks.segment[1:], np.arange(tp.segment_count + 1)) + 1
+    changed_tool = False
     for segment in range(tp.segment_count):
         for event in events.get((segment, "before"), []):
             lines += writer.event(event, machine)
-        lines += moves[bounds[segment] - 1:bounds[segment + 1] - 1]
+            changed_tool |= event.action == "tool_change"
+        rows = moves[bounds[segment] - 1:bounds[segment + 1] - 1]
+        if changed_tool and rows:
+            # after a tool change (and its length offset) every axis is written again, so
+            # the controller cannot keep an old position in the new tool's coordinates
+            row = bounds[segment] - 1
+            rows = [_full_move(rows[0], names, values[row + 1])] + rows[1:]
+            changed_tool = False
+        lines += rows
         for event in events.get((segment, "after"), []):
             lines += writer.event(event, machine)
+            changed_tool |= event.action == "tool_change"
+    lines += writer.end(machine)
     lines += writer.postamble(machine)
     return PostResult("\n".join(lines) + "\n", blocks, values, rapid, names, summary.time_s)
+
+
+def _full_move(line: str, names: tuple[str, ...], row: np.ndarray) -> str:
+    """`line` with every axis word, whether or not it changed."""
+    prefix = line.split(" ")[0] if not line.startswith(("G93", "G94")) else " ".join(line.split(" ")[:2])
+    rest = [w for w in line[len(prefix):].split() if w[0] not in names]
+    return " ".join([prefix] + [f"{n}{number(v)}" for n, v in zip(names, row)] + rest)
+
+
+def implied_extruder_events(tp: Toolpath) -> tuple[Event, ...]:
+    """The toolpath's events plus extruder on/off around deposit runs it leaves uncovered.
+
+    Dialects without E words drive the extruder from an output: a deposit segment with the
+    extruder off would move without depositing while the header claims material.
+    """
+    deposit = tp.kind == KINDS.index("deposit")
+    places = _events_by_place(tp.events)
+    out: list[Event] = []
+    on, implied = False, False
+    for segment in range(tp.segment_count):
+        for event in places.get((segment, "before"), []):
+            on = _extruder_state(event, on)
+        if deposit[segment] and not on:
+            out.append(Event(segment, "before", "extruder_on"))
+            on, implied = True, True
+        after = places.get((segment, "after"), [])
+        for event in after:
+            on = _extruder_state(event, on)
+        following = segment + 1 < tp.segment_count and deposit[segment + 1]
+        if implied and on and not following:
+            out.append(Event(segment, "after", "extruder_off"))
+            on, implied = False, False
+    return tuple(sorted(tp.events + tuple(out), key=lambda e: (e.segment, e.position == "after")))
+
+
+def _extruder_state(event: Event, on: bool) -> bool:
+    return {"extruder_on": True, "extruder_off": False}.get(event.action, on)
 
 
 def write_program(path: str | Path, result: PostResult) -> None:
@@ -102,7 +151,9 @@ def _header(tp: Toolpath, machine: Machine, writer: Dialect, summary, tolerance:
         f"estimated time: {seconds // 3600}:{seconds // 60 % 60:02d}:{seconds % 60:02d} "
         f"({summary.time_s:.1f} s)",
         f"material: {tp.metadata.get('material', 'unspecified')}, "
-        f"{summary.material_volume:.3f} mm3 deposited, {summary.energy:.3f} J cured",
+        f"{summary.material_volume:.3f} mm3 deposited"
+        + (f" {writer.extrusion_note(machine)}" if summary.material_volume > 0 else "")
+        + f", {summary.energy:.3f} J cured",
         f"tolerance: {tolerance:g} mm, {math.degrees(angular_tolerance):g} deg; "
         f"{tp.segment_count} segments, {len(tp.points)} points, {blocks} blocks",
     ]

@@ -37,3 +37,80 @@ def test_filament_diameter_must_be_positive(value):
     data["filament_diameter"] = value
     with pytest.raises(KinematicsError, match=f"filament_diameter = {value} must be > 0"):
         machine_from_dict(data)
+
+
+def moves_and_codes(text: str) -> list[str]:
+    return [line for line in text.splitlines() if line and line[0] not in "(;"]
+
+
+def test_marlin_program_heats_and_homes_before_the_first_extrusion():
+    from freecad_conformal.post.program import post_toolpath
+    from freecad_conformal.post.verify import verify_program
+    machine, toolpath = load_machine("three_axis"), samples.flat_square()
+    text = post_toolpath(toolpath, machine, "marlin").text
+    lines = moves_and_codes(text)
+    first_e = next(i for i, line in enumerate(lines) if " E" in line)
+    order = [lines.index(c) for c in ("M140 S60", "M104 S210", "G28", "M190 S60", "M109 S210")]
+    assert order == sorted(order) and order[-1] < first_e
+    assert lines[-2:] == ["M104 S0", "M140 S0"]
+    assert verify_program(text, machine, toolpath).position < 0.011     # G28 is not a move
+
+
+def test_machine_start_and_end_gcode_are_written_and_checked():
+    from freecad_conformal.post.program import post_toolpath
+    data = shipped("trunnion_ac")
+    data["start_gcode"] = ["M7", "G4 P1"]
+    data["end_gcode"] = ["M9"]
+    text = post_toolpath(samples.tilted_ring(), machine_from_dict(data)).text
+    lines = moves_and_codes(text)
+    assert lines.index("G4 P1") < next(i for i, l in enumerate(lines) if l.startswith("G0"))
+    assert lines[-4:] == ["M9", "G94", "M5", "M2"]
+    data["start_gcode"] = ["M7 ; flood"]
+    with pytest.raises(KinematicsError, match="start_gcode: 'M7 ; flood' must be one G-code"):
+        machine_from_dict(data)
+
+
+def test_linuxcnc_mandrel_program_switches_the_extruder_and_says_how(tmp_path):
+    from freecad_conformal.post.program import post_toolpath
+    from tests.unit.test_post_dialects import check_with_rs274
+    machine = load_machine("rotary_mandrel")
+    result = post_toolpath(samples.mandrel_helix(turns=3), machine, "linuxcnc")
+    lines = moves_and_codes(result.text)
+    on, off = lines.index("M64 P0"), lines.index("M65 P0")
+    deposit_moves = [i for i, line in enumerate(lines) if "G1 " in line]
+    assert on < deposit_moves[0] and deposit_moves[-1] < off
+    assert not any(" E" in line for line in lines) and "deposited by digital output 0" in result.text
+    assert "(before starting: hotend at 210 C, homed" in result.text
+    check_with_rs274(result, tmp_path)
+
+
+def multi_tool_toolpath():
+    from freecad_conformal.toolpath import ToolpathBuilder
+    builder = ToolpathBuilder(part="two tools")
+    builder.event("tool_change", tool=1)
+    builder.add_segment([[0, 0, 20], [0, 0, 2]], kind="travel", feed=3000, tool=1)
+    builder.add_segment([[0, 0, 2], [10, 0, 2]], kind="cure", feed=300, tool=1, flow=0.01)
+    builder.event("tool_change", tool=3)
+    builder.add_segment([[10, 0, 2], [10, 10, 2]], kind="cure", feed=300, tool=3, flow=0.01)
+    return builder.build()
+
+
+def test_every_tool_change_applies_that_tools_length_and_rewrites_all_axes(tmp_path):
+    from freecad_conformal.post.program import post_toolpath
+    from tests.unit.test_post_dialects import check_with_rs274
+    result = post_toolpath(multi_tool_toolpath(), load_machine("trunnion_ac"))
+    lines = moves_and_codes(result.text)
+    for tool in (1, 3):
+        i = lines.index(f"T{tool} M6")
+        assert lines[i + 1] == f"G43 H{tool}"
+        assert all(f" {axis}" in lines[i + 2] for axis in "XYZAC"), lines[i + 2]
+    check_with_rs274(result, tmp_path)      # rs274 applies its own tool table's lengths
+
+
+def test_tool_change_goes_to_the_machines_tool_change_height_first():
+    from freecad_conformal.post.program import post_toolpath
+    data = shipped("trunnion_ac")
+    data["tool_change_z"] = 0
+    lines = moves_and_codes(post_toolpath(multi_tool_toolpath(), machine_from_dict(data)).text)
+    i = lines.index("T3 M6")
+    assert lines[i - 1] == "G53 G0 Z0"

@@ -22,8 +22,14 @@ class LinuxCNC(Dialect):
     def dwell(self, seconds: float) -> str:
         return f"G4 P{number(seconds, 3)}"
 
-    def tool_change(self, tool: int) -> list[str]:
-        return [f"T{tool} M6"]
+    def tool_change(self, tool: int, machine: Machine) -> list[str]:
+        # up to the machine's tool-change height first (machine coordinates), then the
+        # tool table's length for the new tool (G43 H): the tip stays the programmed point
+        retract = [] if machine.tool_change_z is None else [f"G53 G0 Z{number(machine.tool_change_z)}"]
+        return retract + [f"T{tool} M6", f"G43 H{tool}"]
+
+    def extrusion_note(self, machine: Machine) -> str:
+        return "by digital output 0 (M64/M65 P0 around deposit moves), no E words"
 
     def extruder(self, on: bool) -> list[str]:
         # digital output 0, synchronised with motion, switches the extruder drive
