@@ -27,6 +27,10 @@ SINGULAR_SIN = 1e-9
 #: 1e-6 rad is the accuracy of a toolpath written with 7 significant digits.
 REACH_TOLERANCE = 1e-6
 
+#: Values tried for a free rotary angle (a tool axis along that rotary axis) when the one
+#: kept puts X, Y or Z out of limits: every 5°, relative to the kept value.
+FREE_ANGLE_STEPS = np.radians(np.arange(5.0, 360.0, 5.0) - np.where(np.arange(5.0, 360.0, 5.0) > 180.0, 360.0, 0.0))
+
 Locator = Callable[[int], str]
 
 
@@ -190,10 +194,57 @@ def inverse(machine: Machine, points: np.ndarray, axes: np.ndarray,
     joints = np.empty((len(points), 3 + len(machine.rotary)))
     joints[:, 3:] = rotary
     joints[:, :3] = table_transform(machine, joints, points) - head_offset(machine, joints)
+    joints = _fit_linear_limits(machine, points, candidates, joints)
     check_linear_limits(machine, joints, locate)
     if with_undefined:
         return joints, np.isnan(candidates).all(axis=1)
     return joints
+
+
+def _outside_linear(machine: Machine, joints: np.ndarray) -> np.ndarray:
+    low = np.array([a.limits[0] for a in machine.linear]) - LIMIT_SLACK
+    high = np.array([a.limits[1] for a in machine.linear]) + LIMIT_SLACK
+    return ((joints[..., :3] < low) | (joints[..., :3] > high)).any(axis=-1)
+
+
+def _fit_linear_limits(machine: Machine, points: np.ndarray, candidates: np.ndarray,
+                       joints: np.ndarray) -> np.ndarray:
+    """Poses whose chosen angles put X, Y or Z out of limits: take instead the other
+    orientation solution, or another value of an angle that is free there (a tool axis
+    along a rotary axis), whichever fits and turns least."""
+    rows = np.flatnonzero(_outside_linear(machine, joints))
+    if len(rows) == 0 or not machine.rotary:
+        return joints
+    chosen = joints[rows, 3:]                                      # (m, r), unwound
+    raw = candidates[rows]                                         # (m, branches, r)
+    free = np.isnan(raw)
+    options = [np.where(free, chosen[:, None, :], chosen[:, None, :] + _wrap_pi(raw - chosen[:, None, :]))]
+    for k in range(raw.shape[2]):
+        for step in FREE_ANGLE_STEPS:
+            swept = options[0].copy()
+            swept[..., k] = np.where(free[..., k], chosen[:, None, k] + step, swept[..., k])
+            options.append(swept)
+    options = np.concatenate(options, axis=1)                      # (m, o, r)
+    m, o, r = options.shape
+    trial = np.empty((m, o, 3 + r))
+    trial[..., 3:] = options
+    flat = trial.reshape(m * o, 3 + r)
+    flat[:, :3] = positions_for(machine, np.repeat(points[rows], o, axis=0), flat)
+    fits = ~_outside_linear(machine, trial)
+    for k, axis in enumerate(machine.rotary):
+        if axis.limits is not None:
+            fits &= ((options[..., k] >= axis.limits[0] - LIMIT_SLACK)
+                     & (options[..., k] <= axis.limits[1] + LIMIT_SLACK))
+    cost = np.where(fits, np.abs(options - chosen[:, None, :]).sum(axis=2), np.inf)
+    best = np.argmin(cost, axis=1)
+    found = np.isfinite(cost[np.arange(m), best])
+    out = joints.copy()
+    out[rows[found]] = trial[np.flatnonzero(found), best[found]]
+    return out
+
+
+def _wrap_pi(delta: np.ndarray) -> np.ndarray:
+    return (delta + np.pi) % (2.0 * np.pi) - np.pi
 
 
 def positions_for(machine: Machine, points: np.ndarray, joints: np.ndarray) -> np.ndarray:
