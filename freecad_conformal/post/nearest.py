@@ -21,7 +21,7 @@ POSE_LEVER = 50.0
 
 #: First search radius (mm): a few times the usual tolerance, small enough that a cell
 #: holds few pieces of a dense path.
-FIRST_RADIUS = 0.01
+FIRST_RADIUS = 0.02
 
 #: Candidates handled at once (memory: about 200 bytes each).
 CHUNK = 2_000_000
@@ -102,13 +102,15 @@ def _evaluate(points, axes, path, path_axes, query, move):
 
 
 def nearest_poses(points: np.ndarray, axes: np.ndarray, path: np.ndarray,
-                  path_axes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Per query pose: distance (mm) and axis angle (rad) to the best-matching path pose."""
+                  path_axes: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per query pose: distance (mm) and axis angle (rad) to the best-matching path pose,
+    and the path move (k: from path point k to k + 1) it lies on."""
     n = len(points)
     if len(path) == 1:
         distance = np.linalg.norm(points - path[0], axis=1)
-        return distance, np.arccos(np.clip(axes @ path_axes[0], -1.0, 1.0))
-    distance, angle = np.full(n, np.inf), np.zeros(n)
+        return (distance, np.arccos(np.clip(axes @ path_axes[0], -1.0, 1.0)),
+                np.zeros(n, dtype=np.int64))
+    distance, angle, matched = np.full(n, np.inf), np.zeros(n), np.zeros(n, dtype=np.int64)
     extent = float(np.ptp(np.vstack([points, path]), axis=0).max()) + 1.0
     todo, radius = np.arange(n), FIRST_RADIUS
     packed = _moves(path, path_axes)
@@ -121,16 +123,29 @@ def nearest_poses(points: np.ndarray, axes: np.ndarray, path: np.ndarray,
         home = np.floor(points[todo] / cell).astype(np.int64)
         for chunk in np.array_split(todo, max(1, len(todo) * 27 // CHUNK + 1)):
             _match(chunk, home[np.searchsorted(todo, chunk)], keys, move, packed, points, axes,
-                   path, path_axes, distance, angle)
+                   path, path_axes, (distance, angle, matched))
         done = distance[todo] <= radius
         if radius > extent:          # every piece has been a candidate
             break
         todo, radius = todo[~done], radius * 2.0
-    return distance, angle
+    return distance, angle, matched
 
 
-def _match(queries, home, keys, move, packed, points, axes, path, path_axes, distance,
-           angle) -> None:
+def near_guess(points: np.ndarray, axes: np.ndarray, path: np.ndarray, path_axes: np.ndarray,
+               guess: np.ndarray, spread: int = 2) -> tuple[np.ndarray, np.ndarray]:
+    """Like `nearest_poses`, but looking only at the moves within `spread` of `guess`:
+    the result is a pose on the path, so its distance is an upper bound of the nearest."""
+    offsets = np.arange(-spread, spread)
+    moves = np.clip(guess[:, None] + offsets, 0, len(path) - 2)
+    query = np.repeat(np.arange(len(points)), len(offsets))
+    poses = np.column_stack([points, axes])[query]
+    cost = _screen(poses, _moves(path, path_axes)[moves.ravel()]).reshape(len(points), -1)
+    best = moves[np.arange(len(points)), np.argmin(cost, axis=1)]
+    return _evaluate(points, axes, path, path_axes, np.arange(len(points)), best)
+
+
+def _match(queries, home, keys, move, packed, points, axes, path, path_axes, out) -> None:
+    distance, angle, matched = out
     around = _keys((home[:, None, :] + _COLUMNS[None]).reshape(-1, 3))
     low = np.searchsorted(keys, around - 1, side="left")
     high = np.searchsorted(keys, around + 1, side="right")
@@ -153,3 +168,4 @@ def _match(queries, home, keys, move, packed, points, axes, path, path_axes, dis
     better = d + POSE_LEVER * a < distance[target] + POSE_LEVER * angle[target]
     distance[target[better]] = d[better]
     angle[target[better]] = a[better]
+    matched[target[better]] = candidate[best][better]

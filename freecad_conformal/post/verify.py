@@ -20,7 +20,7 @@ from freecad_conformal.errors import PostError
 from freecad_conformal.post.gcode_reader import read_joints
 from freecad_conformal.post.kinematics import forward, head_offset
 from freecad_conformal.post.machine import Machine
-from freecad_conformal.post.nearest import nearest_poses
+from freecad_conformal.post.nearest import near_guess, nearest_poses
 from freecad_conformal.toolpath import Toolpath
 
 #: The replay's polyline stays this close to the true path of every block (mm, rad):
@@ -109,18 +109,35 @@ def replay(machine: Machine, joints: np.ndarray) -> tuple[np.ndarray, np.ndarray
 def polyline_deviation(samples: np.ndarray, sample_axes: np.ndarray, path: np.ndarray,
                        path_axes: np.ndarray) -> tuple[float, float]:
     """Largest distance and axis angle from samples to their best match on a polyline."""
-    distance, angle = nearest_poses(samples, sample_axes, path, path_axes)
+    distance, angle, _ = nearest_poses(samples, sample_axes, path, path_axes)
     return float(distance.max()), float(angle.max())
 
 
 def verify_program(text: str, machine: Machine, toolpath: Toolpath) -> Deviation:
-    """Replay `text` on `machine` and compare with `toolpath` (both directions)."""
+    """Replay `text` on `machine` and compare with `toolpath` (both directions).
+
+    The way back (every designed point against the replay) starts from the samples matched
+    to the designed moves on the way there; only points that land farther than the way
+    there's largest deviation are searched for in full, since only they can raise it.
+    """
     joints = read_program(text, machine)
     tips, axes = replay(machine, joints)
     design, design_axes = toolpath.points, toolpath.axes
-    there = polyline_deviation(tips, axes, design, design_axes)
-    back = polyline_deviation(design, design_axes, tips, axes)
-    return Deviation(max(there[0], back[0]), max(there[1], back[1]), len(joints), len(tips))
+    distance, angle, matched = nearest_poses(tips, axes, design, design_axes)
+    there = (float(distance.max()), float(angle.max()))
+    if len(tips) < 2:
+        back = polyline_deviation(design, design_axes, tips, axes)
+        return Deviation(max(there[0], back[0]), max(there[1], back[1]), len(joints), len(tips))
+    order = np.argsort(matched, kind="stable")
+    first = np.searchsorted(matched[order], np.arange(len(design)) - 1)
+    guess = order[np.clip(first, 0, len(order) - 1)]
+    back_distance, back_angle = near_guess(design, design_axes, tips, axes, guess)
+    unsure = np.flatnonzero((back_distance > there[0]) | (back_angle > there[1]))
+    if len(unsure):
+        exact = nearest_poses(design[unsure], design_axes[unsure], tips, axes)
+        back_distance[unsure], back_angle[unsure] = exact[0], exact[1]
+    return Deviation(max(there[0], float(back_distance.max())), max(there[1], float(back_angle.max())),
+                     len(joints), len(tips))
 
 
 def verify_file(path: str | Path, machine: Machine, toolpath: Toolpath) -> Deviation:

@@ -59,7 +59,7 @@ def test_nearest_poses_is_exact_against_brute_force():
     path_axes = np.tile([0.0, 0.0, 1.0], (300, 1))
     points = path[rng.integers(0, 299, 500)] + rng.normal(scale=0.2, size=(500, 3))
     axes = np.tile([0.0, 0.0, 1.0], (500, 1))
-    distance, _ = nearest_poses(points, axes, path, path_axes)
+    distance, _, _ = nearest_poses(points, axes, path, path_axes)
     a, b = path[:-1], path[1:]
     chord = b - a
     t = np.clip(np.einsum("qij,ij->qi", points[:, None] - a, chord) / (chord * chord).sum(1), 0, 1)
