@@ -97,33 +97,23 @@ def _full_move(line: str, names: tuple[str, ...], row: np.ndarray) -> str:
 
 
 def implied_extruder_events(tp: Toolpath) -> tuple[Event, ...]:
-    """The toolpath's events plus extruder on/off around deposit runs it leaves uncovered.
+    """The toolpath's events, plus extruder on/off around each deposit run when it has no
+    extruder event at all (a toolpath that switches the extruder itself is left alone).
 
-    Dialects without E words drive the extruder from an output: a deposit segment with the
-    extruder off would move without depositing while the header claims material.
+    Dialects without E words drive the extruder from an output: deposit segments with the
+    extruder never switched on would move without depositing while the header claims
+    material.
     """
-    deposit = tp.kind == KINDS.index("deposit")
-    places = _events_by_place(tp.events)
-    out: list[Event] = []
-    on, implied = False, False
-    for segment in range(tp.segment_count):
-        for event in places.get((segment, "before"), []):
-            on = _extruder_state(event, on)
-        if deposit[segment] and not on:
-            out.append(Event(segment, "before", "extruder_on"))
-            on, implied = True, True
-        after = places.get((segment, "after"), [])
-        for event in after:
-            on = _extruder_state(event, on)
-        following = segment + 1 < tp.segment_count and deposit[segment + 1]
-        if implied and on and not following:
-            out.append(Event(segment, "after", "extruder_off"))
-            on, implied = False, False
-    return tuple(sorted(tp.events + tuple(out), key=lambda e: (e.segment, e.position == "after")))
-
-
-def _extruder_state(event: Event, on: bool) -> bool:
-    return {"extruder_on": True, "extruder_off": False}.get(event.action, on)
+    if any(e.action in ("extruder_on", "extruder_off") for e in tp.events):
+        return tp.events
+    deposit = np.concatenate(([False], tp.kind == KINDS.index("deposit"), [False]))
+    starts = np.flatnonzero(deposit[1:-1] & ~deposit[:-2])
+    ends = np.flatnonzero(deposit[1:-1] & ~deposit[2:])
+    implied = [Event(int(k), "before", "extruder_on") for k in starts]
+    implied += [Event(int(k), "after", "extruder_off") for k in ends]
+    # the explicit events of a place come first: a dwell before a run happens with it off
+    return tuple(sorted(tp.events + tuple(implied),
+                        key=lambda e: (e.segment, e.position == "after")))
 
 
 def write_program(path: str | Path, result: PostResult) -> None:

@@ -171,3 +171,16 @@ def test_new_kinematic_types_post_and_verify_within_tolerance_without_code(name,
     deviation = verify_program(result.text, machine, toolpath)
     assert deviation.position <= 0.01 and math.degrees(deviation.angle) <= 0.05
     check_with_rs274(result, tmp_path)
+
+
+def test_toolpath_that_switches_its_extruder_gets_no_extra_switching():
+    from freecad_conformal.post.program import post_toolpath
+    from freecad_conformal.toolpath import ToolpathBuilder
+    builder = ToolpathBuilder()
+    builder.add_segment([[0, 0, 5], [0, 0, 1]], kind="travel", feed=3000)
+    builder.add_segment([[0, 0, 1], [5, 0, 1]], kind="deposit", feed=600, flow=0.1)
+    builder.event("extruder_on")               # after the first deposit, on purpose
+    builder.add_segment([[5, 0, 1], [5, 5, 1]], kind="deposit", feed=600, flow=0.1)
+    builder.event("extruder_off")
+    text = post_toolpath(builder.build(), load_machine("trunnion_ac")).text
+    assert text.count("M64 P0") == text.count("M65 P0") == 1

@@ -29,7 +29,7 @@ class LinuxCNC(Dialect):
         return retract + [f"T{tool} M6", f"G43 H{tool}"]
 
     def extrusion_note(self, machine: Machine) -> str:
-        return "by digital output 0 (M64/M65 P0 around deposit moves), no E words"
+        return "by digital output 0 (switched with the deposit moves), no E words"
 
     def extruder(self, on: bool) -> list[str]:
         # digital output 0, synchronised with motion, switches the extruder drive
