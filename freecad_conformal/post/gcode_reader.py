@@ -90,8 +90,10 @@ def words(text: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
     return codes[letter], values, lines, int(newline.sum()) + 1
 
 
-def read_joints(text: str, names: tuple[str, ...], rotary_from: int = 3) -> tuple[np.ndarray, np.ndarray]:
-    """Joint targets of every G0/G1 block (mm; rotary columns in radians) and their lines.
+def read_joints(text: str, names: tuple[str, ...],
+                rotary_from: int = 3) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Joint targets of every G0/G1 block (mm; rotary columns in radians), their lines, and
+    the tool selected (last T word, -1 before any) when each block runs.
 
     `names` are the machine's axis letters in joint order; columns from `rotary_from` on
     are read in degrees. Raises PostError naming the line of anything it cannot replay.
@@ -143,4 +145,10 @@ def read_joints(text: str, names: tuple[str, ...], rotary_from: int = 3) -> tupl
         where = "the first move" if i == 0 else f"the move on line {int(move_lines[i])}"
         raise PostError(f"{where} does not set axis/axes {', '.join(missing)} (position unknown "
                         "at the start or after homing)")
-    return filled, move_lines
+    tool = np.full(line_count + 1, -1.0)
+    t_words = letters == ord("T")
+    tool[lines[t_words]] = values[t_words]
+    tool_set = np.where(tool >= 0, np.arange(line_count + 1), 0)
+    np.maximum.accumulate(tool_set, out=tool_set)
+    tools = np.where(tool_set[move_lines] > 0, tool[tool_set[move_lines]], -1).astype(np.int64)
+    return filled, move_lines, tools

@@ -83,9 +83,37 @@ def joint_scale(machine: Machine, points: np.ndarray) -> np.ndarray:
     return np.array([1.0] * 3 + [max(lever, 1.0)] * len(machine.rotary))
 
 
+def linearize_by_tool(tp: Toolpath, machine: Machine,
+                      tolerance: float = DEFAULT_LINEAR_TOLERANCE,
+                      angular_tolerance: float = DEFAULT_ANGULAR_TOLERANCE) -> Blocks:
+    """`linearize` each run of segments that use one tool with that tool's machine (head
+    pivots measured from its tip); each run starts where the one before ended."""
+    change = np.flatnonzero(np.diff(tp.tool)) + 1
+    if not machine.head_axes or not machine.tool_lengths or len(change) == 0:
+        return linearize(tp, machine.for_tool(int(tp.tool[0])), tolerance, angular_tolerance)
+    bounds = np.concatenate(([0], change, [tp.segment_count]))
+    starts = tp.segment_starts
+    pieces, previous = [], None
+    for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist()):
+        first, last = int(starts[a]), int(starts[b])
+        run = Toolpath(points=tp.points[first:last], axes=tp.axes[first:last],
+                       segment_index=tp.segment_index[first:last] - a, kind=tp.kind[a:b],
+                       feed=tp.feed[a:b], tool=tp.tool[a:b], flow=tp.flow[a:b],
+                       interpolation=tp.interpolation[a:b], metadata=tp.metadata)
+        blocks = linearize(run, machine.for_tool(int(tp.tool[a])), tolerance,
+                           angular_tolerance, previous)
+        pieces.append(Blocks(blocks.joints, blocks.segment + a, blocks.tip_length,
+                             blocks.point + first))
+        previous = blocks.joints[-1]
+    return Blocks(*(np.concatenate([getattr(p, f) for p in pieces])
+                    for f in ("joints", "segment", "tip_length", "point")))
+
+
 def linearize(tp: Toolpath, machine: Machine, tolerance: float = DEFAULT_LINEAR_TOLERANCE,
-              angular_tolerance: float = DEFAULT_ANGULAR_TOLERANCE) -> Blocks:
-    """Turn a validated toolpath into joint blocks within `tolerance` (mm, rad)."""
+              angular_tolerance: float = DEFAULT_ANGULAR_TOLERANCE,
+              previous: np.ndarray | None = None) -> Blocks:
+    """Turn a validated toolpath into joint blocks within `tolerance` (mm, rad), starting
+    the branch choice from the joints `previous` (default: the machine's home)."""
     if not (tolerance > 0 and angular_tolerance > 0):
         raise PostError(f"tolerances must be > 0 (got {tolerance} mm, {angular_tolerance} rad)")
     part_linear = tp.interpolation[tp.segment_index] == INTERPOLATIONS.index("part_linear")
@@ -97,7 +125,7 @@ def linearize(tp: Toolpath, machine: Machine, tolerance: float = DEFAULT_LINEAR_
     for _ in range(MAX_ROUNDS):
         points, axes, origin = _refine(tp, parts)
         joints, undefined = inverse(machine, points, axes, lambda i: tp.locate(int(origin[i])),
-                                    with_undefined=True)
+                                    previous=previous, with_undefined=True)
         if not machine.rotary:
             break
         points, axes, origin, joints = _turn_at_poles(machine, points, axes, origin, joints,

@@ -10,7 +10,7 @@ import numpy as np
 from freecad_conformal.fileio import write_text_atomic
 from freecad_conformal.post.dialects import get_dialect
 from freecad_conformal.post.dialects.base import Dialect, feed_number, number
-from freecad_conformal.post.linearize import Blocks, linearize
+from freecad_conformal.post.linearize import Blocks, linearize_by_tool
 from freecad_conformal.post.machine import Machine
 from freecad_conformal.tolerances import DEFAULT_ANGULAR_TOLERANCE, DEFAULT_LINEAR_TOLERANCE
 from freecad_conformal.toolpath import KINDS, Event, Toolpath
@@ -49,10 +49,14 @@ def post_toolpath(tp: Toolpath, machine: Machine, dialect: str | None = None,
     """Post-process a toolpath; raises ConformalError subclasses on bad input."""
     tp.validate()
     writer = get_dialect(dialect or machine.dialect, tolerance)
-    blocks = linearize(tp, machine, tolerance, angular_tolerance)
+    blocks = linearize_by_tool(tp, machine, tolerance, angular_tolerance)
     values = machine_values(machine, blocks.joints)
     rapid = tp.kind[blocks.segment] == KINDS.index("travel")
     rapid[0] = True
+    if machine.head_axes and machine.tool_lengths:
+        # each tool's run starts with its own start pose (linearize_by_tool): reach it by G0
+        tools = tp.tool[blocks.segment]
+        rapid[1:] |= tools[1:] != tools[:-1]
     summary = tp.summary(acceleration=machine.acceleration, rapid_feed=machine.rapid_feed)
     moves = _move_lines(tp, machine, writer, blocks, values, rapid, relative_e)
     lines = _header(tp, machine, writer, summary, tolerance, angular_tolerance, len(values))

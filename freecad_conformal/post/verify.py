@@ -10,6 +10,7 @@ checked in about a second.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -51,8 +52,27 @@ class Deviation:
 
 def read_program(text: str, machine: Machine) -> np.ndarray:
     """Joint targets (mm, rad) of every G0/G1 block, starting with the first one."""
-    joints, _ = read_joints(text, machine.joint_names)
-    return _unwrap_like_controller(machine, joints)
+    return read_program_tools(text, machine)[0]
+
+
+def read_program_tools(text: str, machine: Machine) -> tuple[np.ndarray, np.ndarray]:
+    """Joint targets as `read_program`, and the tool each block runs with (-1: none yet)."""
+    joints, _, tools = read_joints(text, machine.joint_names)
+    return _unwrap_like_controller(machine, joints), tools
+
+
+def forward_by_tool(machine: Machine, joints: np.ndarray,
+                    tools: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+    """Forward kinematics with each row's tool (head pivots from that tool's tip)."""
+    if tools is None or not machine.head_axes or not machine.tool_lengths:
+        return forward(machine, joints)
+    tips, axes = np.empty((len(joints), 3)), np.empty((len(joints), 3))
+    for tool in np.unique(tools).tolist():
+        rows = tools == tool
+        # before any T word the head pivots are the machine file's own (the reference tool)
+        used = machine.for_tool(tool) if tool >= 0 else dataclasses.replace(machine, tool_lengths=())
+        tips[rows], axes[rows] = forward(used, joints[rows])
+    return tips, axes
 
 
 def _unwrap_like_controller(machine: Machine, joints: np.ndarray) -> np.ndarray:
@@ -64,7 +84,8 @@ def _unwrap_like_controller(machine: Machine, joints: np.ndarray) -> np.ndarray:
     return out
 
 
-def sample_counts(machine: Machine, joints: np.ndarray) -> np.ndarray:
+def sample_counts(machine: Machine, joints: np.ndarray,
+                  tools: np.ndarray | None = None) -> np.ndarray:
     """Samples per block so that the polyline through them is within SAMPLE_RESOLUTION of
     the block's true (joint-linear) path.
 
@@ -74,8 +95,9 @@ def sample_counts(machine: Machine, joints: np.ndarray) -> np.ndarray:
     resolution at the tip's largest lever about the rotary axes.
     """
     delta = np.diff(joints, axis=0)
-    tips, axes = forward(machine, joints)
-    middle, middle_axes = forward(machine, joints[:-1] + 0.5 * delta)
+    tips, axes = forward_by_tool(machine, joints, tools)
+    middle, middle_axes = forward_by_tool(machine, joints[:-1] + 0.5 * delta,
+                                          None if tools is None else tools[1:])
     sag = np.linalg.norm(middle - 0.5 * (tips[:-1] + tips[1:]), axis=1)
     blended = axes[:-1] + axes[1:]
     blended /= np.maximum(np.linalg.norm(blended, axis=1), 1e-300)[:, None]
@@ -92,10 +114,16 @@ def sample_counts(machine: Machine, joints: np.ndarray) -> np.ndarray:
     return np.clip(np.ceil(counts), 1, MAX_SAMPLES_PER_BLOCK).astype(np.int64)
 
 
-def replay(machine: Machine, joints: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Sample every block in joint space; return part-frame tips and axes along the path."""
+def replay(machine: Machine, joints: np.ndarray,
+           tools: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Sample every block in joint space; return part-frame tips and axes along the path
+    (each block with the tool it runs with, when `tools` gives one per row)."""
     delta = np.diff(joints, axis=0)
-    counts = sample_counts(machine, joints)
+    counts = sample_counts(machine, joints, tools)
+    if tools is not None and machine.head_axes and machine.tool_lengths:
+        # the move after a tool change starts from the new tool's tip wherever the change
+        # left the head: a repositioning, not part of the path (only its end is checked)
+        counts[tools[1:] != tools[:-1]] = 1
     if counts.sum() > MAX_SAMPLES:
         raise PostError(f"replaying the program would take {int(counts.sum()):,} samples (more "
                         f"than {MAX_SAMPLES:,}); its blocks move too far")
@@ -103,7 +131,8 @@ def replay(machine: Machine, joints: np.ndarray) -> tuple[np.ndarray, np.ndarray
     first = np.cumsum(counts) - counts
     s = (np.arange(len(block)) - first[block] + 1) / counts[block]
     samples = np.vstack([joints[:1], joints[block] + s[:, None] * delta[block]])
-    return forward(machine, samples)
+    sample_tools = None if tools is None else np.concatenate((tools[:1], tools[block + 1]))
+    return forward_by_tool(machine, samples, sample_tools)
 
 
 def polyline_deviation(samples: np.ndarray, sample_axes: np.ndarray, path: np.ndarray,
@@ -120,8 +149,8 @@ def verify_program(text: str, machine: Machine, toolpath: Toolpath) -> Deviation
     to the designed moves on the way there; only points that land farther than the way
     there's largest deviation are searched for in full, since only they can raise it.
     """
-    joints = read_program(text, machine)
-    tips, axes = replay(machine, joints)
+    joints, tools = read_program_tools(text, machine)
+    tips, axes = replay(machine, joints, tools)
     design, design_axes = toolpath.points, toolpath.axes
     distance, angle, matched = nearest_poses(tips, axes, design, design_axes)
     there = (float(distance.max()), float(angle.max()))

@@ -184,3 +184,41 @@ def test_toolpath_that_switches_its_extruder_gets_no_extra_switching():
     builder.event("extruder_off")
     text = post_toolpath(builder.build(), load_machine("trunnion_ac")).text
     assert text.count("M64 P0") == text.count("M65 P0") == 1
+
+
+def tilted_two_tools():
+    from freecad_conformal.toolpath import ToolpathBuilder
+    tilt = np.array([0.0, -0.5, 0.8660254037844386])           # 30° about X: A moves
+    builder = ToolpathBuilder(part="two tools, tilted")
+    builder.event("tool_change", tool=1)
+    builder.add_segment([[0, 0, 20], [0, 0, 2]], axes=tilt, kind="travel", feed=3000, tool=1)
+    builder.add_segment([[0, 0, 2], [10, 0, 2]], axes=tilt, kind="cure", feed=300, tool=1)
+    builder.event("tool_change", tool=3)
+    builder.add_segment([[10, 0, 2], [10, 10, 2]], axes=tilt, kind="cure", feed=300, tool=3)
+    return builder.build()
+
+
+def test_head_machine_measures_its_pivot_from_each_tools_tip():
+    from freecad_conformal.post.program import post_toolpath
+    from freecad_conformal.post.verify import verify_program
+    data = shipped("head_a_table_c")
+    data["tool_lengths"] = {"1": 0, "3": 12}
+    machine, toolpath = machine_from_dict(data), tilted_two_tools()
+    result = post_toolpath(toolpath, machine)
+    assert "G43" not in result.text            # the tool tilts: no length along Z
+    last = result.blocks.joints[-1]
+    tip, _ = __import__("freecad_conformal.post.kinematics", fromlist=["forward"]).forward(
+        machine.for_tool(3), last[None])
+    assert np.allclose(tip[0], [10, 10, 2], atol=1e-9)
+    assert verify_program(result.text, machine, toolpath).position <= 0.01
+    # replayed as if every tool were the reference one, the third tool misses by its length
+    same_length = machine_from_dict(shipped("head_a_table_c"))
+    assert verify_program(result.text, same_length, toolpath).position > 5.0
+
+
+def test_head_machine_without_the_length_of_a_tool_it_uses_is_refused():
+    from freecad_conformal.post.program import post_toolpath
+    data = shipped("head_a_table_c")
+    data["tool_lengths"] = {"1": 0}
+    with pytest.raises(KinematicsError, match="tool_lengths for tools \\[1\\], but not for tool 3"):
+        post_toolpath(tilted_two_tools(), machine_from_dict(data))

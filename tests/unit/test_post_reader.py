@@ -43,13 +43,13 @@ def test_reader_comments_blanks_and_modal_moves():
             "X 4 . 5\n"                                           # LinuxCNC allows blanks in numbers
             "G28\n"
             "G0 X7 Y8 Z9\n")
-    joints, lines = read_joints(text, XYZ)
+    joints, lines, _ = read_joints(text, XYZ)
     assert joints.tolist() == [[0, 0, 0], [1, 2, 3], [4.5, 2, 3], [7, 8, 9]]
     assert lines.tolist() == [2, 4, 5, 7]
 
 
 def test_reader_reads_rotary_words_in_degrees():
-    joints, _ = read_joints("G0 X0 Y0 Z0 A90 C-180\n", ("X", "Y", "Z", "A", "C"))
+    joints, _, _ = read_joints("G0 X0 Y0 Z0 A90 C-180\n", ("X", "Y", "Z", "A", "C"))
     assert np.allclose(joints[0, 3:], [np.pi / 2, -np.pi])
 
 

@@ -24,9 +24,12 @@ class LinuxCNC(Dialect):
 
     def tool_change(self, tool: int, machine: Machine) -> list[str]:
         # up to the machine's tool-change height first (machine coordinates), then the
-        # tool table's length for the new tool (G43 H): the tip stays the programmed point
+        # tool table's length for the new tool (G43 H, along Z): the tip stays the
+        # programmed point. A tilting head's tool is not along Z: there the post measures
+        # the head pivots from each tool's tip itself (tool_lengths) and G43 stays off.
         retract = [] if machine.tool_change_z is None else [f"G53 G0 Z{number(machine.tool_change_z)}"]
-        return retract + [f"T{tool} M6", f"G43 H{tool}"]
+        length = [f"G43 H{tool}"] if not machine.head_axes else []
+        return retract + [f"T{tool} M6"] + length
 
     def extrusion_note(self, machine: Machine) -> str:
         return "by digital output 0 (switched with the deposit moves), no E words"

@@ -8,7 +8,6 @@
 (tolerance: 0.01 mm, 0.05 deg; 3 segments, 29 points, 95 blocks)
 G21 G90 G94 G17
 T1 M6
-G43 H1
 G0 X0 Y-8 Z25 A0 C-90
 G0 Y-10.6168 Z22.9315 A3
 G0 Y-13.2264 Z20.7261 A6
