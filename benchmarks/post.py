@@ -14,6 +14,7 @@ Run: .venv/bin/python benchmarks/post.py [--points N]
 from __future__ import annotations
 
 import argparse
+import math
 import subprocess
 import sys
 import tempfile
@@ -76,28 +77,33 @@ def main() -> None:
           f"{naive_blocks / helix_blocks:,.0f}x fewer blocks, {len(naive) / len(posted.text):,.0f}x smaller")
 
 
-def verify_against_rs274(machine, toolpath, result) -> None:
-    """Time `verify` and `rs274 -g` on the same program (both read the whole file)."""
+def verify_against_rs274(machine, toolpath, result, repeats: int = 3) -> None:
+    """Time `verify` and `rs274 -g` on the same program (both read the whole file); the
+    best of `repeats` runs each, so a busy shared machine hurts neither more."""
     blocks = len(result.values)
-    start = time.perf_counter()
-    deviation = verify_program(result.text, machine, toolpath)
-    ours = time.perf_counter() - start
+    ours = math.inf
+    for _ in range(repeats):
+        start = time.perf_counter()
+        deviation = verify_program(result.text, machine, toolpath)
+        ours = min(ours, time.perf_counter() - start)
     print(f"verify {blocks:,} blocks ({deviation.samples:,} samples): {ours:.2f} s, "
           f"{blocks / ours:,.0f} blocks/s; {deviation.position:.6f} mm, "
-          f"{deviation.angle * 57.29577951308232:.6f} deg")
+          f"{math.degrees(deviation.angle):.6f} deg (best of {repeats})")
     executable = rs274_path()
     if executable is None:
         print("  peer: rs274 is not installed (Debian package linuxcnc-uspace)")
         return
+    peer = math.inf
     with tempfile.TemporaryDirectory() as folder:
         program = Path(folder) / "dome.ngc"
         program.write_text(result.text)
-        start = time.perf_counter()
-        subprocess.run([executable, "-g", str(program)], stdin=subprocess.DEVNULL,
-                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=True)
-        peer = time.perf_counter() - start
-    print(f"  peer: rs274 -g on the same program: {peer:.2f} s, {blocks / peer:,.0f} blocks/s; "
-          f"ours/peer time {ours / peer:.2f}x")
+        for _ in range(repeats):
+            start = time.perf_counter()
+            subprocess.run([executable, "-g", str(program)], stdin=subprocess.DEVNULL,
+                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=True)
+            peer = min(peer, time.perf_counter() - start)
+    print(f"  peer: rs274 -g on the same program: {peer:.2f} s, {blocks / peer:,.0f} blocks/s "
+          f"(best of {repeats}); ours/peer time {ours / peer:.2f}x")
 
 
 if __name__ == "__main__":

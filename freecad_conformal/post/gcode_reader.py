@@ -22,8 +22,6 @@ from freecad_conformal.errors import PostError
 #: A comment, leftmost first: a parenthesis comment on one line, or ';' to the line's end.
 _COMMENT = re.compile(r"\([^)\n]*\)|;[^\n]*")
 _BLANKS = b" \t\r%"
-#: A number written with an exponent: the E directly after a digit or point.
-_EXPONENT = re.compile(rb"[0-9.]E[-+]?[0-9]")
 #: A number with two decimal points.
 _TWO_DOTS = re.compile(rb"\.[0-9]*\.")
 _LETTERS = bytes(range(ord("A"), ord("Z") + 1))
@@ -51,16 +49,30 @@ def _refuse(text: str, data: bytes, offset: int, why: str) -> None:
     raise PostError(f"line {line}: {source!r} {why}")
 
 
+def _uncomment(text: str) -> str:
+    """`text` without comments; the regex runs only over the lines that have any (a
+    posted program has them in its header), the rest is copied as it is."""
+    last = max(text.rfind("("), text.rfind(";"))
+    if last < 0:
+        return text
+    end = text.find("\n", last)
+    end = len(text) if end < 0 else end
+    return _COMMENT.sub("", text[:end]) + text[end:]
+
+
 def words(text: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
     """Every word of the program: letters (uint8), values, 1-based lines, and line count.
 
     Raises PostError naming the line of an unclosed comment, a number with an exponent,
     or anything else that is not a letter followed by a number.
     """
-    uncommented = _COMMENT.sub("", text.upper()).encode("ascii", errors="replace")
-    exponent = _EXPONENT.search(uncommented)
-    if exponent:
-        _refuse(text, uncommented, exponent.start(), "writes a number with an exponent, which "
+    uncommented = _uncomment(text.upper()).encode("ascii", errors="replace")
+    spaced = np.frombuffer(uncommented, dtype=np.uint8)
+    e_at = np.flatnonzero(spaced[1:] == ord("E")) + 1
+    before_e = spaced[e_at - 1]
+    exponent = e_at[((before_e >= ord("0")) & (before_e <= ord("9"))) | (before_e == ord("."))]
+    if len(exponent):
+        _refuse(text, uncommented, int(exponent[0]), "writes a number with an exponent, which "
                 "G-code does not have (LinuxCNC reads the E as a word of its own)")
     data = uncommented.translate(None, _BLANKS)
     codes, letter, digit, dot, sign, newline = _classes(data)

@@ -84,10 +84,9 @@ def _unwrap_like_controller(machine: Machine, joints: np.ndarray) -> np.ndarray:
     return out
 
 
-def sample_counts(machine: Machine, joints: np.ndarray,
-                  tools: np.ndarray | None = None) -> np.ndarray:
+def sample_counts(machine: Machine, joints: np.ndarray, tools: np.ndarray | None = None):
     """Samples per block so that the polyline through them is within SAMPLE_RESOLUTION of
-    the block's true (joint-linear) path.
+    the block's true (joint-linear) path; also the tips and axes at the blocks' ends.
 
     A smooth block strays from its chord by about its midpoint sag, and from a polyline of
     k equal parts by sag / k²; a block that winds far (a full turn has no sag at its
@@ -111,7 +110,7 @@ def sample_counts(machine: Machine, joints: np.ndarray,
         step = 2.0 * np.sqrt(2.0 * SAMPLE_RESOLUTION / np.maximum(lever, SAMPLE_RESOLUTION))
         turned = np.abs(delta[:, 3:]).sum(axis=1)
         counts = np.maximum(counts, turned / np.minimum(step, ANGLE_STEP))
-    return np.clip(np.ceil(counts), 1, MAX_SAMPLES_PER_BLOCK).astype(np.int64)
+    return np.clip(np.ceil(counts), 1, MAX_SAMPLES_PER_BLOCK).astype(np.int64), tips, axes
 
 
 def replay(machine: Machine, joints: np.ndarray,
@@ -119,7 +118,7 @@ def replay(machine: Machine, joints: np.ndarray,
     """Sample every block in joint space; return part-frame tips and axes along the path
     (each block with the tool it runs with, when `tools` gives one per row)."""
     delta = np.diff(joints, axis=0)
-    counts = sample_counts(machine, joints, tools)
+    counts, tips, axes = sample_counts(machine, joints, tools)
     if tools is not None and machine.head_axes and machine.tool_lengths:
         # the move after a tool change starts from the new tool's tip wherever the change
         # left the head: a repositioning, not part of the path (only its end is checked)
@@ -127,12 +126,21 @@ def replay(machine: Machine, joints: np.ndarray,
     if counts.sum() > MAX_SAMPLES:
         raise PostError(f"replaying the program would take {int(counts.sum()):,} samples (more "
                         f"than {MAX_SAMPLES:,}); its blocks move too far")
-    block = np.repeat(np.arange(len(delta)), counts)
-    first = np.cumsum(counts) - counts
-    s = (np.arange(len(block)) - first[block] + 1) / counts[block]
-    samples = np.vstack([joints[:1], joints[block] + s[:, None] * delta[block]])
-    sample_tools = None if tools is None else np.concatenate((tools[:1], tools[block + 1]))
-    return forward_by_tool(machine, samples, sample_tools)
+    ends = np.cumsum(counts)                      # sample index of every block's end
+    out_tips = np.empty((int(ends[-1]) + 1, 3))
+    out_axes = np.empty_like(out_tips)
+    out_tips[0], out_axes[0] = tips[0], axes[0]
+    out_tips[ends], out_axes[ends] = tips[1:], axes[1:]   # block ends: already known
+    inner = counts - 1
+    block = np.repeat(np.arange(len(delta)), inner)
+    if len(block):
+        step = np.arange(len(block)) - np.repeat(np.cumsum(inner) - inner, inner) + 1
+        s = step / counts[block]
+        rows = ends[block] - counts[block] + step
+        inner_tools = None if tools is None else tools[block + 1]
+        out_tips[rows], out_axes[rows] = forward_by_tool(
+            machine, joints[block] + s[:, None] * delta[block], inner_tools)
+    return out_tips, out_axes
 
 
 def polyline_deviation(samples: np.ndarray, sample_axes: np.ndarray, path: np.ndarray,
