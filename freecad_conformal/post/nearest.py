@@ -132,7 +132,7 @@ def nearest_poses(points: np.ndarray, axes: np.ndarray, path: np.ndarray,
 
 
 def near_guess(points: np.ndarray, axes: np.ndarray, path: np.ndarray, path_axes: np.ndarray,
-               guess: np.ndarray, spread: int = 2) -> tuple[np.ndarray, np.ndarray]:
+               guess: np.ndarray, spread: int = 1) -> tuple[np.ndarray, np.ndarray]:
     """Like `nearest_poses`, but looking only at the moves within `spread` of `guess`:
     the result is a pose on the path, so its distance is an upper bound of the nearest."""
     offsets = np.arange(-spread, spread)
