@@ -32,9 +32,11 @@ CASES = [
 def targets_by_gcodeparser(text: str, names: tuple[str, ...]) -> np.ndarray:
     current: dict[str, float] = {}
     rows = []
-    for line in gcodeparser.parse_gcode_lines(text):
-        if line.command not in (("G", 0), ("G", 1)):
-            continue
+    parsed = list(gcodeparser.parse_gcode_lines(text))
+    machine_coordinates = {line.line_index for line in parsed if line.command == ("G", 53)}
+    for line in parsed:
+        if line.command not in (("G", 0), ("G", 1)) or line.line_index in machine_coordinates:
+            continue                   # G53 G0: to the tool-change height, not a block
         for name in names:
             if name in line.params:
                 current[name] = float(line.params[name])

@@ -8,6 +8,7 @@
 (tolerance: 0.01 mm, 0.05 deg; 3 segments, 29 points, 95 blocks)
 G21 G90 G94 G17 G40 G49
 G64 P0.01
+G53 G0 Z0
 T1 M6
 G0 X0 Y-8 Z25 A0 C-90
 G0 Y-10.6168 Z22.9315 A3
