@@ -44,3 +44,13 @@ ZERO_LENGTH = 1e-12
 #: Path points closer than this (mm) are the same point (moves of zero length). Far below
 #: OCC's 1e-7 mm confusion, so only points that are equal to rounding merge.
 COINCIDENT_POINTS = 1e-9
+
+#: Largest move of a `wrap` rotary axis in one block (rad). A wrapping controller takes the
+#: short way between two angles in [0, 360), so a block must turn less than half a turn;
+#: 90° keeps far from the ambiguous 180° even after the four decimals of the G-code.
+WRAP_MAX_STEP = 0.5 * 3.141592653589793
+
+#: A tool axis whose length differs from 1 by more than this is refused rather than
+#: normalised: 1e-6 is what a unit vector written with 7 significant digits keeps, while a
+#: larger error means the numbers are not a direction (normalising would hide a bug).
+AXIS_UNIT_TOLERANCE = 1e-6

@@ -50,6 +50,7 @@ import numpy as np
 
 from freecad_conformal.errors import PostError
 from freecad_conformal.fileio import atomic_write
+from freecad_conformal.tolerances import AXIS_UNIT_TOLERANCE
 
 KINDS: tuple[str, ...] = ("travel", "deposit", "cure", "cut")
 INTERPOLATIONS: tuple[str, ...] = ("part_linear", "joint_linear")
@@ -235,7 +236,7 @@ def validate_toolpath(tp: Toolpath) -> None:
     if np.any(norms < MIN_AXIS_NORM):
         i = int(np.argmax(norms < MIN_AXIS_NORM))
         raise ToolpathError(f"tool axis {tp.axes[i].tolist()} is zero at {tp.locate(i)}")
-    if np.any(np.abs(norms - 1.0) > 1e-6):
+    if np.any(np.abs(norms - 1.0) > AXIS_UNIT_TOLERANCE):
         i = int(np.argmax(np.abs(norms - 1.0)))
         raise ToolpathError(f"tool axis {tp.axes[i].tolist()} is not a unit vector at {tp.locate(i)}")
     _check_segment_values(tp)

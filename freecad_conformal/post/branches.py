@@ -136,7 +136,7 @@ def _unwind(machine: Machine, chosen: np.ndarray, start: np.ndarray, short: np.n
         steps = _wrap(np.diff(np.concatenate(([start[k]], column))))
         out[:, k] = start[k] + np.cumsum(steps)
         if axis.limits is not None:
-            out[:, k] = _rewind_into_limits(out[:, k], axis.limits)
+            out[:, k] = _shift_into_limits(machine, k, out[:, k], locate)
     for k, axis in enumerate(machine.rotary):
         if axis.limits is None:
             continue
@@ -148,20 +148,31 @@ def _unwind(machine: Machine, chosen: np.ndarray, start: np.ndarray, short: np.n
     return out
 
 
-def _rewind_into_limits(column: np.ndarray, limits: tuple[float, float]) -> np.ndarray:
-    """Multi-turn limited axis: where unwinding leaves the limits, jump whole turns back."""
-    low, high = limits
-    out = column.copy()
-    for _ in range(len(out)):
-        bad = (out < low - LIMIT_SLACK) | (out > high + LIMIT_SLACK)
-        if not bad.any():
-            break
-        i = int(np.argmax(bad))
-        turns = math.floor((out[i] - low) / TWO_PI)
-        out[i:] -= turns * TWO_PI
-        if out[i] > high + LIMIT_SLACK:   # no whole-turn shift fits: leave it for the error
-            break
-    return out
+def _shift_into_limits(machine: Machine, k: int, column: np.ndarray,
+                       locate: Callable[[int], str]) -> np.ndarray:
+    """Multi-turn limited axis: shift the whole unwound path by the whole turns that fit.
+
+    A jump of whole turns in the middle of a path is not a move a machine can make (the
+    tool would swing round while cutting), so the path either fits as a whole or is
+    refused here, naming the axis, its limits and the travel it needs.
+    """
+    axis = machine.rotary[k]
+    low, high = axis.limits
+    first, last = float(column.min()), float(column.max())
+    fewest = math.ceil((low - LIMIT_SLACK - first) / TWO_PI)
+    most = math.floor((high + LIMIT_SLACK - last) / TWO_PI)
+    if fewest <= most:
+        turns = min(max(0, fewest), most)
+        return column + turns * TWO_PI
+    travel = math.degrees(last - first)
+    i, j = int(np.argmin(column)), int(np.argmax(column))
+    where = (locate(min(i, j)), locate(max(i, j)))
+    raise KinematicsError(
+        f"rotary axis {axis.name} of machine {machine.name} would need {travel:.1f}° of travel "
+        f"between {where[0]} and {where[1]}, but its limits [{math.degrees(low):g}, "
+        f"{math.degrees(high):g}]° allow {math.degrees(high - low):g}°"
+        + (" at whole-turn offsets that do not fit" if travel <= math.degrees(high - low) else "")
+        + ": make the axis continuous if it can turn freely, or split the path")
 
 
 def _raise_limits(machine: Machine, angles: np.ndarray, where: str) -> None:

@@ -14,18 +14,22 @@ from typing import Callable
 import numpy as np
 
 from freecad_conformal.errors import KinematicsError
+from freecad_conformal.post.branches import choose_rotary
 from freecad_conformal.post.machine import Machine, RotaryAxis
-from freecad_conformal.tolerances import LIMIT_SLACK
+from freecad_conformal.tolerances import AXIS_UNIT_TOLERANCE, LIMIT_SLACK
 
 #: Below this |sin| the tool axis is parallel to a rotary axis and that axis' angle is
 #: undefined (e.g. A ≈ 0 on an A/C table): keep its previous value. 1e-9 rad of tool axis
 #: is far below any angular tolerance, so ignoring the angle there costs nothing.
 SINGULAR_SIN = 1e-9
 
-
 #: An axis orientation that misses the reachable cone by more than this is an error.
 #: 1e-6 rad is the accuracy of a toolpath written with 7 significant digits.
 REACH_TOLERANCE = 1e-6
+
+#: Values tried for a free rotary angle (a tool axis along that rotary axis) when the one
+#: kept puts X, Y or Z out of limits: every 5°, relative to the kept value.
+FREE_ANGLE_STEPS = np.radians(np.arange(5.0, 360.0, 5.0) - np.where(np.arange(5.0, 360.0, 5.0) > 180.0, 360.0, 0.0))
 
 Locator = Callable[[int], str]
 
@@ -155,6 +159,21 @@ def _raise_unreachable(bad: np.ndarray, axes: np.ndarray, locate: Locator, machi
                               f"reachable: machine {machine.name} {reason}")
 
 
+def unit_axes(axes: np.ndarray, locate: Locator) -> np.ndarray:
+    """Axes scaled to unit length; far from unit (AXIS_UNIT_TOLERANCE) is an error.
+
+    The orientation solution assumes unit vectors: an axis of length 0.9999999 would come
+    out tilted by about sqrt(2e-7) rad (A-0.0256° for a vertical tool).
+    """
+    norms = np.linalg.norm(axes, axis=1)
+    bad = ~(np.abs(norms - 1.0) <= AXIS_UNIT_TOLERANCE)
+    if np.any(bad):
+        i = int(np.argmax(bad))
+        raise KinematicsError(f"tool axis {axes[i].tolist()} at {locate(i)} has length "
+                              f"{norms[i]:.9g}, not 1 within {AXIS_UNIT_TOLERANCE:g}")
+    return axes / norms[:, None]
+
+
 def inverse(machine: Machine, points: np.ndarray, axes: np.ndarray,
             locate: Locator | None = None, previous: np.ndarray | None = None,
             with_undefined: bool = False):
@@ -166,21 +185,66 @@ def inverse(machine: Machine, points: np.ndarray, axes: np.ndarray,
     KinematicsError naming the segment and point for unreachable or out-of-limit poses.
     With `with_undefined` also returns the (n, r) mask of angles that were free there.
     """
-    from freecad_conformal.post.branches import choose_rotary
-
     locate = locate or (lambda i: f"point {i}")
     points = np.asarray(points, dtype=float)
-    axes = np.asarray(axes, dtype=float)
+    axes = unit_axes(np.asarray(axes, dtype=float), locate)
     start = machine.home_joints() if previous is None else np.asarray(previous, dtype=float)
     candidates = rotary_candidates(machine, axes, locate)
     rotary = choose_rotary(machine, candidates, start[3:], locate)
     joints = np.empty((len(points), 3 + len(machine.rotary)))
     joints[:, 3:] = rotary
     joints[:, :3] = table_transform(machine, joints, points) - head_offset(machine, joints)
+    joints = _fit_linear_limits(machine, points, candidates, joints)
     check_linear_limits(machine, joints, locate)
     if with_undefined:
         return joints, np.isnan(candidates).all(axis=1)
     return joints
+
+
+def _outside_linear(machine: Machine, joints: np.ndarray) -> np.ndarray:
+    low = np.array([a.limits[0] for a in machine.linear]) - LIMIT_SLACK
+    high = np.array([a.limits[1] for a in machine.linear]) + LIMIT_SLACK
+    return ((joints[..., :3] < low) | (joints[..., :3] > high)).any(axis=-1)
+
+
+def _fit_linear_limits(machine: Machine, points: np.ndarray, candidates: np.ndarray,
+                       joints: np.ndarray) -> np.ndarray:
+    """Poses whose chosen angles put X, Y or Z out of limits: take instead the other
+    orientation solution, or another value of an angle that is free there (a tool axis
+    along a rotary axis), whichever fits and turns least."""
+    rows = np.flatnonzero(_outside_linear(machine, joints))
+    if len(rows) == 0 or not machine.rotary:
+        return joints
+    chosen = joints[rows, 3:]                                      # (m, r), unwound
+    raw = candidates[rows]                                         # (m, branches, r)
+    free = np.isnan(raw)
+    options = [np.where(free, chosen[:, None, :], chosen[:, None, :] + _wrap_pi(raw - chosen[:, None, :]))]
+    for k in range(raw.shape[2]):
+        for step in FREE_ANGLE_STEPS:
+            swept = options[0].copy()
+            swept[..., k] = np.where(free[..., k], chosen[:, None, k] + step, swept[..., k])
+            options.append(swept)
+    options = np.concatenate(options, axis=1)                      # (m, o, r)
+    m, o, r = options.shape
+    trial = np.empty((m, o, 3 + r))
+    trial[..., 3:] = options
+    flat = trial.reshape(m * o, 3 + r)
+    flat[:, :3] = positions_for(machine, np.repeat(points[rows], o, axis=0), flat)
+    fits = ~_outside_linear(machine, trial)
+    for k, axis in enumerate(machine.rotary):
+        if axis.limits is not None:
+            fits &= ((options[..., k] >= axis.limits[0] - LIMIT_SLACK)
+                     & (options[..., k] <= axis.limits[1] + LIMIT_SLACK))
+    cost = np.where(fits, np.abs(options - chosen[:, None, :]).sum(axis=2), np.inf)
+    best = np.argmin(cost, axis=1)
+    found = np.isfinite(cost[np.arange(m), best])
+    out = joints.copy()
+    out[rows[found]] = trial[np.flatnonzero(found), best[found]]
+    return out
+
+
+def _wrap_pi(delta: np.ndarray) -> np.ndarray:
+    return (delta + np.pi) % (2.0 * np.pi) - np.pi
 
 
 def positions_for(machine: Machine, points: np.ndarray, joints: np.ndarray) -> np.ndarray:

@@ -18,7 +18,8 @@ import numpy as np
 from freecad_conformal.errors import PostError
 from freecad_conformal.post.kinematics import forward, inverse, positions_for
 from freecad_conformal.post.machine import Machine
-from freecad_conformal.tolerances import DEFAULT_ANGULAR_TOLERANCE, DEFAULT_LINEAR_TOLERANCE
+from freecad_conformal.tolerances import (DEFAULT_ANGULAR_TOLERANCE, DEFAULT_LINEAR_TOLERANCE,
+                                         WRAP_MAX_STEP)
 from freecad_conformal.toolpath import INTERPOLATIONS, Toolpath
 
 #: Joint-space deviation (as tip mm) allowed when merging collinear moves, as a fraction of
@@ -33,6 +34,19 @@ ZERO_CHORD = 1e-6
 
 #: Sample parameters along each sub-move where the deviation is measured.
 CHECK_PARAMETERS = (0.25, 0.5, 0.75)
+
+#: A move whose deviation falls slower than parts^-MIN_ORDER when split (a smooth move
+#: falls as parts^-2, one leaving a singular pose as parts^-1) has a jump in its joints.
+MIN_ORDER = 0.25
+
+#: More refined points than this in one round means the toolpath cannot be linearised
+#: sensibly (about 150 bytes each while linearising: 20 million are 3 GB).
+MAX_REFINED_POINTS = 20_000_000
+
+#: The checks at CHECK_PARAMETERS can miss the peak of a lopsided deviation by a few
+#: percent (an offset table-table B/C replayed at 0.010041 mm for 0.01): aim this much
+#: below the tolerance so the true peak stays within it.
+CHECK_MARGIN = 0.95
 
 #: Refinement rounds; each multiplies the parts by the measured sqrt(deviation ratio), so
 #: smooth moves settle in two rounds and only near-singular ones need more.
@@ -69,9 +83,37 @@ def joint_scale(machine: Machine, points: np.ndarray) -> np.ndarray:
     return np.array([1.0] * 3 + [max(lever, 1.0)] * len(machine.rotary))
 
 
+def linearize_by_tool(tp: Toolpath, machine: Machine,
+                      tolerance: float = DEFAULT_LINEAR_TOLERANCE,
+                      angular_tolerance: float = DEFAULT_ANGULAR_TOLERANCE) -> Blocks:
+    """`linearize` each run of segments that use one tool with that tool's machine (head
+    pivots measured from its tip); each run starts where the one before ended."""
+    change = np.flatnonzero(np.diff(tp.tool)) + 1
+    if not machine.head_axes or not machine.tool_lengths or len(change) == 0:
+        return linearize(tp, machine.for_tool(int(tp.tool[0])), tolerance, angular_tolerance)
+    bounds = np.concatenate(([0], change, [tp.segment_count]))
+    starts = tp.segment_starts
+    pieces, previous = [], None
+    for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist()):
+        first, last = int(starts[a]), int(starts[b])
+        run = Toolpath(points=tp.points[first:last], axes=tp.axes[first:last],
+                       segment_index=tp.segment_index[first:last] - a, kind=tp.kind[a:b],
+                       feed=tp.feed[a:b], tool=tp.tool[a:b], flow=tp.flow[a:b],
+                       interpolation=tp.interpolation[a:b], metadata=tp.metadata)
+        blocks = linearize(run, machine.for_tool(int(tp.tool[a])), tolerance,
+                           angular_tolerance, previous)
+        pieces.append(Blocks(blocks.joints, blocks.segment + a, blocks.tip_length,
+                             blocks.point + first))
+        previous = blocks.joints[-1]
+    return Blocks(*(np.concatenate([getattr(p, f) for p in pieces])
+                    for f in ("joints", "segment", "tip_length", "point")))
+
+
 def linearize(tp: Toolpath, machine: Machine, tolerance: float = DEFAULT_LINEAR_TOLERANCE,
-              angular_tolerance: float = DEFAULT_ANGULAR_TOLERANCE) -> Blocks:
-    """Turn a validated toolpath into joint blocks within `tolerance` (mm, rad)."""
+              angular_tolerance: float = DEFAULT_ANGULAR_TOLERANCE,
+              previous: np.ndarray | None = None) -> Blocks:
+    """Turn a validated toolpath into joint blocks within `tolerance` (mm, rad), starting
+    the branch choice from the joints `previous` (default: the machine's home)."""
     if not (tolerance > 0 and angular_tolerance > 0):
         raise PostError(f"tolerances must be > 0 (got {tolerance} mm, {angular_tolerance} rad)")
     part_linear = tp.interpolation[tp.segment_index] == INTERPOLATIONS.index("part_linear")
@@ -83,7 +125,7 @@ def linearize(tp: Toolpath, machine: Machine, tolerance: float = DEFAULT_LINEAR_
     for _ in range(MAX_ROUNDS):
         points, axes, origin = _refine(tp, parts)
         joints, undefined = inverse(machine, points, axes, lambda i: tp.locate(int(origin[i])),
-                                    with_undefined=True)
+                                    previous=previous, with_undefined=True)
         if not machine.rotary:
             break
         points, axes, origin, joints = _turn_at_poles(machine, points, axes, origin, joints,
@@ -94,7 +136,14 @@ def linearize(tp: Toolpath, machine: Machine, tolerance: float = DEFAULT_LINEAR_
         worst[~part_linear] = 0.0
         if np.all(worst <= 1.0):
             break
+        _refuse_jumps(tp, machine, parts, worst, last_worst, last_parts, joints, origin)
         new_parts = _grow(parts, order, worst, last_worst, last_parts)
+        if int(new_parts.sum()) > MAX_REFINED_POINTS:
+            i = int(np.argmax(new_parts))
+            raise PostError(f"linearising within {tolerance} mm would take more than "
+                            f"{MAX_REFINED_POINTS:,} blocks ({int(new_parts[i]):,} for the move "
+                            f"into {tp.locate(i)} alone); loosen the tolerance or split the "
+                            "toolpath")
         last_worst, last_parts, parts = np.where(worst > 1.0, worst, np.inf), parts, new_parts
     else:
         i = int(np.argmax(worst))
@@ -109,7 +158,64 @@ def linearize(tp: Toolpath, machine: Machine, tolerance: float = DEFAULT_LINEAR_
     cumulative = np.cumsum(lengths)
     tip = np.diff(np.concatenate(([0.0], cumulative[kept])))
     tip[0] = 0.0
-    return Blocks(joints=joints[kept], segment=segment[kept], tip_length=tip, point=origin[kept])
+    blocks = Blocks(joints=joints[kept], segment=segment[kept], tip_length=tip, point=origin[kept])
+    return split_wrapped_turns(machine, blocks)
+
+
+def split_wrapped_turns(machine: Machine, blocks: Blocks) -> Blocks:
+    """Split blocks in which a `wrap` axis turns WRAP_MAX_STEP or more into equal parts.
+
+    A wrapping controller reads angles in [0, 360) and takes the short way, so a block that
+    turns half a turn or more would go the wrong way (a full turn would not move at all).
+    The controller interpolates joints linearly, so equal joint-space parts follow exactly
+    the path of the unsplit block.
+    """
+    wrapped = [3 + k for k, axis in enumerate(machine.rotary) if axis.wrap]
+    if not wrapped or len(blocks.joints) < 2:
+        return blocks
+    delta = np.diff(blocks.joints, axis=0)
+    turn = np.abs(delta[:, wrapped]).max(axis=1)
+    parts = np.maximum(np.ceil(turn / WRAP_MAX_STEP * (1.0 + 1e-9)), 1).astype(np.int64)
+    if np.all(parts == 1):
+        return blocks
+    move = np.repeat(np.arange(len(delta)), parts)                  # block each new row ends in
+    first = np.cumsum(parts) - parts
+    s = (np.arange(len(move)) - first[move] + 1) / parts[move]
+    joints = np.vstack([blocks.joints[:1], blocks.joints[move] + s[:, None] * delta[move]])
+    tip = np.concatenate(([0.0], blocks.tip_length[1:][move] / parts[move]))
+    segment = np.concatenate((blocks.segment[:1], blocks.segment[1:][move]))
+    point = np.concatenate((blocks.point[:1], blocks.point[1:][move]))
+    return Blocks(joints=joints, segment=segment, tip_length=tip, point=point)
+
+
+def _refuse_jumps(tp: Toolpath, machine: Machine, parts: np.ndarray, worst: np.ndarray,
+                  last_worst: np.ndarray, last_parts: np.ndarray, joints: np.ndarray,
+                  origin: np.ndarray) -> None:
+    """Refuse moves whose deviation does not fall as they are split: the joints jump there.
+
+    That happens when a rotary limit forces the other orientation solution in the middle
+    of a move (the tool would swing round); splitting more would only eat memory.
+    """
+    grown = (worst > 1.0) & np.isfinite(last_worst) & (parts >= 2 * last_parts)
+    stuck = grown & (worst > last_worst * (last_parts / np.maximum(parts, 1)) ** MIN_ORDER)
+    if not stuck.any():
+        return
+    move = int(np.flatnonzero(stuck)[np.argmax(worst[stuck])])
+    rows = np.flatnonzero(origin == move)
+    rows = rows[rows > 0]
+    step = np.abs(joints[rows, 3:] - joints[rows - 1, 3:]).max(axis=1)
+    row = int(rows[np.argmax(step)])
+    jumps = ", ".join(f"{a.name} {math.degrees(joints[row - 1, 3 + k]):.1f}° -> "
+                      f"{math.degrees(joints[row, 3 + k]):.1f}°" for k, a in enumerate(machine.rotary))
+    limits = "; ".join(f"{a.name} limits [{math.degrees(a.limits[0]):g}, {math.degrees(a.limits[1]):g}]°"
+                       for a in machine.rotary if a.limits is not None) or "no rotary limits"
+    linear = ", ".join(f"{a.name} [{a.limits[0]:g}, {a.limits[1]:g}]" for a in machine.linear)
+    raise PostError(f"cannot follow the move into {tp.locate(move)} on machine {machine.name}: "
+                    f"the rotary joints jump within it ({jumps}) and splitting it "
+                    f"{int(parts[move])}-fold did not help. Either a rotary limit forces the "
+                    f"other orientation solution there ({limits}), or with the angles kept the "
+                    f"tool would be outside the limits of the linear axes ({linear} mm); widen "
+                    "the limits or change the path")
 
 
 def _grow(parts: np.ndarray, order: np.ndarray, worst: np.ndarray, last_worst: np.ndarray,
@@ -198,7 +304,7 @@ def _deviation_ratio(machine: Machine, points: np.ndarray, axes: np.ndarray, joi
         designed = slerp(axes[:-1], axes[1:], np.where(length2 > ZERO_CHORD ** 2, t, s))
         angle = np.arccos(np.clip(np.einsum("ij,ij->i", axis, designed), -1.0, 1.0))
         worst = np.maximum(worst, np.maximum(position / tolerance, angle / angular_tolerance))
-    return worst
+    return worst / CHECK_MARGIN
 
 
 def _merge(joints: np.ndarray, segment: np.ndarray, scale: np.ndarray, merge_tol: float) -> np.ndarray:

@@ -13,6 +13,7 @@ Conventions (see docs/post.md):
 """
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from dataclasses import dataclass
@@ -31,8 +32,13 @@ _TOP_KEYS = {"name": str, "dialect": str, "linear_axes": dict, "rotary_axes": li
              "tool_direction": list, "home": dict, "rapid_feed": (int, float),
              "max_feed": (int, float), "max_rotary_feed": (int, float),
              "acceleration": (int, float), "light_control": str, "spindle_max": (int, float),
-             "filament_diameter": (int, float), "description": str}
-_OPTIONAL_TOP = {"description", "light_control", "spindle_max", "filament_diameter"}
+             "filament_diameter": (int, float), "description": str, "start_gcode": list,
+             "end_gcode": list, "temperatures": dict, "home_on_start": bool,
+             "tool_change_z": (int, float), "tool_lengths": dict}
+_OPTIONAL_TOP = {"description", "light_control", "spindle_max", "filament_diameter",
+                 "start_gcode", "end_gcode", "temperatures", "home_on_start", "tool_change_z",
+                 "tool_lengths"}
+_HEATERS = ("hotend", "bed")
 _ROTARY_KEYS = {"name": str, "on": str, "direction": list, "pivot": list, "limits": list,
                 "continuous": bool, "wrap": bool}
 
@@ -73,6 +79,33 @@ class Machine:
     light_control: str
     spindle_max: float
     filament_diameter: float
+    start_gcode: tuple[str, ...] = ()    # lines after the dialect's preamble
+    end_gcode: tuple[str, ...] = ()      # lines before the dialect's postamble
+    temperatures: tuple[tuple[str, float], ...] = ()   # (heater, °C): waited for at the start
+    home_on_start: bool = False          # home (G28) before the first move (Marlin family)
+    tool_change_z: float | None = None   # machine-coordinate Z (G53) for tool changes
+    #: (tool, mm): how much longer each tool is than the one the head pivots are measured
+    #: from; head machines need it for every tool they use when they use more than one
+    tool_lengths: tuple[tuple[int, float], ...] = ()
+
+    def for_tool(self, tool: int) -> "Machine":
+        """This machine with its head pivots measured from the tip of `tool`.
+
+        A tool `length` mm longer puts its tip that much farther along the tool direction
+        from every head pivot. Table-only machines are returned as they are: there the
+        controller applies the tool length (G43 H). Raises KinematicsError for a head
+        machine with tool lengths that does not list `tool`.
+        """
+        if not self.head_axes or not self.tool_lengths:
+            return self
+        lengths = dict(self.tool_lengths)
+        if tool not in lengths:
+            raise KinematicsError(f"machine {self.name} has head rotary axes and tool_lengths "
+                                  f"for tools {sorted(lengths)}, but not for tool {tool}")
+        shift = lengths[tool] * self.tool_direction
+        rotary = tuple(dataclasses.replace(a, pivot=a.pivot + shift) if a.on == "head" else a
+                       for a in self.rotary)
+        return dataclasses.replace(self, rotary=rotary, tool_lengths=())
 
     @property
     def joint_names(self) -> tuple[str, ...]:
@@ -142,8 +175,9 @@ def machine_from_dict(data: dict, source: str = "<dict>") -> Machine:
     light = data.get("light_control", "spindle")
     if light not in LIGHT_CONTROLS:
         raise KinematicsError(f"{where}: light_control {light!r} must be one of {LIGHT_CONTROLS}")
-    for key in ("rapid_feed", "max_feed", "max_rotary_feed", "acceleration"):
-        if not data[key] > 0:
+    for key in ("rapid_feed", "max_feed", "max_rotary_feed", "acceleration", "spindle_max",
+                "filament_diameter"):
+        if key in data and not (_is_number(data[key]) and data[key] > 0):
             raise KinematicsError(f"{where}: {key} = {data[key]!r} must be > 0")
     return Machine(
         name=data["name"], source=source, dialect=data["dialect"], linear=linear, rotary=rotary,
@@ -152,7 +186,50 @@ def machine_from_dict(data: dict, source: str = "<dict>") -> Machine:
         max_feed=float(data["max_feed"]), max_rotary_feed=float(data["max_rotary_feed"]),
         acceleration=float(data["acceleration"]), light_control=light,
         spindle_max=float(data.get("spindle_max", 1000.0)),
-        filament_diameter=float(data.get("filament_diameter", 1.75)))
+        filament_diameter=float(data.get("filament_diameter", 1.75)),
+        start_gcode=_gcode_lines(data.get("start_gcode", []), f"{where}: start_gcode"),
+        end_gcode=_gcode_lines(data.get("end_gcode", []), f"{where}: end_gcode"),
+        temperatures=_temperatures(data.get("temperatures", {}), f"{where}: temperatures"),
+        home_on_start=data.get("home_on_start", False),
+        tool_lengths=_tool_lengths(data.get("tool_lengths", {}), f"{where}: tool_lengths"),
+        tool_change_z=(float(data["tool_change_z"]) if _is_number(data.get("tool_change_z"))
+                       else _no_tool_change_z(data, where)))
+
+
+def _tool_lengths(value: dict, where: str) -> tuple[tuple[int, float], ...]:
+    out = []
+    for tool, length in value.items():
+        if not (str(tool).isdigit() and _is_number(length)):
+            raise KinematicsError(f"{where}: {tool!r}: {length!r} must map a tool number to a "
+                                  "length in mm (relative to the tool the pivots are measured from)")
+        out.append((int(tool), float(length)))
+    return tuple(sorted(out))
+
+
+def _no_tool_change_z(data: dict, where: str) -> None:
+    if "tool_change_z" in data:
+        raise KinematicsError(f"{where}: tool_change_z = {data['tool_change_z']!r} is not a number")
+    return None
+
+
+def _gcode_lines(value: list, where: str) -> tuple[str, ...]:
+    """Machine-carried G-code: one command per string, no line breaks or comments (the
+    dialect writes comments its own way)."""
+    for line in value:
+        if not isinstance(line, str) or any(c in line for c in "\n\r;()"):
+            raise KinematicsError(f"{where}: {line!r} must be one G-code command without "
+                                  "line breaks or comments")
+    return tuple(line.strip() for line in value if line.strip())
+
+
+def _temperatures(value: dict, where: str) -> tuple[tuple[str, float], ...]:
+    out = []
+    for heater, celsius in value.items():
+        if heater not in _HEATERS or not _is_number(celsius) or not 0 < celsius < 500:
+            raise KinematicsError(f"{where}.{heater} = {celsius!r}: heaters are {_HEATERS}, "
+                                  "each a temperature in °C between 0 and 500")
+        out.append((heater, float(celsius)))
+    return tuple(out)
 
 
 def _is_number(value: object) -> bool:

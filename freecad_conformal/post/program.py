@@ -10,7 +10,7 @@ import numpy as np
 from freecad_conformal.fileio import write_text_atomic
 from freecad_conformal.post.dialects import get_dialect
 from freecad_conformal.post.dialects.base import Dialect, feed_number, number
-from freecad_conformal.post.linearize import Blocks, linearize
+from freecad_conformal.post.linearize import Blocks, linearize_by_tool
 from freecad_conformal.post.machine import Machine
 from freecad_conformal.tolerances import DEFAULT_ANGULAR_TOLERANCE, DEFAULT_LINEAR_TOLERANCE
 from freecad_conformal.toolpath import KINDS, Event, Toolpath
@@ -31,12 +31,13 @@ class PostResult:
     time_s: float            # estimated run time (toolpath summary, machine acceleration)
 
 
-def machine_values(machine: Machine, joints: np.ndarray) -> np.ndarray:
-    """Joints (mm, rad unwound) -> G-code values (mm, degrees; [0, 360) for wrapped axes)."""
+def machine_values(machine: Machine, joints: np.ndarray, wrap: bool = True) -> np.ndarray:
+    """Joints (mm, rad unwound) -> G-code values (mm, degrees; [0, 360) for wrapped axes
+    unless `wrap` is False)."""
     values = np.array(joints, dtype=float)
     values[:, 3:] = np.degrees(values[:, 3:])
     for k, axis in enumerate(machine.rotary):
-        if axis.wrap:
+        if axis.wrap and wrap:
             values[:, 3 + k] = np.mod(values[:, 3 + k], 360.0)
     return values
 
@@ -48,15 +49,20 @@ def post_toolpath(tp: Toolpath, machine: Machine, dialect: str | None = None,
     """Post-process a toolpath; raises ConformalError subclasses on bad input."""
     tp.validate()
     writer = get_dialect(dialect or machine.dialect, tolerance)
-    blocks = linearize(tp, machine, tolerance, angular_tolerance)
+    blocks = linearize_by_tool(tp, machine, tolerance, angular_tolerance)
     values = machine_values(machine, blocks.joints)
     rapid = tp.kind[blocks.segment] == KINDS.index("travel")
     rapid[0] = True
+    if machine.head_axes and machine.tool_lengths:
+        # each tool's run starts with its own start pose (linearize_by_tool): reach it by G0
+        tools = tp.tool[blocks.segment]
+        rapid[1:] |= tools[1:] != tools[:-1]
     summary = tp.summary(acceleration=machine.acceleration, rapid_feed=machine.rapid_feed)
     moves = _move_lines(tp, machine, writer, blocks, values, rapid, relative_e)
     lines = _header(tp, machine, writer, summary, tolerance, angular_tolerance, len(values))
     lines += writer.preamble(machine, relative_e)
-    events = _events_by_place(tp.events)
+    lines += writer.start(machine)
+    events = _events_by_place(tp.events if writer.extrusion else implied_extruder_events(tp))
     first_tools = [e for e in events.pop((0, "before"), []) if e.action == "tool_change"]
     other_first = [e for e in tp.events if (e.segment, e.position) == (0, "before")
                    and e.action != "tool_change"]
@@ -66,14 +72,52 @@ def post_toolpath(tp: Toolpath, machine: Machine, dialect: str | None = None,
     lines.append("G0 " + " ".join(f"{n}{number(v)}" for n, v in zip(names, values[0])))
     events[(0, "before")] = other_first
     bounds = np.searchsorted(blocks.segment[1:], np.arange(tp.segment_count + 1)) + 1
+    changed_tool = False
     for segment in range(tp.segment_count):
         for event in events.get((segment, "before"), []):
             lines += writer.event(event, machine)
-        lines += moves[bounds[segment] - 1:bounds[segment + 1] - 1]
+            changed_tool |= event.action == "tool_change"
+        rows = moves[bounds[segment] - 1:bounds[segment + 1] - 1]
+        if changed_tool and rows:
+            # after a tool change (and its length offset) every axis is written again, so
+            # the controller cannot keep an old position in the new tool's coordinates
+            row = bounds[segment] - 1
+            rows = [_full_move(rows[0], names, values[row + 1])] + rows[1:]
+            changed_tool = False
+        lines += rows
         for event in events.get((segment, "after"), []):
             lines += writer.event(event, machine)
+            changed_tool |= event.action == "tool_change"
+    lines += writer.end(machine)
     lines += writer.postamble(machine)
     return PostResult("\n".join(lines) + "\n", blocks, values, rapid, names, summary.time_s)
+
+
+def _full_move(line: str, names: tuple[str, ...], row: np.ndarray) -> str:
+    """`line` with every axis word, whether or not it changed."""
+    prefix = line.split(" ")[0] if not line.startswith(("G93", "G94")) else " ".join(line.split(" ")[:2])
+    rest = [w for w in line[len(prefix):].split() if w[0] not in names]
+    return " ".join([prefix] + [f"{n}{number(v)}" for n, v in zip(names, row)] + rest)
+
+
+def implied_extruder_events(tp: Toolpath) -> tuple[Event, ...]:
+    """The toolpath's events, plus extruder on/off around each deposit run when it has no
+    extruder event at all (a toolpath that switches the extruder itself is left alone).
+
+    Dialects without E words drive the extruder from an output: deposit segments with the
+    extruder never switched on would move without depositing while the header claims
+    material.
+    """
+    if any(e.action in ("extruder_on", "extruder_off") for e in tp.events):
+        return tp.events
+    deposit = np.concatenate(([False], tp.kind == KINDS.index("deposit"), [False]))
+    starts = np.flatnonzero(deposit[1:-1] & ~deposit[:-2])
+    ends = np.flatnonzero(deposit[1:-1] & ~deposit[2:])
+    implied = [Event(int(k), "before", "extruder_on") for k in starts]
+    implied += [Event(int(k), "after", "extruder_off") for k in ends]
+    # the explicit events of a place come first: a dwell before a run happens with it off
+    return tuple(sorted(tp.events + tuple(implied),
+                        key=lambda e: (e.segment, e.position == "after")))
 
 
 def write_program(path: str | Path, result: PostResult) -> None:
@@ -101,7 +145,9 @@ def _header(tp: Toolpath, machine: Machine, writer: Dialect, summary, tolerance:
         f"estimated time: {seconds // 3600}:{seconds // 60 % 60:02d}:{seconds % 60:02d} "
         f"({summary.time_s:.1f} s)",
         f"material: {tp.metadata.get('material', 'unspecified')}, "
-        f"{summary.material_volume:.3f} mm3 deposited, {summary.energy:.3f} J cured",
+        f"{summary.material_volume:.3f} mm3 deposited"
+        + (f" {writer.extrusion_note(machine)}" if summary.material_volume > 0 else "")
+        + f", {summary.energy:.3f} J cured",
         f"tolerance: {tolerance:g} mm, {math.degrees(angular_tolerance):g} deg; "
         f"{tp.segment_count} segments, {len(tp.points)} points, {blocks} blocks",
     ]
@@ -114,7 +160,8 @@ def _move_lines(tp: Toolpath, machine: Machine, writer: Dialect, blocks: Blocks,
     count = len(values) - 1
     if count <= 0:
         return []
-    delta = np.diff(values, axis=0)
+    # motion from the unwound joints: a wrapped axis written 350 -> 10 turns 20°, not 340°
+    delta = np.diff(machine_values(machine, blocks.joints, wrap=False), axis=0)
     linear = np.linalg.norm(delta[:, :3], axis=1)
     rotary = np.abs(delta[:, 3:]).max(axis=1) if machine.rotary else np.zeros(count)
     rotary_length = np.linalg.norm(delta[:, 3:], axis=1)

@@ -1,46 +1,39 @@
 """Independent check of an emitted program: read it back, replay it through forward
 kinematics and measure how far the tool strays from the designed toolpath.
 
-The reader knows only G-code (absolute G0/G1 with the machine's axis words, comments in
-parentheses or after ';'); it shares no state with the post. Each block is sampled in joint
-space (the controller interpolates joints linearly), mapped to tool-tip poses in the part
-frame, and compared with the designed polyline both ways: every replayed sample against the
-design, and every designed point against the replay.
+The reader (`gcode_reader`) knows only G-code and shares no state with the post. Each
+block is sampled in joint space (the controller interpolates joints linearly), mapped to
+tool-tip poses in the part frame, and compared with the designed polyline both ways: every
+replayed sample against the design, and every designed point against the replay. All of
+it runs on whole arrays (no loop over blocks or samples), so a program of 10⁵ blocks is
+checked in about a second.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
-import re
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from freecad_conformal.errors import PostError
-from freecad_conformal.post.kinematics import forward
-from freecad_conformal.post.linearize import ZERO_CHORD, slerp
+from freecad_conformal.post.gcode_reader import read_joints
+from freecad_conformal.post.kinematics import forward, head_offset
 from freecad_conformal.post.machine import Machine
+from freecad_conformal.post.nearest import near_guess, nearest_poses
 from freecad_conformal.toolpath import Toolpath
 
-_WORD = re.compile(r"([A-Z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
-
-#: Replay samples per mm of block motion (tip mm or rad × 10): fine enough that sampling
-#: cannot hide a deviation larger than the tolerances the post works to.
-SAMPLES_PER_MM = 4.0
+#: The replay's polyline stays this close to the true path of every block (mm, rad):
+#: a tenth of the default tolerances, so sampling hides nothing the check is about.
+SAMPLE_RESOLUTION = 1e-3
+ANGLE_RESOLUTION = 1e-4
+#: No sample step turns a rotary axis more than this (rad), whatever the lever.
+ANGLE_STEP = 0.05
 MAX_SAMPLES_PER_BLOCK = 100_000
 
-#: Probes per block to measure its tip path length (a block may wind many turns).
-LENGTH_PROBES = 64
-
-#: Probes along a pure reorientation's arc of axes (1/64 of a 30° turn is under 0.5°·¼).
-ARC_PROBES = 257
-
-#: Matching a sample to the design weighs the axis angle as tip motion at this lever (mm
-#: per rad, about a tool's length), so where the tip stands still the axis decides.
-POSE_LEVER = 50.0
-
-#: Candidate designed moves looked at around the cursor when matching samples in order.
-WINDOW = 512
+#: More replay samples than this would not fit in memory: the program is refused.
+MAX_SAMPLES = 30_000_000
 
 
 @dataclass(frozen=True)
@@ -59,34 +52,27 @@ class Deviation:
 
 def read_program(text: str, machine: Machine) -> np.ndarray:
     """Joint targets (mm, rad) of every G0/G1 block, starting with the first one."""
-    names = machine.joint_names
-    current = [math.nan] * len(names)
-    targets: list[list[float]] = []
-    motion = None
-    for number, raw in enumerate(text.splitlines(), start=1):
-        line = re.sub(r"\([^)]*\)", "", raw.split(";", 1)[0]).upper()
-        words = _WORD.findall(line)
-        codes = {float(v) for letter, v in words if letter == "G"}
-        if codes & {0.0, 1.0}:
-            motion = "move"
-        elif codes & {2.0, 3.0}:
-            raise PostError(f"line {number}: arcs (G2/G3) are not replayed: {raw.strip()}")
-        elif codes & {91.0}:
-            raise PostError(f"line {number}: relative positioning (G91) is not replayed")
-        axis_words = [(letter, float(v)) for letter, v in words if letter in names]
-        if not axis_words or motion is None or codes & {4.0, 92.0}:
-            continue
-        for letter, value in axis_words:
-            k = names.index(letter)
-            current[k] = value if k < 3 else math.radians(value)
-        targets.append(list(current))
-    joints = np.array(targets, dtype=float).reshape(-1, len(names))
-    if len(joints) == 0:
-        raise PostError("the program has no G0/G1 move for the machine's axes")
-    if np.isnan(joints[0]).any():
-        missing = [n for n, v in zip(names, joints[0]) if math.isnan(v)]
-        raise PostError(f"the first move does not set axis/axes {', '.join(missing)}")
-    return _unwrap_like_controller(machine, joints)
+    return read_program_tools(text, machine)[0]
+
+
+def read_program_tools(text: str, machine: Machine) -> tuple[np.ndarray, np.ndarray]:
+    """Joint targets as `read_program`, and the tool each block runs with (-1: none yet)."""
+    joints, _, tools = read_joints(text, machine.joint_names)
+    return _unwrap_like_controller(machine, joints), tools
+
+
+def forward_by_tool(machine: Machine, joints: np.ndarray,
+                    tools: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+    """Forward kinematics with each row's tool (head pivots from that tool's tip)."""
+    if tools is None or not machine.head_axes or not machine.tool_lengths:
+        return forward(machine, joints)
+    tips, axes = np.empty((len(joints), 3)), np.empty((len(joints), 3))
+    for tool in np.unique(tools).tolist():
+        rows = tools == tool
+        # before any T word the head pivots are the machine file's own (the reference tool)
+        used = machine.for_tool(tool) if tool >= 0 else dataclasses.replace(machine, tool_lengths=())
+        tips[rows], axes[rows] = forward(used, joints[rows])
+    return tips, axes
 
 
 def _unwrap_like_controller(machine: Machine, joints: np.ndarray) -> np.ndarray:
@@ -98,74 +84,97 @@ def _unwrap_like_controller(machine: Machine, joints: np.ndarray) -> np.ndarray:
     return out
 
 
-def replay(machine: Machine, joints: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Sample every block in joint space; return part-frame tips and axes along the path."""
+def sample_counts(machine: Machine, joints: np.ndarray, tools: np.ndarray | None = None):
+    """Samples per block so that the polyline through them is within SAMPLE_RESOLUTION of
+    the block's true (joint-linear) path; also the tips and axes at the blocks' ends.
+
+    A smooth block strays from its chord by about its midpoint sag, and from a polyline of
+    k equal parts by sag / k²; a block that winds far (a full turn has no sag at its
+    midpoint) is also cut so each part turns the tip less than the arc whose sagitta is the
+    resolution at the tip's largest lever about the rotary axes.
+    """
     delta = np.diff(joints, axis=0)
-    reach = np.zeros(len(delta))
-    previous, _ = forward(machine, joints[:-1])
-    for s in np.arange(1, LENGTH_PROBES + 1) / LENGTH_PROBES:   # tip path length per block
-        tip, _ = forward(machine, joints[:-1] + s * delta)
-        reach += np.linalg.norm(tip - previous, axis=1)
-        previous = tip
-    reach += 10.0 * np.abs(delta[:, 3:]).sum(axis=1)
-    counts = np.clip(np.ceil(reach * SAMPLES_PER_MM), 1, MAX_SAMPLES_PER_BLOCK).astype(np.int64)
-    block = np.repeat(np.arange(len(delta)), counts)
-    first = np.cumsum(counts) - counts
-    s = (np.arange(len(block)) - first[block] + 1) / counts[block]
-    samples = np.vstack([joints[:1], joints[block] + s[:, None] * delta[block]])
-    return forward(machine, samples)
+    tips, axes = forward_by_tool(machine, joints, tools)
+    middle, middle_axes = forward_by_tool(machine, joints[:-1] + 0.5 * delta,
+                                          None if tools is None else tools[1:])
+    sag = np.linalg.norm(middle - 0.5 * (tips[:-1] + tips[1:]), axis=1)
+    blended = axes[:-1] + axes[1:]
+    blended /= np.maximum(np.linalg.norm(blended, axis=1), 1e-300)[:, None]
+    sag_angle = np.arccos(np.clip(np.einsum("ij,ij->i", middle_axes, blended), -1.0, 1.0))
+    counts = np.maximum(np.sqrt(sag / SAMPLE_RESOLUTION), np.sqrt(sag_angle / ANGLE_RESOLUTION))
+    if machine.rotary:
+        machine_tip = joints[:, :3] + head_offset(machine, joints)
+        lever = np.linalg.norm(machine_tip, axis=1)
+        lever = (np.maximum(lever[:-1], lever[1:]) + np.linalg.norm(delta[:, :3], axis=1)
+                 + sum(np.linalg.norm(a.pivot) for a in machine.rotary))
+        step = 2.0 * np.sqrt(2.0 * SAMPLE_RESOLUTION / np.maximum(lever, SAMPLE_RESOLUTION))
+        turned = np.abs(delta[:, 3:]).sum(axis=1)
+        counts = np.maximum(counts, turned / np.minimum(step, ANGLE_STEP))
+    return np.clip(np.ceil(counts), 1, MAX_SAMPLES_PER_BLOCK).astype(np.int64), tips, axes
+
+
+def replay(machine: Machine, joints: np.ndarray,
+           tools: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Sample every block in joint space; return part-frame tips and axes along the path
+    (each block with the tool it runs with, when `tools` gives one per row)."""
+    delta = np.diff(joints, axis=0)
+    counts, tips, axes = sample_counts(machine, joints, tools)
+    if tools is not None and machine.head_axes and machine.tool_lengths:
+        # the move after a tool change starts from the new tool's tip wherever the change
+        # left the head: a repositioning, not part of the path (only its end is checked)
+        counts[tools[1:] != tools[:-1]] = 1
+    if counts.sum() > MAX_SAMPLES:
+        raise PostError(f"replaying the program would take {int(counts.sum()):,} samples (more "
+                        f"than {MAX_SAMPLES:,}); its blocks move too far")
+    ends = np.cumsum(counts)                      # sample index of every block's end
+    out_tips = np.empty((int(ends[-1]) + 1, 3))
+    out_axes = np.empty_like(out_tips)
+    out_tips[0], out_axes[0] = tips[0], axes[0]
+    out_tips[ends], out_axes[ends] = tips[1:], axes[1:]   # block ends: already known
+    inner = counts - 1
+    block = np.repeat(np.arange(len(delta)), inner)
+    if len(block):
+        step = np.arange(len(block)) - np.repeat(np.cumsum(inner) - inner, inner) + 1
+        s = step / counts[block]
+        rows = ends[block] - counts[block] + step
+        inner_tools = None if tools is None else tools[block + 1]
+        out_tips[rows], out_axes[rows] = forward_by_tool(
+            machine, joints[block] + s[:, None] * delta[block], inner_tools)
+    return out_tips, out_axes
 
 
 def polyline_deviation(samples: np.ndarray, sample_axes: np.ndarray, path: np.ndarray,
                        path_axes: np.ndarray) -> tuple[float, float]:
-    """Largest distance and axis angle from ordered samples to an ordered polyline.
-
-    A cursor walks the polyline in order (a window of WINDOW moves ahead and behind), so
-    the match follows the path even where it passes near itself.
-    """
-    if len(path) == 1:
-        distance = np.linalg.norm(samples - path[0], axis=1)
-        angle = np.arccos(np.clip(sample_axes @ path_axes[0], -1.0, 1.0))
-        return float(distance.max()), float(angle.max())
-    a, b = path[:-1], path[1:]
-    cursor, worst_distance, worst_angle = 0, 0.0, 0.0
-    for point, axis in zip(samples, sample_axes):
-        low, high = max(cursor - WINDOW, 0), min(cursor + WINDOW, len(a))
-        chord = b[low:high] - a[low:high]
-        length2 = np.maximum(np.einsum("ij,ij->i", chord, chord), 1e-300)
-        t = np.clip(((point - a[low:high]) * chord).sum(axis=1) / length2, 0.0, 1.0)
-        distance = np.linalg.norm(a[low:high] + t[:, None] * chord - point, axis=1)
-        designed = slerp(path_axes[low:high], path_axes[low + 1:high + 1], t)
-        angles = np.arccos(np.clip(designed @ axis, -1.0, 1.0))
-        for j in np.flatnonzero(length2 <= ZERO_CHORD ** 2).tolist():
-            angles[j] = _axis_miss(path_axes, low + j, axis)
-        pick = int(np.argmin(distance + POSE_LEVER * angles))
-        cursor = low + pick
-        worst_distance = max(worst_distance, float(distance[pick]))
-        angle = float(angles[pick])
-        worst_angle = max(worst_angle, angle)
-    return worst_distance, worst_angle
-
-
-def _axis_miss(path_axes: np.ndarray, move: int, axis: np.ndarray) -> float:
-    """Angle from `axis` to the arc of axes of a pure reorientation (the tip stands still
-    while the axis turns, so any axis on that arc is on the design)."""
-    params = np.linspace(0.0, 1.0, ARC_PROBES)
-    designed = slerp(np.repeat(path_axes[move:move + 1], ARC_PROBES, axis=0),
-                     np.repeat(path_axes[move + 1:move + 2], ARC_PROBES, axis=0), params)
-    return float(np.arccos(np.clip(designed @ axis, -1.0, 1.0)).min())
+    """Largest distance and axis angle from samples to their best match on a polyline."""
+    distance, angle, _ = nearest_poses(samples, sample_axes, path, path_axes)
+    return float(distance.max()), float(angle.max())
 
 
 def verify_program(text: str, machine: Machine, toolpath: Toolpath) -> Deviation:
-    """Replay `text` on `machine` and compare with `toolpath` (both directions)."""
-    joints = read_program(text, machine)
-    tips, axes = replay(machine, joints)
+    """Replay `text` on `machine` and compare with `toolpath` (both directions).
+
+    The way back (every designed point against the replay) starts from the samples matched
+    to the designed moves on the way there; only points that land farther than the way
+    there's largest deviation are searched for in full, since only they can raise it.
+    """
+    joints, tools = read_program_tools(text, machine)
+    tips, axes = replay(machine, joints, tools)
     design, design_axes = toolpath.points, toolpath.axes
-    there = polyline_deviation(tips, axes, design, design_axes)
-    block_tips, block_axes = forward(machine, joints)
-    back = polyline_deviation(design, design_axes, tips, axes) if len(tips) > 1 else \
-        polyline_deviation(design, design_axes, block_tips, block_axes)
-    return Deviation(max(there[0], back[0]), max(there[1], back[1]), len(joints), len(tips))
+    distance, angle, matched = nearest_poses(tips, axes, design, design_axes)
+    there = (float(distance.max()), float(angle.max()))
+    if len(tips) < 2:
+        back = polyline_deviation(design, design_axes, tips, axes)
+        return Deviation(max(there[0], back[0]), max(there[1], back[1]), len(joints), len(tips))
+    order = np.argsort(matched, kind="stable")
+    first = np.searchsorted(matched[order], np.arange(len(design)) - 1)
+    guess = order[np.clip(first, 0, len(order) - 1)]
+    back_distance, back_angle = near_guess(design, design_axes, tips, axes, guess)
+    unsure = np.flatnonzero((back_distance > there[0]) | (back_angle > there[1]))
+    if len(unsure):
+        exact = nearest_poses(design[unsure], design_axes[unsure], tips, axes)
+        back_distance[unsure], back_angle[unsure] = exact[0], exact[1]
+    return Deviation(max(there[0], float(back_distance.max())), max(there[1], float(back_angle.max())),
+                     len(joints), len(tips))
 
 
 def verify_file(path: str | Path, machine: Machine, toolpath: Toolpath) -> Deviation:

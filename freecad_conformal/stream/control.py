@@ -45,6 +45,9 @@ class JobControl(Protocol):
     def mark_confirmed(self, count: int) -> None:
         """Commands 0..count-1 are acknowledged by the machine."""
 
+    def withdraw_confirmation(self, count: int) -> None:
+        """Only commands 0..count-1 are acknowledged after all (an extra "ok" was counted)."""
+
     def log(self, direction: str, text: str) -> None:
         """Record one line of traffic: direction '>' (to machine), '<' (from it) or '#' (note)."""
 

@@ -40,6 +40,10 @@ LONG_COMMANDS = frozenset({"G4", "G28", "G29", "G30", "G33", "M0", "M1", "M109",
 #: Error texts after which Marlin halts (it will not take more commands until reset).
 FATAL_ERROR_WORDS = ("halted", "kill", "maxtemp", "mintemp", "thermal runaway",
                      "heating failed", "emergency", "stopped")
+#: How many lines an extra "ok" may have put the count ahead of the firmware before a
+#: request for an earlier line means the machine lost its place (it restarted). Each
+#: repeated answer adds one; a restarted Marlin asks for line 1, which never qualifies.
+MAX_EXTRA_OKS = 8
 _RESEND = re.compile(r"^(?:resend|rs)[:\s]\s*N?(\d+)", re.IGNORECASE)
 _CODE = re.compile(r"^([GMT])0*(\d+)", re.IGNORECASE)
 
@@ -170,6 +174,14 @@ class _MarlinRun:
         if self.handshake_due:
             return  # noise before our M110 was refused: the M110 goes out again
         wanted = number - 1  # command index of line `number`
+        if 0 < wanted < self.job.confirmed and self.job.confirmed - wanted <= MAX_EXTRA_OKS:
+            # Marlin runs line n only right after n - 1, so lines from `number` on did not
+            # run: an extra "ok" (a repeated answer) was counted for one of them.
+            self.job.log("#", f"the machine asks for line {number}, which an extra 'ok' had "
+                              f"counted as done: sending from line {number} again")
+            self.job.withdraw_confirmation(wanted)
+            self.next_index = wanted
+            return
         if wanted < self.job.confirmed:
             self._fail(
                 f"the machine asks for line {number} but had acknowledged every line up to "

@@ -14,10 +14,10 @@ from pathlib import Path
 
 from freecad_conformal.errors import StreamError
 
-#: `;` starts a comment to the end of the line (RepRap/Marlin and grbl alike).
-_SEMICOLON_COMMENT = re.compile(r";.*$")
-#: `( ... )` is an inline comment in RS274/NGC and grbl.
-_PAREN_COMMENT = re.compile(r"\([^)]*\)")
+#: `( ... )` is an inline comment in RS274/NGC and grbl; `;` starts a comment to the end of
+#: the line (RepRap/Marlin and grbl alike). Whichever starts first wins: `(a; b)` is one
+#: comment, and `; a (b` runs to the end of the line (the regex scans left to right).
+_COMMENT = re.compile(r"\([^)]*\)|;.*$")
 #: A line number the file already carries (`N120 G1 ...`): the streamer numbers lines itself.
 _FILE_LINE_NUMBER = re.compile(r"^N\d+\s*", re.IGNORECASE)
 #: A checksum the file already carries (`...*57`): recomputed by the streamer.
@@ -62,7 +62,7 @@ class Program:
 
 def clean_command(raw: str) -> str:
     """One file line without comments, file line numbers, checksums or outer blanks."""
-    text = _PAREN_COMMENT.sub("", _SEMICOLON_COMMENT.sub("", raw)).strip()
+    text = _COMMENT.sub("", raw).strip()
     text = _FILE_CHECKSUM.sub("", _FILE_LINE_NUMBER.sub("", text)).strip()
     return text
 

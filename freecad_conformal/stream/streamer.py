@@ -184,6 +184,13 @@ class Streamer:
             self._save()
         self._report()
 
+    def withdraw_confirmation(self, count: int) -> None:
+        if count >= self.state.confirmed:
+            return
+        self.state.confirmed = count
+        self._save()
+        self._report()
+
     def log(self, direction: str, text: str) -> None:
         if self._log is not None:
             self._log.write(f"{time.monotonic() - self._start:10.3f} {direction} {text}\n")

@@ -141,3 +141,23 @@ def test_serial_link_reports_a_vanished_device():
             link.write(b"G1 X1\n")
             link.readline(0.2)
     link.close()
+
+
+def test_semicolon_inside_a_parenthesis_comment_is_part_of_the_comment():
+    from freecad_conformal.stream.program import clean_command
+    assert clean_command("(tolerance: 0.01 mm, 0.05 deg; 3 segments)") == ""
+    assert clean_command("G1 X1 (a; b) Y2 ; c (d") == "G1 X1  Y2"
+    assert clean_command("G1 X1 ; note (with) parentheses") == "G1 X1"
+
+
+def test_posted_grblhal_program_is_accepted_line_by_line_by_the_grbl_simulator():
+    from freecad_conformal.post import samples
+    from freecad_conformal.post.machine import load_machine
+    from freecad_conformal.post.program import post_toolpath
+    from freecad_conformal.stream.program import grbl_line
+    from tests.unit.streamsupport.grbl_sim import parse_error
+    text = post_toolpath(samples.tilted_ring(), load_machine("head_a_table_c")).text
+    program = program_from_text(text)
+    errors = [(line, command) for line, command in zip(program.source_lines, program.commands)
+              if parse_error(grbl_line(command), grblhal=True)]
+    assert errors == []

@@ -198,3 +198,14 @@ def test_cli_streams_and_resumes_after_a_disconnect(printer_factory, tmp_path, c
                  str(state_path), "--log", str(log_path), "--quiet"]) == 0
     assert "done: 300 of 300 commands acknowledged" in capsys.readouterr().out
     assert printer.executed == [f"G1 X{i}.5 F60000" for i in range(300)]
+
+
+def test_duplicated_ok_does_not_put_the_sender_a_line_ahead(printer_factory, tmp_path):
+    # one answer arrives twice; a later corrupted line makes the printer ask for a line
+    # the sender had counted as acknowledged on the strength of the extra "ok"
+    program = make_program(200)
+    printer = printer_factory(faults=Faults(duplicate_ok={50, 120}, corrupt={52, 121}))
+    state = Streamer(program, printer.port, log_path=tmp_path / "s.log",
+                     state_path=tmp_path / "s.json").run()
+    assert printer.executed == list(program.commands)
+    assert state.status == "done" and state.confirmed == len(program)

@@ -43,6 +43,22 @@ class Dialect:
     def postamble(self, machine: Machine) -> list[str]:
         return ["M400"]
 
+    def start(self, machine: Machine) -> list[str]:
+        """Heat-up and homing before the first move, then the machine's own start code.
+
+        Controllers without heater or homing commands in programs (LinuxCNC, grblHAL) get
+        a comment saying what the operator must do first; their own M-codes, if any, go in
+        the machine's start_gcode.
+        """
+        needs = [f"{heater} at {celsius:g} C" for heater, celsius in machine.temperatures]
+        needs += ["homed"] if machine.home_on_start else []
+        note = [self.comment(f"before starting: {', '.join(needs)} (dialect {self.name} does "
+                             "not do this from the program)")] if needs else []
+        return note + list(machine.start_gcode)
+
+    def end(self, machine: Machine) -> list[str]:
+        return list(machine.end_gcode)
+
     def power_on(self, machine: Machine, power: float) -> str:
         return f"M3 S{number(power * machine.spindle_max, 2)}"
 
@@ -52,8 +68,12 @@ class Dialect:
     def dwell(self, seconds: float) -> str:
         return f"G4 P{number(seconds * 1000.0, 1)}"
 
-    def tool_change(self, tool: int) -> list[str]:
+    def tool_change(self, tool: int, machine: Machine) -> list[str]:
         return [f"T{tool}"]
+
+    def extrusion_note(self, machine: Machine) -> str:
+        """How the program drives the extruder, for the header."""
+        return f"by E words (filament {machine.filament_diameter:g} mm)"
 
     def extruder(self, on: bool) -> list[str]:
         state = "on" if on else "off"
@@ -70,4 +90,4 @@ class Dialect:
             return self.extruder(action == "extruder_on")
         if action == "dwell":
             return [self.dwell(event.seconds)]
-        return self.tool_change(event.tool)
+        return self.tool_change(event.tool, machine)

@@ -10,6 +10,10 @@ from freecad_conformal.post.dialects.base import Dialect, number
 from freecad_conformal.post.machine import Machine
 
 
+_SET = {"hotend": "M104", "bed": "M140"}
+_WAIT = {"hotend": "M109", "bed": "M190"}
+
+
 class Marlin(Dialect):
     name = "marlin"
     extrusion = True
@@ -19,7 +23,17 @@ class Marlin(Dialect):
         return lines if relative_e else lines + ["G92 E0"]
 
     def postamble(self, machine: Machine) -> list[str]:
-        return ["M400", self.power_off(machine)]
+        heaters_off = [f"{_SET[heater]} S0" for heater, _ in machine.temperatures]
+        return ["M400", self.power_off(machine)] + heaters_off
+
+    def start(self, machine: Machine) -> list[str]:
+        """Heat bed and hot end together, home while they heat, then wait for both: the
+        firmware refuses cold extrusion, so a program without this stops at the first E."""
+        heat = dict(machine.temperatures)
+        lines = [f"{_SET[h]} S{number(heat[h], 1)}" for h in ("bed", "hotend") if h in heat]
+        lines += ["G28"] if machine.home_on_start else []
+        lines += [f"{_WAIT[h]} S{number(heat[h], 1)}" for h in ("bed", "hotend") if h in heat]
+        return lines + list(machine.start_gcode)
 
     def power_on(self, machine: Machine, power: float) -> str:
         if machine.light_control == "fan":

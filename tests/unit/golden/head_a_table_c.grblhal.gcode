@@ -4,9 +4,10 @@
 (dialect: grblhal)
 (tools: T1)
 (estimated time: 0:01:15 [75.0 s])
-(material: UV resin, 2.000 mm3 deposited, 1.002 J cured)
+(material: UV resin, 2.000 mm3 deposited by digital output 0 [switched with the deposit moves], no E words, 1.002 J cured)
 (tolerance: 0.01 mm, 0.05 deg; 3 segments, 29 points, 95 blocks)
 G21 G90 G94 G17
+G53 G0 Z0
 T1 M6
 G0 X0 Y-8 Z25 A0 C-90
 G0 Y-10.6168 Z22.9315 A3

@@ -4,11 +4,13 @@
 (dialect: linuxcnc)
 (tools: T1)
 (estimated time: 0:01:10 [69.7 s])
-(material: UV resin, 2.000 mm3 deposited, 1.002 J cured)
+(material: UV resin, 2.000 mm3 deposited by digital output 0 [switched with the deposit moves], no E words, 1.002 J cured)
 (tolerance: 0.01 mm, 0.05 deg; 3 segments, 29 points, 93 blocks)
 G21 G90 G94 G17 G40 G49
 G64 P0.01
+G53 G0 Z0
 T1 M6
+G43 H1
 G0 X0 Y-8 Z25 A0 C-90
 G0 Y-7.2186 Z23.999 A-1.875
 G0 Y-6.5113 Z22.9751 A-3.75

@@ -27,11 +27,17 @@ BANNER = "Grbl 1.1h ['$' for help]"
 SUPPORTED_G = {0, 1, 2, 3, 4, 10, 17, 18, 19, 20, 21, 28, 30, 40, 43.1, 49, 53, 54, 55, 56,
                57, 58, 59, 61, 80, 90, 91, 92, 93, 94}
 SUPPORTED_M = {0, 1, 2, 3, 4, 5, 7, 8, 9, 30, 56}
+#: grblHAL adds tool changes (M6), synchronised digital outputs (M62-M65) and tool length
+#: offsets (G43 with an H word, G49).
+GRBLHAL_G = SUPPORTED_G | {43}
+GRBLHAL_M = SUPPORTED_M | {6, 62, 63, 64, 65}
 _WORD = re.compile(r"([A-Z])([-+]?(?:\d+\.?\d*|\.\d+))")
 
 
-def parse_error(line: str) -> int:
-    """grbl's error code for `line` (already without blanks), 0 when it is accepted."""
+def parse_error(line: str, grblhal: bool = False) -> int:
+    """grbl's error code for `line` (already without blanks), 0 when it is accepted;
+    `grblhal` accepts grblHAL's extra G and M codes too."""
+    supported_g, supported_m = (GRBLHAL_G, GRBLHAL_M) if grblhal else (SUPPORTED_G, SUPPORTED_M)
     if len(line) >= LINE_BUFFER_BYTES:
         return 11
     if line.startswith("$") or not line:
@@ -44,7 +50,7 @@ def parse_error(line: str) -> int:
         if match is None:
             return 2
         letter, value = match.group(1), float(match.group(2))
-        if (letter == "G" and value not in SUPPORTED_G) or (letter == "M" and value not in SUPPORTED_M):
+        if (letter == "G" and value not in supported_g) or (letter == "M" and value not in supported_m):
             return 20
         position = match.end()
     return 0

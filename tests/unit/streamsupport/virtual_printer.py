@@ -10,6 +10,7 @@ Faults (by Marlin line number N, each applied to the first transmission only):
     drop_ok: swallow the "ok" that answers the line.
     disconnect_after: let the line reach the printer, swallow its "ok", and hang up.
     disconnect_before: hang up instead of delivering the line.
+    duplicate_ok: send the "ok" that answers the line twice.
 """
 from __future__ import annotations
 
@@ -98,6 +99,7 @@ class Faults:
     drop_ok: set[int] = field(default_factory=set)
     disconnect_after: set[int] = field(default_factory=set)
     disconnect_before: set[int] = field(default_factory=set)
+    duplicate_ok: set[int] = field(default_factory=set)
 
 
 class PtyPrinter:
@@ -108,6 +110,7 @@ class PtyPrinter:
         self.faults = faults or Faults()
         self._seen: set[int] = set()
         self._drop_next_ok = False
+        self._duplicate_next_ok = False
         self._hang_up_at_next_ok = False
         self._closed = threading.Event()
         self._lock = threading.Lock()
@@ -185,6 +188,8 @@ class PtyPrinter:
                 line = line[:position] + bytes([line[position] ^ 0x20]) + line[position + 1:]
             if number in self.faults.drop_ok:
                 self._drop_next_ok = True
+            if number in self.faults.duplicate_ok:
+                self._duplicate_next_ok = True
             if number in self.faults.disconnect_after:
                 self._hang_up_at_next_ok = True
         self.printer.write(line)
@@ -203,6 +208,10 @@ class PtyPrinter:
                 if self._drop_next_ok:
                     self._drop_next_ok = False
                     continue
+                if self._duplicate_next_ok:      # line noise that repeats a whole answer
+                    self._duplicate_next_ok = False
+                    line = line.rstrip(b"\n") + b"\n"
+                    line = line + line
             try:
                 os.write(master, line if line.endswith(b"\n") else line + b"\n")
             except OSError:
