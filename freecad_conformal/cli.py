@@ -37,7 +37,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
 #: Per command, the arguments that name files it reads and files it writes: an output must
 #: never replace an input or another output, and its folder must exist (fileio.guard_outputs).
 FILE_ARGUMENTS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
-    "plan": (("part",), ("output", "png", "summary", "toolpath")),
+    "plan": (("part",), ("output", "png", "summary", "toolpath", "report")),
     "feature": (("part", "svg", "outline"), ("output", "gcode")),
     "mandrel": (("part",), ("output", "toolpath")),
     "post": (("toolpath",), ("output",)),

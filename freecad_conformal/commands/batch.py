@@ -31,7 +31,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 #: Batch arguments that are not plan settings.
 BATCH_ONLY = ("inputs", "out_dir", "suffix", "workers", "dask", "start_method")
 #: Plan arguments that name one part's files, which batch names itself.
-PLAN_PER_FILE = ("part", "output", "png", "summary", "toolpath")
+PLAN_PER_FILE = ("part", "output", "png", "summary", "toolpath", "report")
 #: Plan arguments batch does not offer: mandrel builds are planned one part at a time.
 PLAN_ONLY = ("mandrel", "mapping")
 

@@ -17,6 +17,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--png", help="preview image (default: the output with .png)")
     parser.add_argument("--summary", help="also write the summary to this text file")
     parser.add_argument("--toolpath", help="also save the neutral toolpath (.npz)")
+    parser.add_argument("--report", help="also write the plan as JSON (totals, sub-parts, notes "
+                        "and every setting used; format conformal.plan/1)")
     add_plan_settings(parser)
     mandrel = parser.add_argument_group("rotating mandrel (METHODS section 5)")
     mandrel.add_argument("--mandrel", action="store_true",
@@ -45,7 +47,8 @@ def options_from(args: argparse.Namespace):
 
 
 def plan_part(shape, name: str, options, output: str | Path, png: str | Path | None = None,
-              summary: str | Path | None = None, toolpath: str | Path | None = None):
+              summary: str | Path | None = None, toolpath: str | Path | None = None,
+              report: str | Path | None = None):
     """Decompose (each solid standing on the platform, the part turned on the table when
     the machine cannot reach a sub-part as placed), plan and write (G-code, PNG, summary,
     toolpath); returns (result, written)."""
@@ -55,9 +58,9 @@ def plan_part(shape, name: str, options, output: str | Path, png: str | Path | N
 
     png = png or Path(output).with_suffix(".png")
     guard_outputs([], {"-o/--output": output, "--png": png, "--summary": summary,
-                       "--toolpath": toolpath})
+                       "--toolpath": toolpath, "--report": report})
     result = plan_job(shape, options, part=name)
-    return result, result.write(output, png, summary, toolpath)
+    return result, result.write(output, png, summary, toolpath, report)
 
 
 def run_mandrel(args: argparse.Namespace) -> int:
@@ -87,7 +90,7 @@ def run(args: argparse.Namespace) -> int:
     options = options_from(args)
     shape, name = load_part(args.part)
     result, written = plan_part(shape, name, options, args.output, args.png, args.summary,
-                                args.toolpath)
+                                args.toolpath, args.report)
     print(result.summary(), end="")
     print("wrote " + ", ".join(str(p) for p in written), file=sys.stderr)
     return 0

@@ -82,6 +82,8 @@ class JobResult:
     bead_width: float
     time_s: float
     subparts: list[SubPartSummary]
+    #: the checked user settings the plan was made with (settings/plan.py keys)
+    settings: dict = field(default_factory=dict)
 
     @property
     def material_volume(self) -> float:
@@ -100,8 +102,14 @@ class JobResult:
 
         return summary_text(self)
 
+    def report(self) -> dict:
+        from freecad_conformal.jobs.report import report_data
+
+        return report_data(self)
+
     def write(self, gcode: str | Path, png: str | Path | None = None,
-              summary: str | Path | None = None, toolpath: str | Path | None = None) -> list[Path]:
+              summary: str | Path | None = None, toolpath: str | Path | None = None,
+              report: str | Path | None = None) -> list[Path]:
         """Render everything in memory first, then write the files as one result: all of
         them or, when one cannot be written, none (fileio.write_all)."""
         contents: dict[str | Path, str | bytes] = {gcode: self.post.text}
@@ -115,6 +123,10 @@ class JobResult:
             contents[summary] = self.summary()
         if toolpath is not None:
             contents[toolpath] = self.assembly.toolpath.to_bytes()
+        if report is not None:
+            import json
+
+            contents[report] = json.dumps(self.report(), indent=1) + "\n"
         return write_all(contents)
 
 
@@ -274,7 +286,8 @@ def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
     plan.notes.extend(notes)
     return JobResult(part=part, plan=plan, layers=layers, assembly=assembly, post=post,
                      machine=machine, tool_id=tool.id, material_name=material_name,
-                     bead_width=width, time_s=seconds, subparts=summaries)
+                     bead_width=width, time_s=seconds, subparts=summaries,
+                     settings=dict(options.settings))
 
 
 def _subpart_summary(sub, layers: list[Layer], assembly: Assembly, width: float,

@@ -47,3 +47,38 @@ def summary_text(result) -> str:
     ]
     lines += [f"note: {note}" for note in plan.notes]
     return "\n".join(lines) + "\n"
+
+
+#: Version of the `plan --report` JSON (fields are only added, never renamed).
+REPORT_FORMAT = "conformal.plan/1"
+
+
+def report_data(result) -> dict:
+    """The plan as JSON data (`plan --report`): totals, sub-parts, notes and every setting the
+    plan used (settings/plan.py, with units; derived values marked)."""
+    from freecad_conformal.settings.plan import PLAN_SETTINGS
+    from freecad_conformal.settings.schema import as_json
+
+    plan = result.plan
+    by_index = {s.index: s for s in plan.subparts}
+    return {
+        "format": REPORT_FORMAT,
+        "part": result.part,
+        "machine": result.machine.name,
+        "tool": result.tool_id,
+        "material": result.material_name,
+        "bead_width_mm": result.bead_width,
+        "material_mm3": result.material_volume,
+        "time_s": result.time_s,
+        "residual_overhang_mm2": plan.support_area,
+        "single_direction_overhang_mm2": plan.support_area_single_direction,
+        "build_order": list(plan.order),
+        "sub_parts": [{"index": s.index, "name": s.name,
+                       "direction": [float(c) for c in s.direction],
+                       "volume_mm3": float(by_index[s.index].volume) if s.index in by_index else None,
+                       "layers": s.layers, "material_mm3": s.material,
+                       "overhang_mm2": s.overhang_area} for s in result.subparts],
+        "notes": list(plan.notes),
+        # empty for options made in Python rather than from settings (settings/plan.py)
+        "settings": as_json(PLAN_SETTINGS, result.settings) if result.settings else {},
+    }

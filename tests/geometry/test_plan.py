@@ -94,3 +94,20 @@ def test_a_part_that_fits_no_orientation_is_refused_before_any_geometry_work(Par
     monkeypatch.setattr(jobs_plan, "machine_plan", must_not_run)
     with pytest.raises(PlanError, match=r"cannot fit Table-table A/C trunnion in any orientation"):
         jobs_plan.plan_job(Part.makeBox(1e6, 1e6, 1e6), PlanOptions())
+
+
+def test_plan_report_json_names_every_setting_it_used(tmp_path):
+    import json
+
+    from freecad_conformal.settings.plan import PLAN_SETTINGS
+
+    report = tmp_path / "t.json"
+    assert main(["plan", "t_block", "-o", str(tmp_path / "t.ngc"), "--report", str(report),
+                 "--layer-height", "0.3", "--infill", "15"]) == 0
+    data = json.loads(report.read_text())
+    assert data["format"] == "conformal.plan/1"
+    assert set(data["settings"]) == {s.key for s in PLAN_SETTINGS}
+    assert data["settings"]["layer_height"] == {"value": 0.3, "unit": "mm"}
+    assert data["settings"]["infill"]["value"] == 15.0
+    assert data["residual_overhang_mm2"] == 0.0 and len(data["sub_parts"]) == 1
+    assert data["material_mm3"] == pytest.approx(sum(s["material_mm3"] for s in data["sub_parts"]))

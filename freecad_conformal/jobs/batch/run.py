@@ -94,6 +94,11 @@ def run_batch(inputs: Sequence[str], options, out_dir: str | Path, *, workers: i
     settings = {"inputs": list(inputs), "runner": f"dask {dask}" if dask else
                 ("in-process" if workers == 0 else f"{workers} local workers"),
                 "options": dataclasses.asdict(options)}
+    if options.settings:                   # the user's settings, as `plan --report` gives them
+        from freecad_conformal.settings.plan import PLAN_SETTINGS
+        from freecad_conformal.settings.schema import as_json
+
+        settings["settings"] = as_json(PLAN_SETTINGS, options.settings)
     csv_path, json_path = out / f"{REPORT_STEM}.csv", out / f"{REPORT_STEM}.json"
     write_report(ordered, csv_path, json_path, settings)
     return BatchResult(ordered, csv_path, json_path)
