@@ -30,8 +30,7 @@ from freecad_conformal.geometry.overhang import (DEFAULT_OVERHANG_ANGLE, MIN_BAS
                                                 base_area, best_single_direction, check_angle,
                                                 lowest_level, orientation_candidates,
                                                 overhang_area, overhang_report)
-
-METHODS = ("true-direction", "published")
+from freecad_conformal.settings.decompose import METHODS
 #: `root_direction` value that lets each solid's root be built along the best of ±X, ±Y, ±Z
 #: when that leaves less overhang than the part as placed (+Z).
 AUTO_ROOT = "auto"

@@ -13,7 +13,9 @@ import math
 import FreeCAD
 
 from freecad_conformal.objects.properties import (
-    StoredState, add_properties, reports_errors, source_shape)
+    StoredState, add_properties, reports_errors, setting_properties, source_shape,
+    values_from_object)
+from freecad_conformal.settings.decompose import DECOMPOSE_SETTINGS, METHODS
 
 AXIS_PROPERTIES = [
     ("App::PropertyVectorList", "AxisPoints", "Axis", "Centroids of the axis nodes", None),
@@ -21,21 +23,6 @@ AXIS_PROPERTIES = [
     ("App::PropertyIntegerList", "BreakLinks", "Axis", "Node index pairs of the C1 break links", None),
 ]
 AXIS_OUTPUTS = ("AxisPoints", "AxisLinks", "BreakLinks")
-METHODS = ("true-direction", "published")
-#: Root build direction choices: "auto" as the command line's --root auto, or the part as placed.
-ROOTS = ("auto", "as placed")
-
-
-def root_property(group: str) -> tuple:
-    """The "Root" enumeration property spec, in `group`."""
-    return ("App::PropertyEnumeration", "Root", group,
-            "Root build direction: auto (as placed unless turning a solid leaves less overhang) "
-            "or as placed (+Z)", ROOTS)
-
-
-def root_direction(obj):
-    """The `Root` property as decompose's root_direction."""
-    return "auto" if obj.Root == "auto" else (0.0, 0.0, 1.0)
 
 
 def store_axes(obj, graphs) -> None:
@@ -105,13 +92,7 @@ class DecompositionFeature(StoredState):
         outputs = ("SubPartCount", "BuildOrder", "BuildDirections", "SupportAreaSaved", "Notes")
         add_properties(obj, [
             ("App::PropertyLink", "Source", "Decomposition", "Body to decompose", None),
-            ("App::PropertyAngle", "OverhangAngle", "Decomposition",
-             "Allowed overhang from the build direction", 45.0),
-            ("App::PropertyEnumeration", "Method", "Decomposition", "Centroidal axis method", METHODS),
-            ("App::PropertyString", "Tool", "Decomposition",
-             "Tool whose envelope is checked when ordering", "fdm_0p4"),
-            ("App::PropertyInteger", "MaxSubParts", "Decomposition", "Stop splitting beyond", 12),
-            root_property("Decomposition"),
+            *setting_properties(DECOMPOSE_SETTINGS, "Decomposition"),
             ("App::PropertyInteger", "SubPartCount", "Result", "Sub-parts", 0),
             ("App::PropertyIntegerList", "BuildOrder", "Result", "Sub-part indices in build order", None),
             ("App::PropertyVectorList", "BuildDirections", "Result", "Build direction per sub-part", None),
@@ -127,12 +108,10 @@ class DecompositionFeature(StoredState):
     def execute(self, obj) -> None:
         import Part
 
-        from freecad_conformal.decomposition.decompose import decompose
+        from freecad_conformal.jobs.decompose import decompose_with
 
         shape = source_shape(obj, "the decomposition")
-        plan = decompose(shape, overhang_angle=math.radians(obj.OverhangAngle.Value),
-                         tool=obj.Tool, method=obj.Method, max_subparts=obj.MaxSubParts,
-                         root_direction=root_direction(obj))
+        plan = decompose_with(shape, values_from_object(obj, DECOMPOSE_SETTINGS))
         store_axes(obj, plan.axes)
         obj.SubPartCount = len(plan.subparts)
         obj.BuildOrder = list(plan.order)

@@ -121,8 +121,8 @@ CASES += [
     (S + ["--workers", "-1"], ["--workers", "-1"]),
     (S + ["--layer", "1", "--json", "sub"], ["--json sub is a folder"]),
     # decompose
-    (["decompose", "box.step", "--overhang", "95"], ["overhang angle", "95"]),
-    (["decompose", "box.step", "--overhang", "nan"], ["overhang angle", "nan"]),
+    (["decompose", "box.step", "--overhang", "95"], ["allowed overhang (--overhang", "got 95"]),
+    (["decompose", "box.step", "--overhang", "nan"], ["allowed overhang (--overhang", "finite"]),
     (["decompose", "box.step", "--tool", "nosuch"], ["no tool 'nosuch'"]),
     (["decompose", "box.step", "--method", "nosuch"], ["--method", "'nosuch'"]),
     (["decompose", "box.step", "--step-dir", "nowhere/deep"], ["parent nowhere does not exist"]),

@@ -123,7 +123,11 @@ def test_only_the_cuts_the_mesh_ranks_best_are_made_exactly(monkeypatch):
 @pytest.mark.slow
 def test_splits_occ_leaves_undone_are_made_with_a_little_fuzz(parts_dir):
     """Cut along the regions of two of its planar faces, CrankArm's arm comes back from
-    OCC whole (or short of a piece); the second try with 1e-6 mm of fuzz splits it."""
+    OCCT 7.6 (FreeCAD 0.20) whole (or short of a piece); the second try with 1e-6 mm of fuzz
+    splits it. OCCT 7.8 (FreeCAD 1.0) makes these two cuts without fuzz: there only the
+    result is checked."""
+    from freecad_conformal.geometry.section_pool import THREAD_POOL_OCC, occ_version
+
     arm = max(load_shape(parts_dir / "CrankArm.brep").Solids, key=lambda s: s.Volume)
     planes = [p for p in candidate_planes(arm, concave_edges(arm))
               if abs(abs(p.normal[2]) - 1) < 1e-9
@@ -135,4 +139,5 @@ def test_splits_occ_leaves_undone_are_made_with_a_little_fuzz(parts_dir):
         pieces = split_solid(arm, [candidate.region])
         assert len(pieces) == 2
         assert sum(p.Volume for p in pieces) == pytest.approx(arm.Volume, rel=1e-4)
-        assert sum(p.Volume for p in unfuzzed.Solids) < 0.9 * arm.Volume
+        if occ_version() < THREAD_POOL_OCC:          # OCCT 7.6's failure the fuzz works around
+            assert sum(p.Volume for p in unfuzzed.Solids) < 0.9 * arm.Volume

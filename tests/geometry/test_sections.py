@@ -137,6 +137,8 @@ def test_parallel_sections_equal_serial(Part, monkeypatch, method):
     the slicer from BREP text (OCCT 7.8's Boolean thread pool does not survive fork)."""
     from freecad_conformal.geometry import section_pool
 
+    if method == "fork" and section_pool.occ_version() >= section_pool.THREAD_POOL_OCC:
+        pytest.skip("OCCT >= 7.8: forked workers may deadlock on its thread pool")
     monkeypatch.setattr(section_pool, "start_method", lambda: method)
     torus = Part.makeTorus(10, 2)
     serial = planar_sections(torus, (0.3, 0.2, 1.0), layer=0.1)

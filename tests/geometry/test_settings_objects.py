@@ -100,3 +100,20 @@ def test_an_old_job_without_the_new_properties_still_plans_with_defaults(doc, Pa
     options = plan_options(job)
     assert options.paths.min_layer_time == 5.0
     assert options.root == (0.0, 0.0, 1.0)
+
+
+def test_a_new_decomposition_has_the_decompose_commands_defaults(doc, Part):
+    """The GUI once stopped at 12 sub-parts and the library at 24."""
+    from freecad_conformal.objects.analysis_feature import create_decomposition
+    from freecad_conformal.objects.properties import values_from_object
+    from freecad_conformal.settings.decompose import DECOMPOSE_SETTINGS
+
+    body = doc.addObject("Part::Feature", "Body")
+    body.Shape = Part.makeBox(10, 10, 10)
+    decomposition = create_decomposition(doc, body)
+    gui = validate(DECOMPOSE_SETTINGS, values_from_object(decomposition, DECOMPOSE_SETTINGS))
+    cli = validate(DECOMPOSE_SETTINGS, values_from_args(_cli(["decompose", "p.step"]),
+                                                        DECOMPOSE_SETTINGS))
+    assert gui == cli and gui["max_subparts"] == 24
+    assert validate(DECOMPOSE_SETTINGS, values_from_args(
+        _cli(["decompose", "p.step", "--no-collision"]), DECOMPOSE_SETTINGS))["collision"] is False

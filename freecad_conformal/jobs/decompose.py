@@ -1,0 +1,19 @@
+"""A decomposition from settings values: the call the `decompose` command and the GUI's
+Decomposition object share (settings/decompose.py defines and checks the values)."""
+from __future__ import annotations
+
+import math
+from typing import Any, Mapping
+
+from freecad_conformal.settings.decompose import DECOMPOSE_SETTINGS
+from freecad_conformal.settings.schema import validate
+
+
+def decompose_with(shape, values: Mapping[str, Any]):
+    """The BuildPlan of `shape` with checked settings (SettingError names a bad one)."""
+    from freecad_conformal.decomposition.decompose import decompose
+
+    v = validate(DECOMPOSE_SETTINGS, values)
+    return decompose(shape, overhang_angle=math.radians(v["overhang"]), tool=v["tool"],
+                     method=v["method"], max_subparts=v["max_subparts"],
+                     root_direction=v["root"], check_collisions=v["collision"])
