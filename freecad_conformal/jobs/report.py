@@ -60,7 +60,16 @@ def report_data(result) -> dict:
     from freecad_conformal.settings.schema import as_json
 
     plan = result.plan
-    by_index = {s.index: s for s in plan.subparts}
+    built = {s.index: s for s in result.subparts}
+    sub_parts = []
+    for sub in plan.subparts:          # every sub-part, also those too thin for one layer
+        summary = built.get(sub.index)
+        sub_parts.append({
+            "index": sub.index, "name": sub.name,
+            "direction": [float(c) for c in sub.build_direction],
+            "volume_mm3": float(sub.volume), "overhang_mm2": float(sub.overhang_area),
+            "layers": summary.layers if summary else 0,
+            "material_mm3": summary.material if summary else 0.0})
     return {
         "format": REPORT_FORMAT,
         "part": result.part,
@@ -73,11 +82,7 @@ def report_data(result) -> dict:
         "residual_overhang_mm2": plan.support_area,
         "single_direction_overhang_mm2": plan.support_area_single_direction,
         "build_order": list(plan.order),
-        "sub_parts": [{"index": s.index, "name": s.name,
-                       "direction": [float(c) for c in s.direction],
-                       "volume_mm3": float(by_index[s.index].volume) if s.index in by_index else None,
-                       "layers": s.layers, "material_mm3": s.material,
-                       "overhang_mm2": s.overhang_area} for s in result.subparts],
+        "sub_parts": sub_parts,
         "notes": list(plan.notes),
         # empty for options made in Python rather than from settings (settings/plan.py)
         "settings": as_json(PLAN_SETTINGS, result.settings) if result.settings else {},
