@@ -157,6 +157,7 @@ def _shift_into_limits(machine: Machine, k: int, column: np.ndarray,
     refused here, naming the axis, its limits and the travel it needs.
     """
     axis = machine.rotary[k]
+    assert axis.limits is not None, "only limited axes are fitted by whole turns"
     low, high = axis.limits
     first, last = float(column.min()), float(column.max())
     fewest = math.ceil((low - LIMIT_SLACK - first) / TWO_PI)

@@ -143,7 +143,7 @@ def rotary_candidates(machine: Machine, axes: np.ndarray, locate: Locator) -> np
     out = np.empty((n, 2, 2))
     for branch, sign in enumerate((1.0, -1.0)):
         z = np.outer(alpha, w1) + np.outer(beta, w2) + np.outer(sign * gamma, cross)
-        z /= np.linalg.norm(z, axis=1)[:, None]
+        z = z / np.linalg.norm(z, axis=1)[:, None]
         x2 = _angle_between(w2, p, z)
         x1 = _angle_between(w1, z, q)
         out[:, branch, order[0]] = signs[0] * x1

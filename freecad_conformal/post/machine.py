@@ -206,7 +206,9 @@ def _tool_lengths(value: dict, where: str) -> tuple[tuple[int, float], ...]:
     return tuple(sorted(out))
 
 
-def _no_tool_change_z(data: dict, where: str) -> None:
+def _no_tool_change_z(data: dict, where: str) -> float | None:
+    """None when the machine file names no tool-change height; an error when it names one
+    that is not a number."""
     if "tool_change_z" in data:
         raise KinematicsError(f"{where}: tool_change_z = {data['tool_change_z']!r} is not a number")
     return None

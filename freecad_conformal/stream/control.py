@@ -23,9 +23,16 @@ class JobControl(Protocol):
     """
 
     program: Program
-    confirmed: int
-    sent: int
     renumber: bool
+
+    @property
+    def confirmed(self) -> int:
+        """Index of the first command the machine has not acknowledged (read-only here:
+        the streamer advances it as answers come)."""
+
+    @property
+    def sent(self) -> int:
+        """One past the highest command index ever written to the port."""
 
     @property
     def paused(self) -> bool:

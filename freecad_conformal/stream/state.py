@@ -83,7 +83,7 @@ def load_state(path: str | os.PathLike) -> StreamState:
         raise StreamError(f"{file} is not a stream state file (format {record.get('format') if isinstance(record, dict) else None!r})")
     if record.get("version") != STATE_VERSION:
         raise StreamError(f"stream state {file} has version {record.get('version')!r}; this version reads {STATE_VERSION}")
-    expected = {"program": str, "program_sha256": str, "protocol": str, "total": int,
+    expected: dict[str, type | tuple[type, ...]] = {"program": str, "program_sha256": str, "protocol": str, "total": int,
                 "confirmed": int, "sent": int, "status": str, "message": str, "port": str,
                 "updated": (int, float)}
     for key, kind in expected.items():
