@@ -1,7 +1,7 @@
 """The search for a piece's best cut (decomposition/decompose.py).
 
-Candidate planes come ranked by the saving estimated from the piece's faces (planning/
-cuts.py). Their regions are tried on the piece's mesh (decomposition/mesh_cut.py), and only the
+Candidate planes come ranked by the saving estimated from the piece's faces
+(decomposition/cuts.py). Their regions are tried on the piece's mesh (decomposition/mesh_cut.py), and only the
 cuts the mesh ranks best are made exactly: each is a section Boolean for the region and a
 split, where the mesh trial is a few array operations. A piece without a closed mesh has
 every region cut exactly, as the search did before meshes.

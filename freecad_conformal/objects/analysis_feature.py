@@ -2,8 +2,8 @@
 
 Analysis: the centroidal axis of the source body (geometry/centroidal_axis.py) and the
 candidate splitting faces on planes through concave edges (geometry/splitting_faces.py);
-its shape is the compound of those faces. Decomposition: planning/decompose.decompose (the
-`decompose` command's call); its shape is the compound of the sub-part solids, coloured per
+its shape is the compound of those faces. Decomposition: jobs/decompose.decompose_with (the
+`decompose` command's call, the same settings schema); its shape is the compound of the sub-part solids, coloured per
 sub-part. Both keep the axis as points and links for the view provider's overlay.
 """
 from __future__ import annotations
