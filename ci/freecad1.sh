@@ -120,7 +120,10 @@ case "${1:-test}" in
   test)
     shift || true
     setup
-    in_root bash -c 'cd /root/conformal && CONFORMAL_REQUIRE_PARTS=${CONFORMAL_REQUIRE_PARTS:-0} \
+    # The parts are copied to /root/shared/parts: a host path in CONFORMAL_PARTS means nothing
+    # inside the chroot.
+    in_root env CONFORMAL_PARTS=/root/shared/parts bash -c 'cd /root/conformal && \
+      CONFORMAL_REQUIRE_PARTS=${CONFORMAL_REQUIRE_PARTS:-0} \
       /root/venv/bin/python -m pytest -q -p no:cacheprovider "$@"' pytest "$@"
     ;;
   run) shift; mount_all; in_root "$@" ;;
