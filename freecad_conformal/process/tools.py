@@ -199,7 +199,7 @@ class Cutter:
 
 
 #: kind -> (JSON key of its kind-specific block, class of that block)
-KIND_BLOCKS: dict[str, tuple[str, type]] = {
+KIND_BLOCKS: dict[str, tuple[str, Any]] = {   # (JSON key, block class with from_dict)
     "uv_light_guide": ("uv", UvGuide),
     "fdm_nozzle": ("fdm", FdmNozzle),
     "laser_nozzle": ("laser", LaserNozzle),

@@ -149,8 +149,9 @@ def analyze(data: RunData, location: Terms = "lenth", dispersion: Terms = "lenth
                      f"(centre − corner mean) {curvature:.5g}")
     numeric = [f.name for f in design.factors if f.is_numeric] if design else []
     optimum = find_optimum(data.names, location_model, dispersion_model, goal, target, numeric)
-    settings = ({name: design.factor(name).real(level) for name, level in optimum.coded.items()}
-                if design else dict(optimum.coded))
+    settings: dict[str, float | str] = (
+        {name: design.factor(name).real(level) for name, level in optimum.coded.items()}
+        if design else dict(optimum.coded))
     return Analysis(data.names, contrast_list, defining, effects_mean, effects_ln_s2, lenth_mean,
                     lenth_ln_s2, location_model, dispersion_model, optimum, settings,
                     response_scale, response_unit, data.source, notes)

@@ -40,7 +40,7 @@ class Factor:
             raise ProcessError(f"factor name {self.name!r} must be one capital letter other "
                                "than I (I is the identity word)")
         if self.is_numeric:
-            if not all(math.isfinite(v) for v in (self.low, self.high)) or self.low == self.high:
+            if not all(math.isfinite(v) for v in self._numbers()) or self.low == self.high:
                 raise ProcessError(f"factor {self.name}: levels must be two different finite "
                                    f"numbers, got {self.low!r} and {self.high!r}")
         elif not (isinstance(self.low, str) and isinstance(self.high, str)) or self.low == self.high:
@@ -52,10 +52,15 @@ class Factor:
         return all(isinstance(v, (int, float)) and not isinstance(v, bool)
                    for v in (self.low, self.high))
 
+    def _numbers(self) -> tuple[float, float]:
+        """(low, high) of a numeric factor as floats (callers check `is_numeric`)."""
+        return float(self.low), float(self.high)
+
     def real(self, coded: float) -> float | str:
         """The real level for a coded value (numeric factors also between −1 and +1)."""
         if self.is_numeric:
-            return (self.low + self.high) / 2 + coded * (self.high - self.low) / 2
+            low, high = self._numbers()
+            return (low + high) / 2 + coded * (high - low) / 2
         if coded in (-1, 1):
             return self.high if coded > 0 else self.low
         raise ProcessError(f"factor {self.name} ({self.low} / {self.high}) is qualitative: only "
@@ -68,17 +73,18 @@ class Factor:
                 number = float(value)
             except (TypeError, ValueError):
                 raise ProcessError(f"factor {self.name}: {value!r} is not a number") from None
-            half = (self.high - self.low) / 2
-            coded = (number - (self.low + self.high) / 2) / half
+            low, high = self._numbers()
+            half = (high - low) / 2
+            coded = (number - (low + high) / 2) / half
             for level in (-1.0, 0.0, 1.0):
                 if abs(coded - level) <= LEVEL_MATCH_RELATIVE:
                     return level
             raise ProcessError(f"factor {self.name}: {value!r} is none of the levels "
-                               f"{self.low:g}, {(self.low + self.high) / 2:g}, {self.high:g}")
+                               f"{low:g}, {(low + high) / 2:g}, {high:g}")
         text = str(value).strip()
-        for level, coded in ((self.low, -1.0), (self.high, 1.0), ("-1", -1.0), ("1", 1.0),
-                             ("+1", 1.0)):
-            if text == str(level):
+        for written, coded in ((self.low, -1.0), (self.high, 1.0), ("-1", -1.0), ("1", 1.0),
+                               ("+1", 1.0)):
+            if text == str(written):
                 return coded
         raise ProcessError(f"factor {self.name}: {value!r} is neither {self.low!r} nor {self.high!r}")
 

@@ -111,7 +111,8 @@ def find_optimum(names: Sequence[str], location: Model, dispersion: Model | None
     if goal == "nominal" and target is None:
         raise ProcessError("a nominal-the-better optimum needs a target value")
     scale = max([abs(location.intercept)] + [abs(c) for c in location.coefficients.values()])
-    best_key, best = None, None
+    best_key: tuple | None = None
+    best: dict[str, float] | None = None
     for levels in itertools.product((-1.0, 1.0), repeat=len(names)):
         coded = dict(zip(names, levels))
         if goal == "nominal":  # the loss surface is not convex: tune from every corner
@@ -119,6 +120,7 @@ def find_optimum(names: Sequence[str], location: Model, dispersion: Model | None
         key = _objective(coded, location, dispersion, goal, target, scale)
         if best_key is None or key < best_key:
             best_key, best = key, coded
+    assert best is not None, "itertools.product yields at least one corner"
     used = location.factors() | (dispersion.factors() if dispersion else set())
     free = [n for n in names if n not in used]
     for name in free:

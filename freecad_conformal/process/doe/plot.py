@@ -42,11 +42,13 @@ def write_half_normal_png(result: Analysis, path: str | os.PathLike, dpi: int = 
     panels = 2 if result.effects_ln_s2 is not None else 1
     figure = Figure(figsize=(5.5 * panels, 4.5))
     axes = figure.subplots(1, panels, squeeze=False)[0]
+    assert result.lenth_mean is not None, "an analysis always has the mean's margins"
     half_normal_panel(axes[0], result.half_normal("mean"), result.lenth_mean,
-           set(result.location.coefficients), "effects on the mean")
-    if panels == 2:
+                      set(result.location.coefficients), "effects on the mean")
+    if panels == 2 and result.lenth_ln_s2 is not None:
+        dispersion = set(result.dispersion.coefficients) if result.dispersion else set()
         half_normal_panel(axes[1], result.half_normal("ln_s2"), result.lenth_ln_s2,
-               set(result.dispersion.coefficients), "effects on ln s²")
+                          dispersion, "effects on ln s²")
     figure.tight_layout()
     with atomic_write(path, "wb") as handle:
         figure.savefig(handle, format="png", dpi=dpi)

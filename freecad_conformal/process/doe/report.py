@@ -22,18 +22,20 @@ def effects_table(result: Analysis, design: Design | None = None) -> str:
     if result.defining_relation:
         lines.append("defining relation: I = " + " = ".join(
             ("-" if s < 0 else "") + w for w, s in result.defining_relation))
-    has_dispersion = result.effects_ln_s2 is not None
+    ln_s2 = result.effects_ln_s2
+    has_dispersion = ln_s2 is not None
     lines.append(f"{'effect':<8} {'aliases':<24} {'on mean':>10}" + (
         f" {'on ln s2':>10}" if has_dispersion else ""))
     for contrast in result.contrasts:
         label = contrast.label
         row = f"{label:<8} {contrast.alias_text():<24} {result.effects_mean[label]:>10.4f}"
-        if has_dispersion:
-            row += f" {result.effects_ln_s2[label]:>10.4f}"
+        if ln_s2 is not None:
+            row += f" {ln_s2[label]:>10.4f}"
         lines.append(row)
-    margins = [("mean", result.lenth_mean)] + ([("ln s2", result.lenth_ln_s2)]
-                                               if has_dispersion else [])
+    margins = [("mean", result.lenth_mean), ("ln s2", result.lenth_ln_s2)]
     for name, lenth in margins:
+        if lenth is None:
+            continue
         lines.append(f"Lenth ({name}): PSE {lenth.pse:.4g}, ME {lenth.me:.4g}, "
                      f"SME {lenth.sme:.4g} (alpha {lenth.alpha:g})")
     lines.append("location model:   " + result.location.formula("y"))
