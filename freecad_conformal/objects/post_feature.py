@@ -13,13 +13,10 @@ import tempfile
 
 import FreeCAD
 
-from freecad_conformal.objects.properties import StoredState, add_properties, reports_errors
-
-
-def _machines() -> tuple[str, ...]:
-    from freecad_conformal.settings.plan import machine_names as machines
-
-    return machines()
+from freecad_conformal.objects.properties import (
+    StoredState, add_properties, reports_errors, setting_properties, values_from_object)
+from freecad_conformal.settings.post import POST_SETTINGS, VERIFY_SETTINGS
+from freecad_conformal.settings.schema import validate
 
 
 def toolpath_of(source, what: str):
@@ -56,16 +53,9 @@ class PostFeature(StoredState):
         self.setup(obj)
 
     def setup(self, obj) -> None:
-        from freecad_conformal.tolerances import DEFAULT_ANGULAR_TOLERANCE, DEFAULT_LINEAR_TOLERANCE
-
         add_properties(obj, [
             ("App::PropertyLink", "Source", "Post", "Job, Toolpath or Feature to post", None),
-            ("App::PropertyEnumeration", "Machine", "Post", "Machine (resources/machines)", _machines()),
-            ("App::PropertyString", "Dialect", "Post", "G-code dialect (empty: the machine's)", ""),
-            ("App::PropertyLength", "Tolerance", "Post", "Linearisation tolerance of the tip",
-             DEFAULT_LINEAR_TOLERANCE),
-            ("App::PropertyAngle", "AngularTolerance", "Post", "Linearisation tolerance of the axis",
-             math.degrees(DEFAULT_ANGULAR_TOLERANCE)),
+            *setting_properties(POST_SETTINGS, "Post"),
             ("App::PropertyFileIncluded", "GcodeFile", "Result", "The program", None),
             ("App::PropertyInteger", "BlockCount", "Result", "Motion blocks", 0),
             ("App::PropertyFloat", "EstimatedSeconds", "Result", "Estimated run time (s)", 0.0),
@@ -79,9 +69,10 @@ class PostFeature(StoredState):
         from freecad_conformal.post.machine import load_machine
         from freecad_conformal.post.program import post_toolpath
 
+        v = validate(POST_SETTINGS, values_from_object(obj, POST_SETTINGS))
         toolpath = toolpath_of(obj.Source, obj.Label)
-        result = post_toolpath(toolpath, load_machine(obj.Machine), obj.Dialect or None,
-                               obj.Tolerance.Value, math.radians(obj.AngularTolerance.Value))
+        result = post_toolpath(toolpath, load_machine(v["machine"]), v["dialect"], v["tolerance"],
+                               math.radians(v["angular_tolerance"]), relative_e=not v["absolute_e"])
         keep_text(obj, "GcodeFile", result.text, ".gcode")
         obj.BlockCount = int(len(result.values))
         obj.EstimatedSeconds = float(result.time_s)
@@ -98,8 +89,7 @@ class VerifyFeature(StoredState):
         outputs = ("PositionDeviation", "AngleDeviation", "Passed", "Report")
         add_properties(obj, [
             ("App::PropertyLink", "Source", "Verify", "Post or Job whose program is replayed", None),
-            ("App::PropertyLength", "MaxPosition", "Verify", "Largest tip deviation accepted", 0.01),
-            ("App::PropertyAngle", "MaxAngle", "Verify", "Largest axis deviation accepted", 0.1),
+            *setting_properties(VERIFY_SETTINGS[1:], "Verify"),   # the machine is the Post's
             ("App::PropertyLength", "PositionDeviation", "Result", "Largest tip deviation", 0.0),
             ("App::PropertyAngle", "AngleDeviation", "Result", "Largest axis deviation", 0.0),
             ("App::PropertyBool", "Passed", "Result", "Both deviations within the limits", False),
@@ -124,8 +114,9 @@ class VerifyFeature(StoredState):
                                 toolpath_of(holder, obj.Label))
         obj.PositionDeviation = deviation.position
         obj.AngleDeviation = math.degrees(deviation.angle)
-        obj.Passed = bool(deviation.position <= obj.MaxPosition.Value
-                          and math.degrees(deviation.angle) <= obj.MaxAngle.Value)
+        limits = validate(VERIFY_SETTINGS[1:], values_from_object(obj, VERIFY_SETTINGS[1:]))
+        obj.Passed = bool(deviation.position <= limits["max_position"]
+                          and math.degrees(deviation.angle) <= limits["max_angle"])
         obj.Report = deviation.report()
         if not obj.Passed:
             FreeCAD.Console.PrintWarning(f"Conformal: {obj.Label}: {obj.Report}\n")

@@ -34,6 +34,9 @@ def add_arguments(parser: argparse.ArgumentParser, settings: Iterable[Setting]) 
             group = groups[setting.group] = parser.add_argument_group(setting.group)
         flags = (setting.cli_flag, *setting.aliases)
         common: dict[str, Any] = dict(dest=setting.key, default=None, help=_help(setting))
+        if setting.required:
+            common["required"] = True
+            common["help"] = setting.help + (f" ({setting.unit})" if setting.unit else "")
         if setting.kind == "bool":
             group.add_argument(*flags, action=argparse.BooleanOptionalAction, **common)
         elif setting.kind == "choice":

@@ -52,6 +52,8 @@ class Setting:
     choices: Sequence[str] | Callable[[], Sequence[str]] | None = None
     derived: str = ""
     only_when: tuple[str, tuple[str, ...]] | None = None
+    #: the command line must give it (the document object starts from `default`)
+    required: bool = False
 
     def __post_init__(self) -> None:
         if self.kind not in UNITS:

@@ -131,6 +131,12 @@ CASES += [
     (["post", "zero.npz", "--machine", "trunnion_ac", "-o", "x.ngc"], ["zero.npz is not a Conformal toolpath"]),
     (["post", "p.ngc", "--machine", "trunnion_ac", "-o", "x.ngc"], ["p.ngc is not a Conformal toolpath"]),
     (["post", "missing.npz", "--machine", "trunnion_ac", "-o", "x.ngc"], ["missing.npz does not exist"]),
+    (["post", "t.npz", "--machine", "trunnion_ac", "-o", "x.ngc", "--tolerance", "0"],
+     ["--tolerance", "got 0"]),
+    (["post", "t.npz", "--machine", "trunnion_ac", "-o", "x.ngc", "--angular-tolerance", "inf"],
+     ["--angular-tolerance", "finite"]),
+    (["verify", "p.ngc", "--machine", "trunnion_ac", "--toolpath", "t.npz", "--max-position",
+      "nan"], ["--max-position", "finite"]),
     (["verify", "p.ngc", "--machine", "trunnion_ac", "--toolpath", "zero.npz"], ["zero.npz"]),
     (["verify", "missing.ngc", "--machine", "trunnion_ac", "--toolpath", "t.npz"], ["missing.ngc"]),
     # features

@@ -117,3 +117,24 @@ def test_a_new_decomposition_has_the_decompose_commands_defaults(doc, Part):
     assert gui == cli and gui["max_subparts"] == 24
     assert validate(DECOMPOSE_SETTINGS, values_from_args(
         _cli(["decompose", "p.step", "--no-collision"]), DECOMPOSE_SETTINGS))["collision"] is False
+
+
+def test_post_and_verify_objects_have_the_commands_defaults(doc, Part):
+    """verify's --max-position once defaulted to no check while the Verify object used 0.01."""
+    from freecad_conformal.objects.post_feature import create_post, create_verify
+    from freecad_conformal.objects.properties import values_from_object
+    from freecad_conformal.settings.post import POST_SETTINGS, VERIFY_SETTINGS
+
+    body = doc.addObject("Part::Feature", "Body")
+    body.Shape = Part.makeBox(10, 10, 10)
+    post = create_post(doc, body)
+    verify = create_verify(doc, post)
+    gui_post = validate(POST_SETTINGS, values_from_object(post, POST_SETTINGS))
+    cli_post = validate(POST_SETTINGS, values_from_args(
+        _cli(["post", "t.npz", "-o", "x", "--machine", "trunnion_ac"]), POST_SETTINGS))
+    assert gui_post == cli_post
+    limits = VERIFY_SETTINGS[1:]
+    gui_verify = validate(limits, values_from_object(verify, limits))
+    cli_verify = validate(limits, values_from_args(
+        _cli(["verify", "p.ngc", "--toolpath", "t.npz", "--machine", "trunnion_ac"]), limits))
+    assert gui_verify == cli_verify == {"max_position": 0.01, "max_angle": 0.1}
