@@ -1,0 +1,80 @@
+"""The worker process the GUI runs long computations in (gui/worker.py, objects/work.py),
+without the GUI: the same results as in-process, errors as one line, Cancel ends it."""
+from __future__ import annotations
+
+import time
+
+import pytest
+
+from freecad_conformal.gui.worker import WorkerProcess, worker_environment
+from freecad_conformal.objects.work import compute, parse_progress, print_progress
+
+pytestmark = pytest.mark.parts
+
+
+@pytest.fixture(scope="module")
+def pump_brep(parts_dir) -> str:
+    from freecad_conformal.freecad_env import import_freecad
+
+    _, Part = import_freecad()
+    shape = Part.Shape()
+    shape.read(str(parts_dir / "Pump_Nut.brep"))
+    return shape.exportBrepToString()
+
+
+def sections_inputs(brep: str) -> dict:
+    return {"brep": brep, "mode": "Planar", "chord_tolerance": 0.01,
+            "direction": (0.0, 0.0, 1.0), "layer": 2.0}
+
+
+def test_progress_lines_round_trip(capsys):
+    print_progress(0.25, "layers of sub-part 1/4")
+    print_progress(None, "posting")
+    lines = capsys.readouterr().out.splitlines()
+    assert parse_progress(lines[0]) == (0.25, "layers of sub-part 1/4")
+    assert parse_progress(lines[1]) == (None, "posting")
+    assert parse_progress("Traceback (most recent call last):") is None
+
+
+def test_worker_environment_carries_the_addon_and_sys_path():
+    from freecad_conformal import ADDON_ROOT
+
+    assert str(ADDON_ROOT) == worker_environment()["PYTHONPATH"].split(":")[0]
+
+
+def test_worker_sections_equal_in_process(pump_brep):
+    inputs = sections_inputs(pump_brep)
+    worker = WorkerProcess("sections", inputs).start()
+    outcome = worker.wait(120)
+    assert outcome.ok, outcome.traceback
+    here = compute("sections", inputs)
+    assert outcome.result["layers"] == here["layers"] > 3
+    assert outcome.result["area"] == pytest.approx(here["area"], rel=1e-9)
+    assert not worker.folder.exists()          # nothing left behind
+
+
+def test_worker_error_is_one_line_with_the_traceback_apart(pump_brep):
+    from freecad_conformal.settings.plan import PLAN_SETTINGS
+    from freecad_conformal.settings.schema import defaults
+
+    values = dict(defaults(PLAN_SETTINGS), layer_height=0.0)
+    outcome = WorkerProcess("job", {"brep": pump_brep, "part": "nut", "values": values}) \
+        .start().wait(120)
+    assert not outcome.ok
+    assert "layer height" in outcome.error and "\n" not in outcome.error
+    assert "Traceback" in outcome.traceback
+
+
+def test_cancel_ends_the_worker_at_once(pump_brep):
+    from freecad_conformal.settings.plan import PLAN_SETTINGS
+    from freecad_conformal.settings.schema import defaults
+
+    values = dict(defaults(PLAN_SETTINGS), layer_height=0.1)
+    worker = WorkerProcess("job", {"brep": pump_brep, "part": "nut", "values": values}).start()
+    time.sleep(1.0)
+    assert worker.running
+    started = time.monotonic()
+    worker.cancel()
+    assert time.monotonic() - started < 5.0
+    assert not worker.running and worker.process.returncode is not None
+    assert worker.poll().cancelled and not worker.folder.exists()
