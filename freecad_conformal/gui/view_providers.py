@@ -167,3 +167,32 @@ class ViewProviderToolpath(StoredState):
                 walk(node.getChild(k))
         walk(self.root)
         return counts
+
+
+class ViewProviderProgram(StoredState):
+    """Post and Verify objects: nothing to draw, an icon that says what they are (a Verify
+    that failed shows a red cross) and the result in the tree's second column."""
+
+    def __init__(self, vobj) -> None:
+        vobj.Proxy = self
+
+    def attach(self, vobj) -> None:
+        self.Object = vobj.Object
+
+    def getIcon(self) -> str:  # noqa: N802
+        obj = getattr(self, "Object", None)
+        if obj is not None and "Passed" in obj.PropertiesList:
+            return icon("Conformal_Verify" if obj.Passed or not obj.Report else
+                        "Conformal_VerifyFailed")
+        return icon("Conformal_Post")
+
+    def updateData(self, obj, prop: str) -> None:  # noqa: N802
+        if prop == "Passed":
+            obj.Label2 = "passed" if obj.Passed else ("failed" if obj.Report else "")
+        elif prop == "EstimatedSeconds" and "BlockCount" in obj.PropertiesList:
+            from freecad_conformal.jobs.report import format_duration
+
+            obj.Label2 = f"{obj.BlockCount} blocks, {format_duration(obj.EstimatedSeconds)}"
+
+    def onChanged(self, vobj, prop: str) -> None:  # noqa: N802
+        return None

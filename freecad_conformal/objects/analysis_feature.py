@@ -73,6 +73,7 @@ class DecompositionFeature(Computed, StoredState):
     """Proxy of a Part::FeaturePython: support-free sub-parts and their build order."""
 
     TASK = "decomposition"
+    SETTINGS = DECOMPOSE_SETTINGS
 
     def __init__(self, obj) -> None:
         obj.Proxy = self

@@ -50,6 +50,7 @@ class JobFeature(Computed, ToolpathFeature):
     """Proxy of an App::FeaturePython: parameters in, toolpath + G-code + summary out."""
 
     TASK = "job"
+    SETTINGS = PLAN_SETTINGS
 
     def setup(self, obj) -> None:
         add_properties(obj, JOB_PROPERTIES + TOOLPATH_PROPERTIES,
