@@ -62,15 +62,29 @@ def _combo(items: list[str], current: str, editable: bool, empty_means: str = ""
     return widget
 
 
+def empty_text(empty_means: str) -> str:
+    """How a list shows its unset choice: "(the machine's)"."""
+    return f"({empty_means.strip()})" if empty_means.strip() else ""
+
+
+def combo_text(widget) -> str:
+    """A list's value: "" for its unset choice."""
+    text = widget.currentText().strip()
+    if widget.count() and widget.currentIndex() == 0 and text == widget.itemText(0).strip() \
+            and text.startswith("("):
+        return ""
+    return text
+
+
 def fill_combo(widget, items: list[str], current: str, empty_means: str = "") -> None:
     """Items (an empty first item standing for `empty_means`), `current` selected."""
     widget.blockSignals(True)
     widget.clear()
-    if empty_means:
-        widget.addItem("")
+    if empty_means:       # the unset choice reads as what it stands for
+        widget.addItem(empty_text(empty_means))
         widget.setItemData(0, empty_means, QtCore.Qt.ItemDataRole.ToolTipRole)
     widget.addItems(items)
-    index = widget.findText(current)
+    index = widget.findText(current) if current else 0
     if index < 0 and current:
         widget.addItem(current)
         index = widget.count() - 1
@@ -115,7 +129,7 @@ def make_field(obj, spec: FieldSpec, task: str):
         return _combo(tool_ids(task), str(value), True, spec.empty_means)
     if spec.picks == "materials":
         tool = str(getattr(obj, "Tool", ""))
-        return _combo(materials_of(tool), str(value), False, spec.empty_means or " ")
+        return _combo(materials_of(tool), str(value), False, spec.empty_means or "none")
     if spec.picks == "dialects":
         return _combo(dialect_names(), str(value), False, spec.empty_means or "the machine's")
     if spec.picks == "root":
@@ -162,7 +176,7 @@ def field_value(spec: FieldSpec, widget):
     if isinstance(widget, QtWidgets.QCheckBox):
         return widget.isChecked()
     if isinstance(widget, QtWidgets.QComboBox):
-        return widget.currentText().strip()
+        return combo_text(widget)
     if isinstance(widget, VectorField):
         return widget.vector()
     return widget.text()

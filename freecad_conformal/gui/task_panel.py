@@ -46,6 +46,14 @@ class ObjectTaskPanel:
         if icon:
             self.form.setWindowIcon(QtGui.QIcon(icon))
         outer = QtWidgets.QVBoxLayout(self.form)
+        self.progress_bar = QtWidgets.QProgressBar()
+        self.progress_bar.setVisible(False)
+        self.progress_line = QtWidgets.QLabel()
+        self.progress_line.setWordWrap(True)
+        self.progress_line.setVisible(False)
+        self.message = MessageLine()
+        for widget in (self.progress_bar, self.progress_line, self.message):
+            outer.addWidget(widget)
         properties = [(n, obj.getTypeIdOfProperty(n), obj.getGroupOfProperty(n),
                        obj.getDocumentationOfProperty(n))
                       for n in obj.PropertiesList if not obj.getEditorMode(n)]
@@ -71,13 +79,6 @@ class ObjectTaskPanel:
                 self.rows[spec.prop] = (label, widget)
             self.boxes.append((box, [s.prop for s in specs]))
             outer.addWidget(box)
-        self.progress_bar = QtWidgets.QProgressBar()
-        self.progress_bar.setVisible(False)
-        self.progress_line = QtWidgets.QLabel()
-        self.progress_line.setWordWrap(True)
-        self.message = MessageLine()
-        for widget in (self.progress_bar, self.progress_line, self.message):
-            outer.addWidget(widget)
         outer.addStretch(1)
         self.status = ""     # the last message, kept after the dialog (and its widgets) close
         self.worker = None
@@ -105,7 +106,7 @@ class ObjectTaskPanel:
     def _tool_changed(self) -> None:
         material = self.fields["Material"]
         F.fill_combo(material, F.materials_of(self.fields["Tool"].currentText()),
-                     material.currentText(), self.specs["Material"].empty_means or " ")
+                     F.combo_text(material), self.specs["Material"].empty_means or "none")
 
     def visible_fields(self) -> list[str]:
         return [p for p, (label, _) in self.rows.items() if not label.isHidden()]

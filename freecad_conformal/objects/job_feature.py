@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from freecad_conformal.objects.computed import Computed, shape_from_text, shape_text
+from freecad_conformal.objects.job_preview import part_frames, recording_decompose, store_preview
 from freecad_conformal.objects.post_feature import keep_text
 from freecad_conformal.objects.properties import (
     add_properties, reports_errors, setting_properties, source_shape, values_from_object)
@@ -24,8 +25,12 @@ JOB_PROPERTIES = [
     ("App::PropertyString", "Summary", "Result", "The plan summary (as the CLI prints it)", ""),
     ("App::PropertyFloat", "EstimatedSeconds", "Result", "Estimated build time in seconds", 0.0),
     ("App::PropertyInteger", "SubPartCount", "Result", "Sub-parts built", 0),
+    ("App::PropertyIntegerList", "PartFrameSubparts", "Result",
+     "Sub-parts whose machine-to-part motion is in PartFrames", None),
+    ("App::PropertyFloatList", "PartFrames", "Result",
+     "Per sub-part, the 3x4 motion from the machine frame back onto the part", None),
 ]
-JOB_OUTPUTS = ("Summary", "EstimatedSeconds", "SubPartCount")
+JOB_OUTPUTS = ("Summary", "EstimatedSeconds", "SubPartCount", "PartFrameSubparts", "PartFrames")
 
 
 def segment_subparts(toolpath, deposit_subparts: list[int]) -> list[int]:
@@ -70,20 +75,24 @@ class JobFeature(Computed, ToolpathFeature):
         obj.Summary = result["summary"]
         obj.EstimatedSeconds = float(result["seconds"])
         obj.SubPartCount = int(result["subparts"])
+        store_preview(obj, result)
 
 
 def compute_job(inputs: dict, progress) -> dict:
     """The plan of BREP text with setting values (objects/work.py runs it anywhere): the
     steps of jobs/plan.plan_job, with progress between them."""
     from freecad_conformal.jobs.options import plan_options as options_from_values
-    from freecad_conformal.jobs.plan import check_options, machine_plan, run_job
+    from freecad_conformal.jobs.plan import check_options, machine_plan, run_job, single_plan
 
     shape = shape_from_text(inputs["brep"])
     options = options_from_values(inputs["values"])
     progress(0.02, "checking the settings")
     checked = check_options(shape, options)     # before any geometry work, as `plan` does
     progress(0.05, "decomposing and placing on the machine")
-    placed, plan = machine_plan(shape, options)
+    before_layout: dict = {}
+    placed, plan = machine_plan(shape, options, decompose=recording_decompose(before_layout))
+    if not before_layout:              # built undecomposed: one sub-part per solid
+        before_layout = {s.index: s.shape for s in single_plan(placed).subparts}
     count = max(len(plan.subparts), 1)
     done: list[int] = []
 
@@ -99,7 +108,8 @@ def compute_job(inputs: dict, progress) -> dict:
             "segment_subparts": segment_subparts(toolpath,
                                                  [p.subpart for p in result.assembly.paths]),
             "gcode": result.post.text, "summary": result.summary(),
-            "seconds": float(result.time_s), "subparts": len(result.subparts)}
+            "seconds": float(result.time_s), "subparts": len(result.subparts),
+            **part_frames(shape, placed, before_layout, plan)}
 
 
 def plan_options(obj):

@@ -78,3 +78,40 @@ def test_cancel_ends_the_worker_at_once(pump_brep):
     assert time.monotonic() - started < 5.0
     assert not worker.running and worker.process.returncode is not None
     assert worker.poll().cancelled and not worker.folder.exists()
+
+
+@pytest.mark.slow
+def test_job_paths_map_back_onto_the_part_as_modelled(parts_dir):
+    """A table modelled lying on its side far off the platform is centred and stood up by
+    the plan: its machine-frame paths are off the modelled table, mapped back they are on it."""
+    import numpy as np
+
+    from freecad_conformal.freecad_env import import_freecad
+    from freecad_conformal.gui.path_display import frame_matrices, to_part_frame
+    from freecad_conformal.objects.job_feature import compute_job
+    from freecad_conformal.objects.toolpath_feature import toolpath_from_bytes
+    from freecad_conformal.settings.plan import PLAN_SETTINGS
+    from freecad_conformal.settings.schema import defaults
+    from freecad_conformal.toolpath import KINDS
+
+    App, Part = import_freecad()
+    shape = Part.Shape()
+    shape.read(str(parts_dir / "MODERN_Table_1.brep"))
+    shape.rotate(App.Vector(0, 0, 0), App.Vector(1, 0, 0), 90.0)
+    shape.translate(App.Vector(2000.0, 0.0, 0.0))
+    values = dict(defaults(PLAN_SETTINGS), layer_height=1.5, bead_width=1.5, tilt=False)
+    result = compute_job({"brep": shape.exportBrepToString(), "part": "table", "values": values},
+                         lambda *_: None)
+    toolpath = toolpath_from_bytes(result["toolpath"])
+    matrices = frame_matrices(result["frame_subparts"], result["frames"])
+    assert set(result["segment_subparts"]) <= set(matrices)
+    on_part = to_part_frame(toolpath.points, toolpath.segment_index,
+                            result["segment_subparts"], matrices)
+    deposit = np.flatnonzero(toolpath.kind[toolpath.segment_index] == KINDS.index("deposit"))
+    sample = deposit[:: max(1, len(deposit) // 150)]
+
+    def inside(points):
+        return np.mean([shape.isInside(App.Vector(*map(float, p)), 1.0, True) for p in points])
+
+    assert inside(on_part[sample]) > 0.95
+    assert inside(toolpath.points[sample]) < 0.5     # the machine frame is elsewhere
