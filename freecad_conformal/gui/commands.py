@@ -117,6 +117,12 @@ class SectionsCommand(ObjectCommand):
         obj = create_sections(doc, source)
         obj.LayerHeight = preferences.section_spacing()
         obj.ChordTolerance = preferences.chord_tolerance()
+        # cylinders about the part's vertical centre line, out to its far side, cut it;
+        # the origin's may miss it altogether
+        box = source.Shape.BoundBox
+        obj.AxisPoint = FreeCAD.Vector(box.Center.x, box.Center.y, box.ZMin)
+        obj.RadiusEnd = max(obj.RadiusStart.Value, 0.5 * box.DiagonalLength)
+        obj.RadiusStep = max(obj.RadiusStep.Value, obj.RadiusEnd.Value / 50.0)
         return obj
 
     def use_face(self, obj) -> None:

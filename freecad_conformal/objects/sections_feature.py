@@ -89,6 +89,14 @@ def compute_sections(inputs: dict, progress) -> dict:
                                      inputs["axis_direction"], chord_tolerance=tolerance)
         wires = [w for layer in stack.layers for face in layer.faces for w in face.Wires]
     layers = [layer for layer in stack.layers if not layer.is_empty]
+    if not layers:
+        from freecad_conformal.errors import GeometryError
+
+        where = (f"planes {inputs['layer']:g} mm apart along {inputs['direction']}"
+                 if inputs["mode"] == "Planar" else
+                 f"cylinders of radii {inputs['radii'][0]:g} to {inputs['radii'][-1]:g} mm about "
+                 f"the axis through {inputs['axis_point']} along {inputs['axis_direction']}")
+        raise GeometryError(f"no section: the {where} miss the part")
     return {"layers": len(layers), "area": float(sum(layer.area for layer in layers)),
             "brep": shape_text(Part.Compound(wires))}
 

@@ -115,3 +115,19 @@ def test_job_paths_map_back_onto_the_part_as_modelled(parts_dir):
 
     assert inside(on_part[sample]) > 0.95
     assert inside(toolpath.points[sample]) < 0.5     # the machine frame is elsewhere
+
+    # one time estimate: the Post of the Job's toolpath reports the Job's time
+    posted = compute("post", {"toolpath": result["toolpath"], "machine": "trunnion_ac",
+                              "dialect": None, "tolerance": 0.01, "angular_tolerance": 0.01},
+                     lambda *_: None)
+    assert posted["seconds"] == pytest.approx(result["seconds"], rel=1e-9)
+
+
+def test_sections_that_miss_the_part_fail_rather_than_pass_empty(pump_brep):
+    from freecad_conformal.errors import GeometryError
+
+    inputs = {"brep": pump_brep, "mode": "Cylindrical", "chord_tolerance": 0.01,
+              "radii": [1000.0, 1001.0], "axis_point": (5000.0, 0.0, 0.0),
+              "axis_direction": (0.0, 0.0, 1.0)}
+    with pytest.raises(GeometryError, match="no section: the cylinders of radii 1000 to 1001"):
+        compute("sections", inputs)

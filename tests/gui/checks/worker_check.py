@@ -54,6 +54,8 @@ def main(params):
     out["plan_active_face_of_body"] = commands.PlanCommand().IsActive()
 
     panel = run_command("Conformal_Plan", body)
+    FreeCADGui.ActiveDocument.ActiveView.viewIsometric()
+    FreeCADGui.SendMsgToActiveView("ViewFit")
     panel.set_field("LayerHeight", params["layer"])
     out["job_fields_uniform"] = panel.visible_fields()
     panel.set_field("LayerMode", "cusp")
@@ -62,6 +64,14 @@ def main(params):
     panel.set_field("LayerMode", "uniform")
     out["icon_set"] = not panel.form.windowIcon().isNull()
     ticks = Ticks()
+    applying = []
+    finish = panel._finish
+
+    def timed_finish(outcome):
+        applying.append(time.monotonic())
+        finish(outcome)
+        applying.append(time.monotonic())
+    panel._finish = timed_finish
     ticks.timer.start()
     started = time.monotonic()
     panel.accept()
@@ -83,10 +93,15 @@ def main(params):
         time.sleep(0.01)
     ticks.timer.stop()
     job = panel.obj
+    applied = (applying[0], applying[-1]) if applying else (0.0, 0.0)
+    during = [g for a, b, g in zip(ticks.times, ticks.times[1:], ticks.gaps())
+              if b < applied[0] and (b < shot_window[0] or a > shot_window[1])]
     gaps = ticks.gaps(shot_window)
     everything = ticks.gaps()
     out["plan"] = {"seconds": time.monotonic() - started, "ticks": len(ticks.times),
                    "max_gap": max(gaps) if gaps else None,
+                   "max_gap_while_working": max(during) if during else None,
+                   "apply_s": applied[1] - applied[0],
                    "max_gap_with_screenshot": max(everything) if everything else None,
                    "screenshot_s": shot_window[1] - shot_window[0],
                    "gap_times": [round(b - started, 2) for a, b in
@@ -97,10 +112,18 @@ def main(params):
                    "seconds_estimate": job.EstimatedSeconds}
     out["undo_names"] = doc.UndoNames[:1]
     for obj in doc.Objects:
-        obj.ViewObject.Visibility = obj is job
+        obj.ViewObject.Visibility = obj in (job, body)
+    body.ViewObject.Transparency = 80
     job.ViewObject.ColourBy = "SubPart"
+    FreeCADGui.ActiveDocument.ActiveView.viewIsometric()
     out["job_shot"] = gui_support.artifact(params, "crankarm_job.png")
     gui_support.save_3d_view(out["job_shot"])
+    job.ViewObject.Frame = "Machine"
+    body.ViewObject.Visibility = False
+    out["job_machine_shot"] = gui_support.artifact(params, "crankarm_job_machine.png")
+    gui_support.save_3d_view(out["job_machine_shot"])
+    job.ViewObject.Frame = "Part"
+    out["frames"] = len(job.PartFrameSubparts)
 
     panel = run_command("Conformal_Plan", body)
     panel.set_field("LayerHeight", params["layer"])
