@@ -25,13 +25,38 @@ def selected_with(prop: str) -> list:
     return [o for o in FreeCADGui.Selection.getSelection() if prop in o.PropertiesList]
 
 
-def selected_face():
-    """(object, 'FaceN') of the one selected face, or None."""
+def has_solid(obj) -> bool:
+    """Whether `obj` is a body with at least one solid (not a Sections or Analysis result,
+    whose shapes are wires and faces)."""
+    from freecad_conformal.objects.computed import Computed
+
+    if isinstance(getattr(obj, "Proxy", None), Computed) and "SubPartCount" not in obj.PropertiesList:
+        return False
+    shape = getattr(obj, "Shape", None)
+    return shape is not None and not shape.isNull() and bool(shape.Solids)
+
+
+def selected_solids() -> list:
+    """Selected objects holding solids (a face selected on a body selects that body)."""
+    return [o for o in FreeCADGui.Selection.getSelection() if has_solid(o)]
+
+
+def selected_face(kinds: tuple[str, ...] = ()):
+    """(object, 'FaceN') of the one selected face (of one of `kinds`, when given), or None."""
     for selection in FreeCADGui.Selection.getSelectionEx():
         faces = [n for n in selection.SubElementNames if n.startswith("Face")]
-        if len(faces) == 1:
+        if len(faces) == 1 and (not kinds or _face_kind(selection.Object, faces[0]) in kinds):
             return selection.Object, faces[0]
     return None
+
+
+def _face_kind(obj, name: str) -> str:
+    from freecad_conformal.geometry.faces import face_kind
+
+    try:
+        return face_kind(obj.Shape.getElement(name))
+    except Exception:   # noqa: BLE001 - an odd face is simply not offered
+        return ""
 
 
 class ObjectCommand:
@@ -47,22 +72,37 @@ class ObjectCommand:
         return {"Pixmap": icon(f"Conformal_{self.NAME}"), "MenuText": _tr(self.MENU),
                 "ToolTip": _tr(self.TIP)}
 
+    def sources(self) -> list:
+        """Objects the command can work on in the selection."""
+        if self.NEEDS == "Shape":
+            return selected_solids()
+        return selected_with(self.NEEDS)
+
     def IsActive(self):  # noqa: N802
-        return FreeCAD.ActiveDocument is not None and bool(selected_with(self.NEEDS))
+        return FreeCAD.ActiveDocument is not None and bool(self.sources())
 
     def create(self, doc, source):
         raise NotImplementedError(f"{type(self).__name__} must create its object")
 
     def Activated(self):  # noqa: N802
-        from freecad_conformal.gui.task_panel import ObjectTaskPanel
-
         doc = FreeCAD.ActiveDocument
-        source = selected_with(self.NEEDS)[0]
+        source = self.sources()[0]
         doc.openTransaction(f"Conformal {self.NAME}")
         obj = show(self.create(doc, source))
-        FreeCADGui.Control.closeDialog()
-        FreeCADGui.Control.showDialog(ObjectTaskPanel(obj, self.GROUPS, _tr(self.MENU)))
+        self.use_face(obj)
+        open_panel(obj, self)
         return obj
+
+    def use_face(self, obj) -> None:
+        """Take what a selected face says (a direction, an axis) into the new object."""
+
+
+def open_panel(obj, command) -> None:
+    from freecad_conformal.gui.task_panel import ObjectTaskPanel
+
+    FreeCADGui.Control.closeDialog()
+    FreeCADGui.Control.showDialog(ObjectTaskPanel(obj, command.GROUPS, _tr(command.MENU),
+                                                  icon(f"Conformal_{command.NAME}")))
 
 
 class SectionsCommand(ObjectCommand):
@@ -77,7 +117,28 @@ class SectionsCommand(ObjectCommand):
         obj = create_sections(doc, source)
         obj.LayerHeight = preferences.section_spacing()
         obj.ChordTolerance = preferences.chord_tolerance()
+        # cylinders about the part's vertical centre line, out to its far side, cut it;
+        # the origin's may miss it altogether
+        box = source.Shape.BoundBox
+        obj.AxisPoint = FreeCAD.Vector(box.Center.x, box.Center.y, box.ZMin)
+        obj.RadiusEnd = max(obj.RadiusStart.Value, 0.5 * box.DiagonalLength)
+        obj.RadiusStep = max(obj.RadiusStep.Value, obj.RadiusEnd.Value / 50.0)
         return obj
+
+    def use_face(self, obj) -> None:
+        """A selected plane gives the layers' direction (its normal); a selected cylinder
+        gives the cylinders' axis, in Cylindrical mode."""
+        chosen = selected_face(("plane", "cylinder"))
+        if chosen is None or chosen[0] != obj.Source:
+            return
+        face = chosen[0].Shape.getElement(chosen[1])
+        if face.Surface.__class__.__name__ == "Cylinder":
+            obj.Mode = "Cylindrical"
+            obj.AxisPoint, obj.AxisDirection = face.Surface.Center, face.Surface.Axis
+            obj.RadiusEnd = max(obj.RadiusEnd.Value, obj.Source.Shape.BoundBox.DiagonalLength)
+        else:
+            u0, u1, v0, v1 = face.ParameterRange
+            obj.Direction = face.normalAt(0.5 * (u0 + u1), 0.5 * (v0 + v1)) * -1
 
 
 class AnalyseCommand(ObjectCommand):
@@ -121,19 +182,23 @@ class FeatureCommand(ObjectCommand):
     TIP = "Rods, a shell, a pattern or channels on the selected face"
     GROUPS = ("Feature",)
 
+    #: Face kinds a feature is built on, and the kind a new feature starts as on each.
+    FACE_KINDS = {"sphere": "rods", "cylinder": "rods", "cone": "shell", "plane": "pattern",
+                  "bspline": "pattern", "torus": "shell"}
+
     def IsActive(self):  # noqa: N802
-        return FreeCAD.ActiveDocument is not None and selected_face() is not None
+        return (FreeCAD.ActiveDocument is not None
+                and selected_face(tuple(self.FACE_KINDS)) is not None)
 
     def Activated(self):  # noqa: N802
-        from freecad_conformal.gui.task_panel import ObjectTaskPanel
         from freecad_conformal.objects.feature_object import create_feature
 
         doc = FreeCAD.ActiveDocument
-        body, face = selected_face()
+        body, face = selected_face(tuple(self.FACE_KINDS))
         doc.openTransaction("Conformal Feature")
-        obj = show(create_feature(doc, body, face))
-        FreeCADGui.Control.closeDialog()
-        FreeCADGui.Control.showDialog(ObjectTaskPanel(obj, self.GROUPS, _tr(self.MENU)))
+        kind = self.FACE_KINDS.get(_face_kind(body, face), "rods")
+        obj = show(create_feature(doc, body, face, kind=kind))
+        open_panel(obj, self)
         return obj
 
 

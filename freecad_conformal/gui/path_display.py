@@ -91,3 +91,49 @@ def axis_ticks(toolpath, every: int, length: float) -> np.ndarray:
     tips = np.asarray(toolpath.points[::every], dtype=float)
     ends = tips + length * np.asarray(toolpath.axes[::every], dtype=float)
     return np.stack((tips, ends), axis=1).reshape(-1, 3).astype(np.float32)
+
+
+#: The platform is drawn this much (mm) beyond the toolpath's footprint.
+PLATFORM_MARGIN = 5.0
+#: Colour of the platform plate (light grey, under translucent paths).
+PLATFORM_COLOUR = (0.62, 0.64, 0.68)
+
+
+def frame_matrices(frame_subparts: Sequence[int], frames: Sequence[float]) -> dict:
+    """Sub-part index -> 4x4 motion from the machine frame onto the part (Job.PartFrames)."""
+    flat = np.asarray(frames, dtype=float)
+    if len(flat) != 12 * len(frame_subparts):
+        return {}
+    matrices = {}
+    for k, index in enumerate(frame_subparts):
+        matrix = np.eye(4)
+        matrix[:3] = flat[12 * k:12 * k + 12].reshape(3, 4)
+        matrices[int(index)] = matrix
+    return matrices
+
+
+def to_part_frame(points: np.ndarray, segment_index: np.ndarray,
+                  segment_subparts: Sequence[int], matrices: dict,
+                  directions: bool = False) -> np.ndarray:
+    """Toolpath points moved from the machine frame onto the part as modelled, each by its
+    sub-part's motion (tool axes, `directions`, only turned); points of sub-parts without
+    one stay where they are."""
+    points = np.asarray(points, dtype=float)
+    subparts = np.asarray(segment_subparts, dtype=int)
+    if not matrices or len(subparts) == 0:
+        return points.copy()
+    of_point = subparts[np.asarray(segment_index, dtype=int)]
+    moved = points.copy()
+    for index, matrix in matrices.items():
+        mine = of_point == index
+        moved[mine] = points[mine] @ matrix[:3, :3].T + (0.0 if directions else matrix[:3, 3])
+    return moved
+
+
+def platform_corners(points: np.ndarray, margin: float = PLATFORM_MARGIN) -> np.ndarray:
+    """(4, 3) corners of the platform under machine-frame toolpath points: at their lowest
+    height, their XY footprint grown by `margin`."""
+    points = np.asarray(points, dtype=float)
+    (x0, y0, z0), (x1, y1, _) = points.min(axis=0), points.max(axis=0)
+    x0, y0, x1, y1 = x0 - margin, y0 - margin, x1 + margin, y1 + margin
+    return np.array([(x0, y0, z0), (x1, y0, z0), (x1, y1, z0), (x0, y1, z0)])

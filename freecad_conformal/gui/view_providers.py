@@ -9,6 +9,7 @@ from __future__ import annotations
 import FreeCAD
 
 from freecad_conformal.gui.icons import icon
+from freecad_conformal.gui.path_display import PLATFORM_COLOUR
 from freecad_conformal.objects.properties import StoredState, add_properties
 
 VIEW_GROUP = "Display"
@@ -20,10 +21,14 @@ TOOLPATH_VIEW_PROPERTIES = [
     ("App::PropertyInteger", "AxisEvery", VIEW_GROUP, "A tick at every n-th pose", 50),
     ("App::PropertyLength", "AxisLength", VIEW_GROUP, "Length of a tool-axis tick", 5.0),
     ("App::PropertyFloat", "PathLineWidth", VIEW_GROUP, "Line width in pixels", 2.0),
+    ("App::PropertyEnumeration", "Frame", VIEW_GROUP,
+     "Draw a job's paths on the part as modelled, or where the machine builds them",
+     ("Part", "Machine")),
+    ("App::PropertyBool", "ShowPlatform", VIEW_GROUP, "Draw the platform under the job", True),
 ]
 REDRAW_PROPERTIES = {"ColourBy", "ShowTravel", "ShowToolAxes", "AxisEvery", "AxisLength",
-                     "PathLineWidth"}
-DATA_PROPERTIES = {"ToolpathFile", "SegmentSubparts"}
+                     "PathLineWidth", "Frame", "ShowPlatform"}
+DATA_PROPERTIES = {"ToolpathFile", "SegmentSubparts", "PartFrames"}
 #: Colour of the tool-axis ticks (dark blue-grey, distinct from every path colour).
 AXIS_COLOUR = (0.20, 0.25, 0.35)
 
@@ -79,7 +84,21 @@ class ViewProviderToolpath(StoredState):
         for node in (axes_binding, axes_colour, self.axes_coords, self.axes_lines):
             axes_group.addChild(node)
         self.axes_switch.addChild(axes_group)
-        for node in (self.style, self.coords, self.material, binding, self.lines, self.axes_switch):
+        self.platform_switch = coin.SoSwitch()
+        plate = coin.SoSeparator()
+        plate_colour = coin.SoMaterial()
+        plate_colour.diffuseColor.setValue(*PLATFORM_COLOUR)
+        plate_colour.transparency.setValue(0.6)
+        plate_binding = coin.SoMaterialBinding()
+        plate_binding.value = coin.SoMaterialBinding.OVERALL
+        self.platform_coords = coin.SoCoordinate3()
+        plate_face = coin.SoFaceSet()
+        plate_face.numVertices.setValue(4)
+        for node in (plate_binding, plate_colour, self.platform_coords, plate_face):
+            plate.addChild(node)
+        self.platform_switch.addChild(plate)
+        for node in (self.style, self.coords, self.material, binding, self.lines, self.axes_switch,
+                     self.platform_switch):
             self.root.addChild(node)
         vobj.addDisplayMode(self.root, "Path")
         self.redraw(vobj)
@@ -109,7 +128,7 @@ class ViewProviderToolpath(StoredState):
         from freecad_conformal.errors import ConformalError
         from freecad_conformal.objects.toolpath_feature import load_toolpath
 
-        needed = ("ColourBy", "ShowTravel", "PathLineWidth")
+        needed = ("ColourBy", "ShowTravel", "PathLineWidth", "Frame", "ShowPlatform")
         if not all(name in vobj.PropertiesList for name in needed):
             return  # still being set up
         try:
@@ -127,15 +146,35 @@ class ViewProviderToolpath(StoredState):
         self.lines.coordIndex.setNum(0)
         self.coords.point.setNum(0)
         self.axes_switch.whichChild = -1
+        self.platform_switch.whichChild = -1
         self.stats = {"vertices": 0, "moves": 0}
 
     def _fill(self, vobj, toolpath) -> None:
         from pivy import coin
 
-        from freecad_conformal.gui.path_display import axis_ticks, line_set
+        from dataclasses import replace
 
-        data = line_set(toolpath, vobj.ColourBy, list(vobj.Object.SegmentSubparts),
-                        vobj.ShowTravel)
+        from freecad_conformal.gui.path_display import (
+            axis_ticks, frame_matrices, line_set, platform_corners, to_part_frame)
+
+        obj = vobj.Object
+        subparts = list(obj.SegmentSubparts)
+        corners = platform_corners(toolpath.points)
+        if vobj.Frame == "Part" and "PartFrames" in obj.PropertiesList:
+            # the part as modelled: each sub-part's paths moved back from the machine frame
+            matrices = frame_matrices(obj.PartFrameSubparts, obj.PartFrames)
+            toolpath = replace(
+                toolpath,
+                points=to_part_frame(toolpath.points, toolpath.segment_index, subparts, matrices),
+                axes=to_part_frame(toolpath.axes, toolpath.segment_index, subparts, matrices,
+                                   directions=True))
+            root = matrices.get(min(matrices)) if matrices else None
+            if root is not None:
+                corners = corners @ root[:3, :3].T + root[:3, 3]
+        shows_platform = vobj.ShowPlatform and "PartFrames" in obj.PropertiesList
+        self.platform_coords.point.setValues(0, 4, corners.tolist())
+        self.platform_switch.whichChild = coin.SO_SWITCH_ALL if shows_platform else coin.SO_SWITCH_NONE
+        data = line_set(toolpath, vobj.ColourBy, subparts, vobj.ShowTravel)
         self.lines.coordIndex.setNum(0)
         self.coords.point.setValues(0, len(data.points), data.points.tolist())
         self.coords.point.setNum(len(data.points))
@@ -167,3 +206,32 @@ class ViewProviderToolpath(StoredState):
                 walk(node.getChild(k))
         walk(self.root)
         return counts
+
+
+class ViewProviderProgram(StoredState):
+    """Post and Verify objects: nothing to draw, an icon that says what they are (a Verify
+    that failed shows a red cross) and the result in the tree's second column."""
+
+    def __init__(self, vobj) -> None:
+        vobj.Proxy = self
+
+    def attach(self, vobj) -> None:
+        self.Object = vobj.Object
+
+    def getIcon(self) -> str:  # noqa: N802
+        obj = getattr(self, "Object", None)
+        if obj is not None and "Passed" in obj.PropertiesList:
+            return icon("Conformal_Verify" if obj.Passed or not obj.Report else
+                        "Conformal_VerifyFailed")
+        return icon("Conformal_Post")
+
+    def updateData(self, obj, prop: str) -> None:  # noqa: N802
+        if prop == "Passed":
+            obj.Label2 = "passed" if obj.Passed else ("failed" if obj.Report else "")
+        elif prop == "EstimatedSeconds" and "BlockCount" in obj.PropertiesList:
+            from freecad_conformal.jobs.report import format_duration
+
+            obj.Label2 = f"{obj.BlockCount} blocks, {format_duration(obj.EstimatedSeconds)}"
+
+    def onChanged(self, vobj, prop: str) -> None:  # noqa: N802
+        return None

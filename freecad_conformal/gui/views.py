@@ -14,6 +14,7 @@ def show(obj):
     from freecad_conformal.gui import view_axis, view_providers
     from freecad_conformal.objects.analysis_feature import AnalysisFeature, DecompositionFeature
     from freecad_conformal.objects.feature_object import ConformalFeature
+    from freecad_conformal.objects.post_feature import PostFeature, VerifyFeature
     from freecad_conformal.objects.sections_feature import SectionsFeature
     from freecad_conformal.objects.toolpath_feature import ToolpathFeature
 
@@ -32,4 +33,6 @@ def show(obj):
         obj.Source.ViewObject.Visibility = False   # the sub-parts replace the body on screen
     elif isinstance(proxy, AnalysisFeature):
         view_axis.ViewProviderAnalysis(vobj)
+    elif isinstance(proxy, (PostFeature, VerifyFeature)):
+        view_providers.ViewProviderProgram(vobj)
     return obj

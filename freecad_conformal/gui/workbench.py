@@ -21,6 +21,8 @@ def initialize(workbench) -> None:
     if names:
         workbench.appendToolbar("Conformal", names)
         workbench.appendMenu("&Conformal", names)
+    # the preferences dialog looks up its group's icon by name ("preferences-conformal")
+    FreeCADGui.addIconPath(str(RESOURCES / "icons"))
     FreeCADGui.addPreferencePage(PreferencesPage, "Conformal")
     translations = RESOURCES / "translations"
     if translations.is_dir():

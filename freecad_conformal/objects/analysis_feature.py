@@ -8,10 +8,9 @@ sub-part. Both keep the axis as points and links for the view provider's overlay
 """
 from __future__ import annotations
 
-import math
-
 import FreeCAD
 
+from freecad_conformal.objects.computed import Computed, shape_from_text, shape_text
 from freecad_conformal.objects.properties import (
     StoredState, add_properties, reports_errors, setting_properties, source_shape,
     values_from_object)
@@ -25,22 +24,16 @@ AXIS_PROPERTIES = [
 AXIS_OUTPUTS = ("AxisPoints", "AxisLinks", "BreakLinks")
 
 
-def store_axes(obj, graphs) -> None:
-    """Nodes and links of every axis graph (one per solid) into the axis properties."""
-    points, links, breaks, offset = [], [], [], 0
-    for graph in graphs:
-        points += [FreeCAD.Vector(*map(float, node.point)) for node in graph.nodes]
-        for link in graph.links:
-            pair = [link.start + offset, link.end + offset]
-            links += pair
-            if link.is_break:
-                breaks += pair
-        offset += len(graph.nodes)
-    obj.AxisPoints, obj.AxisLinks, obj.BreakLinks = points, links, breaks
+def store_axes(obj, axes: dict) -> None:
+    """Plain axes (analysis_compute.plain_axes) into the axis properties."""
+    obj.AxisPoints = [FreeCAD.Vector(*p) for p in axes["points"]]
+    obj.AxisLinks, obj.BreakLinks = axes["links"], axes["breaks"]
 
 
-class AnalysisFeature(StoredState):
+class AnalysisFeature(Computed, StoredState):
     """Proxy of a Part::FeaturePython: centroidal axis and candidate splitting faces."""
+
+    TASK = "analysis"
 
     def __init__(self, obj) -> None:
         obj.Proxy = self
@@ -62,27 +55,25 @@ class AnalysisFeature(StoredState):
 
     @reports_errors
     def execute(self, obj) -> None:
-        import Part
+        self.run(obj)
 
-        from freecad_conformal.geometry.centroidal_axis import centroidal_axis
-        from freecad_conformal.geometry.concave_edges import concave_edges
-        from freecad_conformal.geometry.solids import solids_of
-        from freecad_conformal.geometry.splitting_faces import face_candidates
+    def inputs(self, obj) -> dict:
+        return {"brep": shape_text(source_shape(obj, "the analysis")), "label": obj.Label,
+                "method": obj.Method, "step": obj.Step.Value or None,
+                "break_angle": obj.BreakAngle.Value}
 
-        shape = source_shape(obj, "the analysis")
-        solids = solids_of(shape, obj.Label)
-        graphs = [centroidal_axis(solid, method=obj.Method, step=obj.Step.Value or None,
-                                  break_angle=math.radians(obj.BreakAngle.Value))
-                  for solid in solids]
-        faces = [c.region for solid in solids for c in face_candidates(solid, concave_edges(solid))]
-        store_axes(obj, graphs)
-        obj.SplittingFaceCount = len(faces)
+    def apply(self, obj, result: dict) -> None:
+        store_axes(obj, result["axes"])
+        obj.SplittingFaceCount = result["faces"]
         obj.BreakCount = len(obj.BreakLinks) // 2
-        obj.Shape = Part.Compound(faces)
+        obj.Shape = shape_from_text(result["brep"])
 
 
-class DecompositionFeature(StoredState):
+class DecompositionFeature(Computed, StoredState):
     """Proxy of a Part::FeaturePython: support-free sub-parts and their build order."""
+
+    TASK = "decomposition"
+    SETTINGS = DECOMPOSE_SETTINGS
 
     def __init__(self, obj) -> None:
         obj.Proxy = self
@@ -106,19 +97,20 @@ class DecompositionFeature(StoredState):
 
     @reports_errors
     def execute(self, obj) -> None:
-        import Part
+        self.run(obj)
 
-        from freecad_conformal.jobs.decompose import decompose_with
+    def inputs(self, obj) -> dict:
+        return {"brep": shape_text(source_shape(obj, "the decomposition")),
+                "values": values_from_object(obj, DECOMPOSE_SETTINGS)}
 
-        shape = source_shape(obj, "the decomposition")
-        plan = decompose_with(shape, values_from_object(obj, DECOMPOSE_SETTINGS))
-        store_axes(obj, plan.axes)
-        obj.SubPartCount = len(plan.subparts)
-        obj.BuildOrder = list(plan.order)
-        obj.BuildDirections = [FreeCAD.Vector(*map(float, s.build_direction)) for s in plan.subparts]
-        obj.SupportAreaSaved = float(plan.support_area_saved)
-        obj.Notes = list(plan.notes)
-        obj.Shape = Part.Compound([s.shape for s in plan.subparts])
+    def apply(self, obj, result: dict) -> None:
+        store_axes(obj, result["axes"])
+        obj.SubPartCount = result["subparts"]
+        obj.BuildOrder = result["order"]
+        obj.BuildDirections = [FreeCAD.Vector(*d) for d in result["directions"]]
+        obj.SupportAreaSaved = result["saved"]
+        obj.Notes = result["notes"]
+        obj.Shape = shape_from_text(result["brep"])
 
 
 def _create(doc, proxy_class, source, name: str):

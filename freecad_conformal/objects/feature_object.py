@@ -20,6 +20,8 @@ FEATURE_PROPERTIES = [
 class ConformalFeature(ToolpathFeature):
     """Proxy of an App::FeaturePython: face + parameters in, toolpath out."""
 
+    SETTINGS = FEATURE_SETTINGS
+
     def setup(self, obj) -> None:
         add_properties(obj, FEATURE_PROPERTIES + TOOLPATH_PROPERTIES, read_only=TOOLPATH_OUTPUTS)
 

@@ -3,15 +3,15 @@ call as `python -m freecad_conformal plan`), keeping the toolpath, the G-code an
 in the document. It is a toolpath object, so the 3D view draws its paths."""
 from __future__ import annotations
 
-import os
-import tempfile
-
 import numpy as np
 
+from freecad_conformal.objects.computed import Computed, shape_from_text, shape_text
+from freecad_conformal.objects.job_preview import part_frames, recording_decompose, store_preview
+from freecad_conformal.objects.post_feature import keep_text
 from freecad_conformal.objects.properties import (
     add_properties, reports_errors, setting_properties, source_shape, values_from_object)
 from freecad_conformal.objects.toolpath_feature import (
-    TOOLPATH_OUTPUTS, TOOLPATH_PROPERTIES, ToolpathFeature, store_toolpath)
+    TOOLPATH_OUTPUTS, TOOLPATH_PROPERTIES, ToolpathFeature, store_toolpath, toolpath_from_bytes)
 from freecad_conformal.settings.plan import PLAN_SETTINGS
 
 GROUP = "Job"
@@ -25,8 +25,12 @@ JOB_PROPERTIES = [
     ("App::PropertyString", "Summary", "Result", "The plan summary (as the CLI prints it)", ""),
     ("App::PropertyFloat", "EstimatedSeconds", "Result", "Estimated build time in seconds", 0.0),
     ("App::PropertyInteger", "SubPartCount", "Result", "Sub-parts built", 0),
+    ("App::PropertyIntegerList", "PartFrameSubparts", "Result",
+     "Sub-parts whose machine-to-part motion is in PartFrames", None),
+    ("App::PropertyFloatList", "PartFrames", "Result",
+     "Per sub-part, the 3x4 motion from the machine frame back onto the part", None),
 ]
-JOB_OUTPUTS = ("Summary", "EstimatedSeconds", "SubPartCount")
+JOB_OUTPUTS = ("Summary", "EstimatedSeconds", "SubPartCount", "PartFrameSubparts", "PartFrames")
 
 
 def segment_subparts(toolpath, deposit_subparts: list[int]) -> list[int]:
@@ -47,8 +51,11 @@ def segment_subparts(toolpath, deposit_subparts: list[int]) -> list[int]:
     return result.tolist()
 
 
-class JobFeature(ToolpathFeature):
+class JobFeature(Computed, ToolpathFeature):
     """Proxy of an App::FeaturePython: parameters in, toolpath + G-code + summary out."""
+
+    TASK = "job"
+    SETTINGS = PLAN_SETTINGS
 
     def setup(self, obj) -> None:
         add_properties(obj, JOB_PROPERTIES + TOOLPATH_PROPERTIES,
@@ -56,25 +63,53 @@ class JobFeature(ToolpathFeature):
 
     @reports_errors
     def execute(self, obj) -> None:
-        from freecad_conformal.jobs.plan import plan_job
+        self.run(obj)
 
-        # plan_job checks every setting before any geometry work, as the command line does
-        result = plan_job(source_shape(obj, "a job"), plan_options(obj), part=obj.Source.Label)
-        toolpath = result.assembly.toolpath
-        store_toolpath(obj, toolpath,
-                       segment_subparts(toolpath, [p.subpart for p in result.assembly.paths]))
-        handle, path = tempfile.mkstemp(suffix=".gcode", prefix=f"{obj.Name}_")
-        os.close(handle)
-        try:
-            with open(path, "w", encoding="utf-8") as out:
-                out.write(result.post.text)
-            obj.GcodeFile = path
-        finally:
-            if os.path.exists(path):
-                os.remove(path)
-        obj.Summary = result.summary()
-        obj.EstimatedSeconds = float(result.time_s)
-        obj.SubPartCount = len(result.subparts)
+    def inputs(self, obj) -> dict:
+        return {"brep": shape_text(source_shape(obj, "a job")), "part": obj.Source.Label,
+                "values": values_from_object(obj, PLAN_SETTINGS)}
+
+    def apply(self, obj, result: dict) -> None:
+        store_toolpath(obj, toolpath_from_bytes(result["toolpath"]), result["segment_subparts"])
+        keep_text(obj, "GcodeFile", result["gcode"], ".gcode")
+        obj.Summary = result["summary"]
+        obj.EstimatedSeconds = float(result["seconds"])
+        obj.SubPartCount = int(result["subparts"])
+        store_preview(obj, result)
+
+
+def compute_job(inputs: dict, progress) -> dict:
+    """The plan of BREP text with setting values (objects/work.py runs it anywhere): the
+    steps of jobs/plan.plan_job, with progress between them."""
+    from freecad_conformal.jobs.options import plan_options as options_from_values
+    from freecad_conformal.jobs.plan import check_options, machine_plan, run_job, single_plan
+
+    shape = shape_from_text(inputs["brep"])
+    options = options_from_values(inputs["values"])
+    progress(0.02, "checking the settings")
+    checked = check_options(shape, options)     # before any geometry work, as `plan` does
+    progress(0.05, "decomposing and placing on the machine")
+    before_layout: dict = {}
+    placed, plan = machine_plan(shape, options, decompose=recording_decompose(before_layout))
+    if not before_layout:              # built undecomposed: one sub-part per solid
+        before_layout = {s.index: s.shape for s in single_plan(placed).subparts}
+    count = max(len(plan.subparts), 1)
+    done: list[int] = []
+
+    def layered(index: int) -> None:
+        done.append(index)
+        progress(0.4 + 0.4 * len(done) / count, f"layers of sub-part {len(done)}/{count}")
+
+    progress(0.4, "layers")
+    result = run_job(placed, plan, options, inputs["part"], progress=layered, checked=checked)
+    progress(0.95, "toolpath stored")
+    toolpath = result.assembly.toolpath
+    return {"toolpath": toolpath.to_bytes(),
+            "segment_subparts": segment_subparts(toolpath,
+                                                 [p.subpart for p in result.assembly.paths]),
+            "gcode": result.post.text, "summary": result.summary(),
+            "seconds": float(result.time_s), "subparts": len(result.subparts),
+            **part_frames(shape, placed, before_layout, plan)}
 
 
 def plan_options(obj):

@@ -13,23 +13,13 @@ import tempfile
 
 import FreeCAD
 
+from freecad_conformal.errors import PostError
+from freecad_conformal.objects.computed import Computed
 from freecad_conformal.objects.properties import (
     StoredState, add_properties, reports_errors, setting_properties, values_from_object)
+from freecad_conformal.objects.toolpath_feature import toolpath_bytes
 from freecad_conformal.settings.post import POST_SETTINGS, VERIFY_SETTINGS
 from freecad_conformal.settings.schema import validate
-
-
-def toolpath_of(source, what: str):
-    """The toolpath kept by a Job, Toolpath or Feature object."""
-    from freecad_conformal.errors import PostError
-    from freecad_conformal.objects.toolpath_feature import load_toolpath
-
-    if source is None or "ToolpathFile" not in source.PropertiesList:
-        raise PostError(f"{what} needs a Job, Toolpath or Feature object as its source")
-    toolpath = load_toolpath(source)
-    if toolpath is None:
-        raise PostError(f"{what}: {source.Label} holds no toolpath yet (recompute it)")
-    return toolpath
 
 
 def keep_text(obj, prop: str, text: str, suffix: str) -> None:
@@ -45,8 +35,10 @@ def keep_text(obj, prop: str, text: str, suffix: str) -> None:
             os.remove(path)
 
 
-class PostFeature(StoredState):
+class PostFeature(Computed, StoredState):
     """Proxy of an App::FeaturePython: toolpath in, G-code out."""
+
+    TASK = "post"
 
     def __init__(self, obj) -> None:
         obj.Proxy = self
@@ -66,20 +58,48 @@ class PostFeature(StoredState):
 
     @reports_errors
     def execute(self, obj) -> None:
-        from freecad_conformal.post.machine import load_machine
-        from freecad_conformal.post.program import post_toolpath
+        self.run(obj)
 
+    def inputs(self, obj) -> dict:
+        source = obj.Source
+        if source is None or "ToolpathFile" not in source.PropertiesList:
+            raise PostError(f"{obj.Label} needs a Job, Toolpath or Feature object as its source")
         v = validate(POST_SETTINGS, values_from_object(obj, POST_SETTINGS))
-        toolpath = toolpath_of(obj.Source, obj.Label)
-        result = post_toolpath(toolpath, load_machine(v["machine"]), v["dialect"], v["tolerance"],
-                               math.radians(v["angular_tolerance"]), relative_e=not v["absolute_e"])
-        keep_text(obj, "GcodeFile", result.text, ".gcode")
-        obj.BlockCount = int(len(result.values))
-        obj.EstimatedSeconds = float(result.time_s)
+        return {"toolpath": toolpath_bytes(source), "machine": v["machine"],
+                "dialect": v["dialect"], "tolerance": v["tolerance"],
+                "angular_tolerance": math.radians(v["angular_tolerance"]),
+                "relative_e": not v["absolute_e"]}
+
+    def apply(self, obj, result: dict) -> None:
+        keep_text(obj, "GcodeFile", result["gcode"], ".gcode")
+        obj.BlockCount = int(result["blocks"])
+        obj.EstimatedSeconds = float(result["seconds"])
 
 
-class VerifyFeature(StoredState):
+def compute_post(inputs: dict, progress) -> dict:
+    """G-code of toolpath bytes for a machine; the time is the plan's estimate (paths/
+    timing.estimate_time, corners and the machine's feed limits counted), so a Job and its
+    Post report the same time for the same program."""
+    from freecad_conformal.objects.toolpath_feature import toolpath_from_bytes
+    from freecad_conformal.paths.timing import estimate_time
+    from freecad_conformal.post.machine import load_machine
+    from freecad_conformal.post.program import post_toolpath
+
+    toolpath = toolpath_from_bytes(inputs["toolpath"])
+    machine = load_machine(inputs["machine"])
+    progress(0.1, f"posting {toolpath.segment_count} segments for {machine.name}")
+    result = post_toolpath(toolpath, machine, inputs["dialect"], inputs["tolerance"],
+                           inputs["angular_tolerance"],
+                           relative_e=inputs.get("relative_e", True))
+    seconds = estimate_time(toolpath, machine.acceleration, max_feed=machine.max_feed,
+                            rapid_feed=machine.rapid_feed)
+    return {"gcode": result.text, "blocks": int(len(result.values)), "seconds": seconds}
+
+
+class VerifyFeature(Computed, StoredState):
     """Proxy of an App::FeaturePython: replay of a Post object's G-code."""
+
+    TASK = "verify"
 
     def __init__(self, obj) -> None:
         obj.Proxy = self
@@ -101,25 +121,42 @@ class VerifyFeature(StoredState):
 
     @reports_errors
     def execute(self, obj) -> None:
-        from freecad_conformal.errors import PostError
-        from freecad_conformal.post.machine import load_machine
-        from freecad_conformal.post.verify import verify_file
+        self.run(obj)
 
+    def inputs(self, obj) -> dict:
         post = obj.Source
         if post is None or "GcodeFile" not in post.PropertiesList or not post.GcodeFile:
             raise PostError(f"{obj.Label} needs a Post object with a program as its source")
         # a Job keeps its own toolpath; a Post object's is in its source
         holder = post if "ToolpathFile" in post.PropertiesList else post.Source
-        deviation = verify_file(post.GcodeFile, load_machine(post.Machine),
-                                toolpath_of(holder, obj.Label))
-        obj.PositionDeviation = deviation.position
-        obj.AngleDeviation = math.degrees(deviation.angle)
+        if holder is None:
+            raise PostError(f"{obj.Label}: {post.Label} has no source toolpath")
+        with open(post.GcodeFile, encoding="utf-8") as handle:
+            gcode = handle.read()
+        return {"gcode": gcode, "machine": post.Machine, "toolpath": toolpath_bytes(holder)}
+
+    def apply(self, obj, result: dict) -> None:
         limits = validate(VERIFY_SETTINGS[1:], values_from_object(obj, VERIFY_SETTINGS[1:]))
-        obj.Passed = bool(deviation.position <= limits["max_position"]
-                          and math.degrees(deviation.angle) <= limits["max_angle"])
-        obj.Report = deviation.report()
+        obj.PositionDeviation = result["position"]
+        obj.AngleDeviation = result["angle"]
+        obj.Passed = bool(result["position"] <= limits["max_position"]
+                          and result["angle"] <= limits["max_angle"])
+        obj.Report = result["report"]
         if not obj.Passed:
             FreeCAD.Console.PrintWarning(f"Conformal: {obj.Label}: {obj.Report}\n")
+
+
+def compute_verify(inputs: dict, progress) -> dict:
+    """Deviations of G-code text replayed on a machine against toolpath bytes (degrees)."""
+    from freecad_conformal.objects.toolpath_feature import toolpath_from_bytes
+    from freecad_conformal.post.machine import load_machine
+    from freecad_conformal.post.verify import verify_program
+
+    progress(0.05, "replaying the program through the machine's kinematics")
+    deviation = verify_program(inputs["gcode"], load_machine(inputs["machine"]),
+                               toolpath_from_bytes(inputs["toolpath"]))
+    return {"position": float(deviation.position), "angle": math.degrees(deviation.angle),
+            "report": deviation.report()}
 
 
 def create_post(doc, source, machine: str | None = None, name: str = "Post"):

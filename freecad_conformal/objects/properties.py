@@ -59,20 +59,41 @@ class StoredState:
 
 
 def reports_errors(execute: Callable) -> Callable:
-    """Wrap a proxy's execute: a ConformalError is printed as one line naming the object in
-    the report view, then re-raised so FreeCAD marks the object as failed (no dialog)."""
+    """Wrap a proxy's execute: a failure is printed as one line naming the object in the
+    report view, its traceback goes to the log only, and an exception carrying just the
+    message is raised so FreeCAD marks the object as failed (no dialog). FreeCAD quotes
+    where that exception was raised (this wrapper): two short lines, not the whole stack."""
     @functools.wraps(execute)
     def wrapper(self, obj):
-        from freecad_conformal.errors import ConformalError
-
         try:
             return execute(self, obj)
-        except ConformalError as exc:
+        except Exception as exc:   # noqa: BLE001 - every failure is reported the same way
+            import traceback
+
             import FreeCAD
 
-            FreeCAD.Console.PrintError(f"Conformal: {obj.Label} failed: {exc}\n")
-            raise
+            message = one_line(exc)
+            FreeCAD.Console.PrintLog(traceback.format_exc())
+            FreeCAD.Console.PrintError(f"Conformal: {obj.Label} failed: {message}\n")
+            short = type(exc)(message) if _rebuildable(exc) else RuntimeError(message)
+        raise short.with_traceback(None) from None
     return wrapper
+
+
+def one_line(exc: BaseException) -> str:
+    """The first line of an error's message (its type when it has none)."""
+    from freecad_conformal.errors import ConformalError
+
+    text = str(exc).strip()
+    first = text.splitlines()[0] if text else type(exc).__name__
+    return first if isinstance(exc, ConformalError) else f"{type(exc).__name__}: {first}"
+
+
+def _rebuildable(exc: BaseException) -> bool:
+    """Whether the error's class takes one message (ours do; OCC's may not)."""
+    from freecad_conformal.errors import ConformalError
+
+    return isinstance(exc, ConformalError)
 
 
 #: FreeCAD property type of each setting kind (settings/schema.py); quantities are held in

@@ -6,15 +6,19 @@ import math
 
 import FreeCAD
 
-from freecad_conformal.objects.properties import reports_errors, StoredState, add_properties, source_shape, vector3
+from freecad_conformal.objects.computed import Computed, shape_from_text, shape_text
+from freecad_conformal.objects.properties import (
+    StoredState, add_properties, reports_errors, source_shape, vector3)
 from freecad_conformal.tolerances import ROUNDING_SLACK
 
 MODES = ("Planar", "Cylindrical")
 GROUP = "Sections"
 
 
-class SectionsFeature(StoredState):
+class SectionsFeature(Computed, StoredState):
     """Proxy of a Part::FeaturePython holding the section wires."""
+
+    TASK = "sections"
 
     def __init__(self, obj) -> None:
         obj.Proxy = self
@@ -47,26 +51,54 @@ class SectionsFeature(StoredState):
 
     @reports_errors
     def execute(self, obj) -> None:
-        import Part
+        self.run(obj)
 
-        shape = source_shape(obj, "sections")
-        tolerance = obj.ChordTolerance.Value
+    def inputs(self, obj) -> dict:
+        inputs = {"brep": shape_text(source_shape(obj, "sections")), "mode": obj.Mode,
+                  "chord_tolerance": obj.ChordTolerance.Value}
         if obj.Mode == "Planar":
-            from freecad_conformal.geometry.sections import planar_sections
-
-            stack = planar_sections(shape, vector3(obj.Direction), layer=obj.LayerHeight.Value,
-                                    chord_tolerance=tolerance)
-            wires = [w for layer in stack.layers for w in layer.wires]
+            inputs.update(direction=vector3(obj.Direction), layer=obj.LayerHeight.Value)
         else:
-            from freecad_conformal.geometry.cylindrical import cylindrical_sections
+            inputs.update(radii=radii(obj), axis_point=vector3(obj.AxisPoint),
+                          axis_direction=vector3(obj.AxisDirection))
+        return inputs
 
-            stack = cylindrical_sections(shape, radii(obj), vector3(obj.AxisPoint),
-                                         vector3(obj.AxisDirection), chord_tolerance=tolerance)
-            wires = [w for layer in stack.layers for face in layer.faces for w in face.Wires]
-        layers = [layer for layer in stack.layers if not layer.is_empty]
-        obj.LayerCount = len(layers)
-        obj.SectionArea = float(sum(layer.area for layer in layers))
-        obj.Shape = Part.Compound(wires)
+    def apply(self, obj, result: dict) -> None:
+        obj.LayerCount = result["layers"]
+        obj.SectionArea = result["area"]
+        obj.Shape = shape_from_text(result["brep"])
+
+
+def compute_sections(inputs: dict, progress) -> dict:
+    """Section wires (BREP text), non-empty layer count and area of BREP text."""
+    import Part
+
+    shape = shape_from_text(inputs["brep"])
+    tolerance = inputs["chord_tolerance"]
+    progress(0.1, f"{inputs['mode'].lower()} sections")
+    if inputs["mode"] == "Planar":
+        from freecad_conformal.geometry.sections import planar_sections
+
+        stack = planar_sections(shape, inputs["direction"], layer=inputs["layer"],
+                                chord_tolerance=tolerance)
+        wires = [w for layer in stack.layers for w in layer.wires]
+    else:
+        from freecad_conformal.geometry.cylindrical import cylindrical_sections
+
+        stack = cylindrical_sections(shape, inputs["radii"], inputs["axis_point"],
+                                     inputs["axis_direction"], chord_tolerance=tolerance)
+        wires = [w for layer in stack.layers for face in layer.faces for w in face.Wires]
+    layers = [layer for layer in stack.layers if not layer.is_empty]
+    if not layers:
+        from freecad_conformal.errors import GeometryError
+
+        where = (f"planes {inputs['layer']:g} mm apart along {inputs['direction']}"
+                 if inputs["mode"] == "Planar" else
+                 f"cylinders of radii {inputs['radii'][0]:g} to {inputs['radii'][-1]:g} mm about "
+                 f"the axis through {inputs['axis_point']} along {inputs['axis_direction']}")
+        raise GeometryError(f"no section: the {where} miss the part")
+    return {"layers": len(layers), "area": float(sum(layer.area for layer in layers)),
+            "brep": shape_text(Part.Compound(wires))}
 
 
 def radii(obj) -> list[float]:

@@ -59,6 +59,30 @@ def store_toolpath(obj, toolpath, segment_subparts: Sequence[int] | None = None)
     obj.PathLength = float(toolpath.move_lengths().sum())
 
 
+def toolpath_from_bytes(data: bytes):
+    """The toolpath of .npz bytes (Toolpath.to_bytes): how toolpaths come back from a worker."""
+    from freecad_conformal.toolpath import Toolpath
+
+    handle, path = tempfile.mkstemp(suffix=".npz", prefix="conformal_")
+    try:
+        with os.fdopen(handle, "wb") as out:
+            out.write(data)
+        return Toolpath.load(path)
+    finally:
+        os.remove(path)
+
+
+def toolpath_bytes(obj) -> bytes:
+    """The stored .npz of obj.ToolpathFile as bytes (how a toolpath goes to a worker)."""
+    from freecad_conformal.errors import PostError
+
+    path = obj.ToolpathFile if "ToolpathFile" in obj.PropertiesList else ""
+    if not path or not os.path.isfile(path):
+        raise PostError(f"{obj.Label} holds no toolpath yet (recompute it)")
+    with open(path, "rb") as handle:
+        return handle.read()
+
+
 def load_toolpath(obj):
     """The toolpath stored in obj.ToolpathFile, or None when none is stored yet."""
     from freecad_conformal.toolpath import Toolpath

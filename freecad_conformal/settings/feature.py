@@ -2,11 +2,13 @@
 Keys are the attribute names the feature planners read (paths/features/planners.py)."""
 from __future__ import annotations
 
+from dataclasses import replace
+
 from freecad_conformal.settings.schema import Setting
 
 KINDS = ("rods", "shell", "pattern", "channels")
 
-FEATURE_SETTINGS: tuple[Setting, ...] = (
+_SETTINGS: tuple[Setting, ...] = (
     Setting("tool", "text", None, "tool", "tool id", group="tool",
             derived="uv_small for rods and pattern walls, uv_large for shells; channels "
                     "choose by curvature"),
@@ -63,3 +65,8 @@ FEATURE_SETTINGS: tuple[Setting, ...] = (
     Setting("wall_height", "length", 1.0, "wall height", "wall height", group="channels",
             minimum=0.0, open_minimum=True),
 )
+
+#: A setting grouped under a kind applies to features of that kind only (the task panel
+#: shows it for that kind; help texts say "only with kind rods").
+FEATURE_SETTINGS: tuple[Setting, ...] = tuple(
+    replace(s, only_when=("kind", (s.group,))) if s.group in KINDS else s for s in _SETTINGS)

@@ -52,7 +52,7 @@ def test_hundred_thousand_poses_are_one_line_set(objects_run):
     assert toolpath["points"] == 100_000
     assert toolpath["stats"]["vertices"] == 100_000 and toolpath["stats"]["moves"] == 99_999
     assert toolpath["nodes"]["IndexedLineSet"] == 1
-    assert toolpath["nodes"]["Coordinate3"] == 2          # path + axis ticks
+    assert toolpath["nodes"]["Coordinate3"] == 3          # path + axis ticks + platform
     # every tenth segment (1000 poses) is travel: hidden, 10 x 1000 moves fewer
     assert toolpath["moves_without_travel"] == 99_999 - 10 * 1000
     assert toolpath["axis_ticks"] == 50

@@ -52,3 +52,26 @@ def test_axis_ticks_start_at_the_tip_along_the_axis():
 def test_unknown_colouring_is_an_error():
     with pytest.raises(ValueError, match="colour by"):
         line_set(small_toolpath(), "Feed")
+
+
+def test_part_frame_moves_each_subparts_points_by_its_motion():
+    from freecad_conformal.gui.path_display import frame_matrices, platform_corners, to_part_frame
+
+    turn = np.array([[0, -1, 0, 10], [1, 0, 0, 0], [0, 0, 1, -5]], dtype=float)   # 90° + shift
+    matrices = frame_matrices([1], turn.ravel().tolist())
+    points = np.array([[1.0, 0, 0], [1.0, 0, 0], [2.0, 3, 4]])
+    moved = to_part_frame(points, np.array([0, 1, 1]), [0, 1], matrices)
+    assert np.allclose(moved[0], [1, 0, 0])                 # sub-part 0 has no motion
+    assert np.allclose(moved[1], [10, 1, -5]) and np.allclose(moved[2], [7, 2, -1])
+    assert frame_matrices([1, 2], [0.0] * 12) == {}          # a count mismatch is ignored
+    corners = platform_corners(points, margin=1.0)
+    assert np.allclose(corners[0], [0, -1, 0]) and np.allclose(corners[2], [3, 4, 0])
+
+
+def test_tool_axes_are_only_turned_into_the_part_frame():
+    from freecad_conformal.gui.path_display import frame_matrices, to_part_frame
+
+    turn = np.array([[0, -1, 0, 10], [1, 0, 0, 0], [0, 0, 1, -5]], dtype=float)
+    axes = to_part_frame(np.array([[1.0, 0, 0]]), np.array([0]), [3],
+                         frame_matrices([3], turn.ravel().tolist()), directions=True)
+    assert np.allclose(axes[0], [0, 1, 0])

@@ -27,7 +27,8 @@ def run_command(name: str, obj=None, sub: str = ""):
 def accept(panel, **fields):
     for name, value in fields.items():
         panel.set_field(name, value)
-    ok = panel.accept()
+    panel.accept()              # starts the worker; the panel applies its result
+    ok = panel.wait()
     return ok, panel.obj, panel.status
 
 

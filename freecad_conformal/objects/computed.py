@@ -1,0 +1,84 @@
+"""Objects whose work can run away from the document: inputs -> compute -> apply.
+
+A proxy splits its `execute` in three: `inputs(obj)` reads the document into plain values
+(BREP text for shapes, numbers and strings for settings), `compute` (objects/work.py) turns
+those into plain results without touching any document (so it can run in another process),
+and `apply(obj, result)` writes the results into the object's properties. A plain recompute
+does all three in a row (headless, macros, reopening a file). The GUI computes in a worker
+process and hands the result in with `precompute`; the recompute that follows then only
+applies it, inside the command's transaction.
+"""
+from __future__ import annotations
+
+import hashlib
+import pickle
+from typing import Any
+
+from freecad_conformal.errors import ConformalError
+
+#: (document name, object name) -> (fingerprint of the inputs, result or error), kept until
+#: the object's next execute: a result computed for other inputs is not applied.
+_PRECOMPUTED: dict[tuple[str, str], tuple[str, Any]] = {}
+
+
+class WorkerFailure(ConformalError):
+    """The worker's error, as one line (its traceback goes to the log)."""
+
+
+def fingerprint(inputs: dict) -> str:
+    """A digest of plain inputs: equal inputs give equal digests."""
+    return hashlib.sha256(pickle.dumps(inputs, protocol=4)).hexdigest()
+
+
+def precompute(obj, inputs: dict, outcome: dict) -> None:
+    """Hand a worker's outcome ({"result": ...} or {"error": ...}) to the object's next
+    execute; it is used only when the object's inputs are still `inputs`."""
+    _PRECOMPUTED[(obj.Document.Name, obj.Name)] = (fingerprint(inputs), outcome)
+
+
+def take_precomputed(obj, inputs: dict) -> dict | None:
+    """The outcome handed in for exactly these inputs, or None (compute it here)."""
+    stored = _PRECOMPUTED.pop((obj.Document.Name, obj.Name), None)
+    if stored is None or stored[0] != fingerprint(inputs):
+        return None
+    return stored[1]
+
+
+class Computed:
+    """Mixin for proxies: TASK names the compute function (objects/work.TASKS)."""
+
+    TASK = ""
+
+    def inputs(self, obj) -> dict:
+        raise NotImplementedError(f"{type(self).__name__} must read its inputs")
+
+    def apply(self, obj, result: dict) -> None:
+        raise NotImplementedError(f"{type(self).__name__} must apply its result")
+
+    def run(self, obj) -> None:
+        """execute's body: the handed-in outcome for these inputs, else computed here."""
+        from freecad_conformal.objects.work import compute
+
+        inputs = self.inputs(obj)
+        outcome = take_precomputed(obj, inputs)
+        if outcome is None:
+            self.apply(obj, compute(self.TASK, inputs))
+        elif "error" in outcome:
+            raise WorkerFailure(outcome["error"])
+        else:
+            self.apply(obj, outcome["result"])
+
+
+def shape_text(shape) -> str:
+    """A shape as BREP text (placement included): how shapes cross to a worker."""
+    return shape.exportBrepToString()
+
+
+def shape_from_text(text: str):
+    """The shape of BREP text written by `shape_text`."""
+    from freecad_conformal.freecad_env import import_freecad
+
+    _, Part = import_freecad()
+    shape = Part.Shape()
+    shape.importBrepFromString(text)
+    return shape
