@@ -14,7 +14,7 @@ import numpy as np
 import shapely
 from shapely.geometry import MultiPolygon
 
-from freecad_conformal.paths.fill2d import Path2D
+from freecad_conformal.paths.fill2d import Path2D, valid_region
 from freecad_conformal.layers.model import Layer, as_multipolygon
 
 #: Two layer regions whose vertices agree this closely (mm) are the same region: sections of
@@ -61,6 +61,15 @@ def region_in(target: Layer, source: Layer) -> MultiPolygon:
     return as_multipolygon(shapely.transform(source.region, move).buffer(0))
 
 
+def _boolean(a, b, operation: str):
+    """a ∩ b or a − b; a section that came back invalid (self-touching rings of a Boolean
+    fallback: the bottle along X) is repaired first rather than lose the plan."""
+    try:
+        return getattr(a, operation)(b)
+    except shapely.errors.GEOSException:
+        return getattr(valid_region(a), operation)(valid_region(b))
+
+
 def skin_regions(layers: Sequence[Layer], top_layers: int, bottom_layers: int,
                  rests_on_parent: bool) -> list[MultiPolygon]:
     """Per layer, the area to print solid: not covered `top_layers` above or
@@ -79,9 +88,9 @@ def skin_regions(layers: Sequence[Layer], top_layers: int, bottom_layers: int,
             other = region_in(layer, layers[j])
             if covered is layer.region and shapely.equals_exact(other, covered, SAME_REGION):
                 continue
-            covered = covered.intersection(other)
+            covered = _boolean(covered, other, "intersection")
             if covered.is_empty:
                 break
         skins.append(MultiPolygon() if covered is layer.region
-                     else as_multipolygon(layer.region.difference(covered)))
+                     else as_multipolygon(_boolean(layer.region, covered, "difference")))
     return skins
