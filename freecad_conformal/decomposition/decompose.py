@@ -118,19 +118,26 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
                 # The part as placed keeps more overhang than turning it whole would: plan
                 # from that direction and keep whichever leaves less.
                 trial_notes: list[str] = []
-                result = None
-                if trial is not None:
-                    # Its axis, while the child may still be planning: needed if it wins.
-                    other_axis = plan.axis(direction)
-                    other_axis.get()
-                    result = trial.result()
-                    trial = None
-                if result is not None:
-                    other = other_axis, result[0]
-                    trial_notes = result[1]
-                else:
-                    other = plan(direction, trial_notes)
-                if _total(other[1]) < _total(refined) - MIN_SAVING:
+                other = None
+                try:
+                    result = None
+                    if trial is not None:
+                        # Its axis, while the child may still be planning: needed if it wins.
+                        other_axis = plan.axis(direction)
+                        other_axis.get()
+                        result = trial.result()
+                        trial = None
+                    if result is not None:
+                        other = other_axis, result[0]
+                        trial_notes = result[1]
+                    else:
+                        other = plan(direction, trial_notes)
+                except GeometryError as exc:
+                    # Only an alternative to the plan as placed, which stands: a Boolean
+                    # OCC cannot do there (the bottle along X) must not lose the part.
+                    notes.append(f"solid {solid_index + 1}: planning from {_text(direction)} "
+                                 f"failed ({exc}); the root is built as placed")
+                if other is not None and _total(other[1]) < _total(refined) - MIN_SAVING:
                     axis, refined = other
                     notes.extend(trial_notes)
                     notes.append(f"solid {solid_index + 1}: root built along "
