@@ -50,7 +50,7 @@ from freecad_conformal.paths.assemble import Feeds, PathSettings  # noqa: E402
 from freecad_conformal.paths.fill2d import FillSettings  # noqa: E402
 from freecad_conformal.paths.timing import (estimate_time, junction_speeds, move_seconds,  # noqa: E402
                                             move_times)
-from freecad_conformal.jobs.plan import PlanOptions, machine_plan, run_job  # noqa: E402
+from freecad_conformal.jobs.plan import PlanOptions, plan_job  # noqa: E402
 from freecad_conformal.layers.model import LayerSettings  # noqa: E402
 from freecad_conformal.toolpath import KINDS  # noqa: E402
 
@@ -233,8 +233,7 @@ def plan_options() -> PlanOptions:
 def ours(shape, name: str):
     options = plan_options()
     started = time.perf_counter()
-    placed, plan = machine_plan(shape, options)
-    result = run_job(placed, plan, options, part=name)
+    result = plan_job(shape, options, part=name)
     seconds = estimate_time(result.assembly.toolpath, ACCELERATION, JERK)
     return result, seconds, time.perf_counter() - started
 

@@ -1,11 +1,13 @@
 """Wall time of `plan` against PrusaSlicer's CLI on the same part, in the same run.
 
 For every part in ../shared/parts and the built-in samples: our plan in a fresh process (its
-wall time, peak memory and time per stage: decomposition, layers, paths, post, preview and
-files) and PrusaSlicer slicing the part's STL as modelled with the settings of
+wall time, peak memory and time per stage: plan choice (decomposition or candidate
+orientations, laid out, sliced and costed: jobs/plan.choose_plan), layers not already sliced
+by the choice, paths, post, preview and files) and PrusaSlicer slicing the part's STL as modelled with the settings of
 `benchmarks/compare_planar.py` (PRUSA_SETTINGS), timed the same way. Prints the ratio per part
 and checks the goals of issue 21: plan <= 5x PrusaSlicer, no stage above 40 % of our total,
-no part above 60 s, peak memory under 2 GB.
+no part above 60 s, peak memory under 2 GB; and issue 16's: the plan choice within 20 s on
+every part (3 s on CrankArm).
 
 Run: `.venv/bin/python benchmarks/plan_speed.py [PART ...]` (needs prusa-slicer:
 `TMPDIR=/var/tmp apt-get install -y prusa-slicer`).
@@ -28,12 +30,14 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 PARTS_DIR = ROOT.parent / "shared" / "parts"
 SAMPLES = ("bracket", "jack", "hinge")
 #: What each stage of ours is: (module, function) wrapped with a timer in the child process.
-STAGES = {"decomposition": ("freecad_conformal.jobs.plan", "machine_plan"),
+STAGES = {"plan choice": ("freecad_conformal.jobs.plan", "choose_plan"),
           "layers": ("freecad_conformal.jobs.plan", "plan_layers"),
           "paths": ("freecad_conformal.jobs.plan", "assemble"),
           "post": ("freecad_conformal.jobs.plan", "post_toolpath"),
           "preview": ("freecad_conformal.paths.preview", "render_png")}
 RATIO_GOAL, STAGE_SHARE_GOAL, PART_SECONDS_GOAL, MEMORY_GOAL_MB = 5.0, 0.40, 60.0, 2048.0
+#: Issue 16: the plan choice (everything before paths) per part, and on CrankArm.
+CHOICE_SECONDS_GOAL, CHOICE_SECONDS_GOAL_BY_PART = 20.0, {"CrankArm": 3.0}
 
 
 def child(part: str, out: str) -> None:
@@ -121,6 +125,9 @@ def main(names: list[str]) -> int:
             misses.append(f"{name}: {largest} is {share:.0%} of the time (goal {STAGE_SHARE_GOAL:.0%})")
         if wall > PART_SECONDS_GOAL:
             misses.append(f"{name}: {wall:.0f} s (goal {PART_SECONDS_GOAL:g} s)")
+        choice_goal = CHOICE_SECONDS_GOAL_BY_PART.get(name, CHOICE_SECONDS_GOAL)
+        if stages["plan choice"] > choice_goal:
+            misses.append(f"{name}: plan choice {stages['plan choice']:.1f} s (goal {choice_goal:g} s)")
         if mine["peak_mb"] > MEMORY_GOAL_MB:
             misses.append(f"{name}: {mine['peak_mb']:.0f} MB peak (goal {MEMORY_GOAL_MB:g} MB)")
     print("goals met" if not misses else "goals missed:\n  " + "\n  ".join(misses))

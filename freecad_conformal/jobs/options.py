@@ -37,4 +37,5 @@ def plan_options(values: Mapping[str, Any]) -> PlanOptions:
     return PlanOptions(machine=v["machine"], tool=v["tool"], material=v["material"],
                        layers=layers, paths=paths, bead_width=v["bead_width"],
                        dialect=v["dialect"], root=v["root"], decompose=v["decompose"],
+                       objective=v["objective"],
                        settings=v)

@@ -18,7 +18,7 @@ import numpy as np
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.freecad_env import import_freecad
-from freecad_conformal.geometry.rotation import rotation_to
+from freecad_conformal.geometry.rotation import rodrigues_matrix, rotation_to
 from freecad_conformal.decomposition.subparts import BuildPlan
 
 #: Directions of the part tried as "up", the part as placed first.
@@ -39,6 +39,11 @@ class Placement:
     def turned(self) -> bool:
         return self.angle > 0.0
 
+    def rotate(self, direction) -> np.ndarray:
+        """A direction of the part as given, in the frame of the part as placed."""
+        d = np.asarray(direction, dtype=float)
+        return rodrigues_matrix(self.axis, self.angle) @ d if self.turned else d
+
     def describe(self) -> str:
         up = ", ".join(f"{c:+g}" for c in np.round(self.up, 6))
         axis = ", ".join(f"{c:+g}" for c in np.round(self.axis, 6))
@@ -56,16 +61,17 @@ def turn_up(shape, up) -> tuple[object, Placement]:
     return turned, Placement(np.asarray(up, dtype=float), axis, float(angle))
 
 
-def reachable_plan(shape, decompose: Callable[[object], BuildPlan],
+def reachable_plan(shape, decompose: Callable[[object, Placement], BuildPlan],
                    check: Callable[[BuildPlan], None]) -> tuple[object, BuildPlan, Placement]:
     """(placed shape, plan, placement) of the first placement whose plan passes `check`
     (the machine's reach); the part as placed is kept whenever it passes, so the costly
-    decomposition runs again only for a plan the machine cannot build. PlanError with every
-    placement's reason when none passes."""
+    decomposition runs again only for a plan the machine cannot build. `decompose(placed,
+    placement)` gets the placement to turn any direction it was given for the part as
+    modelled (`Placement.rotate`). PlanError with every placement's reason when none passes."""
     reasons: list[str] = []
     for up in UP_CANDIDATES:
         placed, placement = turn_up(shape, up)
-        plan = decompose(placed)
+        plan = decompose(placed, placement)
         try:
             check(plan)
         except PlanError as exc:

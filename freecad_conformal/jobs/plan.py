@@ -6,6 +6,7 @@ so bad input or an impossible plan leaves no output behind.
 from __future__ import annotations
 
 import copy
+import dataclasses
 import io
 import math
 from dataclasses import dataclass, field
@@ -49,6 +50,9 @@ class PlanOptions:
     root: str | tuple[float, float, float] = "auto"
     #: split each solid into support-free sub-parts (False: one sub-part per solid)
     decompose: bool = True
+    #: what the choice among candidate plans minimises once residual overhang is least:
+    #: "balanced", "time" or "material" (jobs/search.py)
+    objective: str = "balanced"
     #: the checked user settings these options were made from (settings/plan.py), for reports
     settings: dict = field(default_factory=dict)
 
@@ -84,6 +88,11 @@ class JobResult:
     subparts: list[SubPartSummary]
     #: the checked user settings the plan was made with (settings/plan.py keys)
     settings: dict = field(default_factory=dict)
+    #: the plans compared, best first, as report rows (jobs/search.Candidate.row); empty
+    #: when there was no choice (a root given, several solids, decomposition off)
+    candidates: list[dict] = field(default_factory=list)
+    #: what the choice among the candidates minimised (PlanOptions.objective)
+    objective: str = "balanced"
 
     @property
     def material_volume(self) -> float:
@@ -244,19 +253,67 @@ def check_options(shape, options: PlanOptions, library=None):
     return tool, material_name, width, path_settings, machine
 
 
+@dataclass
+class Choice:
+    """The plan chosen for a part: where it sits, its plan, the layers the choice already
+    sliced (None: not yet), and every candidate compared, best first (jobs/search.py)."""
+
+    placed: object
+    plan: BuildPlan
+    layers: dict[int, list[Layer]] | None = None
+    candidates: list = field(default_factory=list)
+
+
+def choose_plan(shape, options: PlanOptions, checked, decompose=None,
+                progress=None) -> Choice:
+    """The plan the job builds (run `check_options` first: `checked` is its result). With
+    the root left to "auto", decomposition on and one solid, the candidates of
+    `jobs/search.py` (support-free whole orientations, else the decomposition) are laid out,
+    sliced and costed, and the least residual overhang, then the cheapest by
+    `options.objective`, wins; otherwise the one plan of `machine_plan`. `progress(text)`
+    hears of each candidate."""
+    from freecad_conformal.geometry.solids import solids_of
+
+    solids = solids_of(shape)
+    if not (options.decompose and isinstance(options.root, str) and len(solids) == 1):
+        placed, plan = machine_plan(shape, options, decompose)
+        return Choice(placed, plan)
+    from freecad_conformal.geometry.overhang import DEFAULT_OVERHANG_ANGLE
+    from freecad_conformal.jobs.search import plan_candidates, ranked
+    from freecad_conformal.paths.cost import Motion
+
+    _, _, _, path_settings, machine = checked
+
+    def make_plan(root, split: bool):
+        return machine_plan(shape, dataclasses.replace(options, root=root, decompose=split),
+                            decompose)
+
+    candidates = ranked(plan_candidates(solids[0], make_plan, options.layers, path_settings,
+                                        Motion.of(machine, options.jerk),
+                                        DEFAULT_OVERHANG_ANGLE, progress), options.objective)
+    best = candidates[0]
+    if len(candidates) > 1:
+        best.plan.notes.append(f"{best.label}: chosen among {len(candidates)} candidate plans "
+                               f"(least residual overhang, then cheapest: {options.objective})")
+    return Choice(best.placed, best.plan, best.layers, candidates)
+
+
 def plan_job(shape, options: PlanOptions, part: str = "part", library=None,
              progress=None) -> JobResult:
     """The whole job as `plan` and the Job object make it: the options checked first (before
-    any geometry work), then the decomposition placed on the machine, then layers, paths
-    and G-code."""
+    any geometry work), then the plan chosen and placed on the machine (`choose_plan`), then
+    layers, paths and G-code."""
     checked = check_options(shape, options, library)
-    placed, plan = machine_plan(shape, options)
-    return run_job(placed, plan, options, part, library, progress, checked=checked)
+    choice = choose_plan(shape, options, checked)
+    return run_job(choice.placed, choice.plan, options, part, library, progress, checked=checked,
+                   layers=choice.layers, candidates=choice.candidates)
 
 
 def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
-            library=None, progress=None, checked=None) -> JobResult:
-    """Plan layers and paths for every sub-part, build the toolpath and post it.
+            library=None, progress=None, checked=None, layers=None,
+            candidates=()) -> JobResult:
+    """Plan layers (unless `layers` are given, as `choose_plan` sliced them) and paths for
+    every sub-part, build the toolpath and post it.
 
     Raises ConformalError subclasses (PlanError, ProcessError, KinematicsError, PostError)
     with messages that name the parameter or sub-part at fault.
@@ -265,10 +322,12 @@ def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
         checked = check_options(shape, options, library)
     tool, material_name, width, path_settings, machine = checked
     check_reach(machine, plan)
-    layers: dict[int, list[Layer]] = {}
+    sliced = layers or {}
+    layers = {}
     notes: list[str] = []
     for sub in plan.ordered():
-        layers[sub.index] = plan_layers(sub, options.layers)
+        layers[sub.index] = (sliced[sub.index] if sub.index in sliced
+                             else plan_layers(sub, options.layers))
         if not layers[sub.index]:
             notes.append(f"sub-part {sub.index} is thinner than the thinnest layer "
                          f"({options.layers.bounds[0]:g} mm): its {sub.volume:.1f} mm3 are not built")
@@ -284,10 +343,12 @@ def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
                  for sub in plan.ordered()
                  if layers[sub.index]]
     plan.notes.extend(notes)
+    rows = [c.row(chosen=c.plan is plan) for c in candidates]
     return JobResult(part=part, plan=plan, layers=layers, assembly=assembly, post=post,
                      machine=machine, tool_id=tool.id, material_name=material_name,
                      bead_width=width, time_s=seconds, subparts=summaries,
-                     settings=dict(options.settings))
+                     settings=dict(options.settings), candidates=rows,
+                     objective=options.objective)
 
 
 def _subpart_summary(sub, layers: list[Layer], assembly: Assembly, width: float,
@@ -314,8 +375,9 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
     solid's root along `options.root` ("auto": as placed unless turning the solid leaves
     less overhang), each solid standing on the platform (`decomposition/layout.py`), and the
     whole part turned on the table when the machine cannot reach one of the sub-parts
-    (`jobs/placement.py`; the plan notes every move). `split=False` builds each solid
-    in one piece along +Z instead of decomposing it (default: `options.decompose`)."""
+    (`jobs/placement.py`; the plan notes every move, and a root given as a direction turns
+    with the part). `split=False` builds each solid in one piece along the root (+Z when
+    "auto") instead of decomposing it (default: `options.decompose`)."""
     from freecad_conformal.decomposition.build_order import build_order
     from freecad_conformal.decomposition.layout import lay_out
     from freecad_conformal.jobs.placement import reachable_plan
@@ -328,15 +390,18 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
     gap = max(MIN_LAYOUT_GAP, tool.envelope.body_diameter)
     machine = load_machine(options.machine)
 
-    def planned(placed):
+    def planned(placed, placement):
         # Side by side on one platform, each solid's tool meets what is built of the others:
         # the order of several solids is searched once, after they are laid out.
         several = len(placed.Solids) > 1
+        root = options.root
+        if not isinstance(root, str):
+            root = tuple(float(c) for c in placement.rotate(root))
         if split:
-            plan = decompose(placed, tool=options.tool, root_direction=options.root,
+            plan = decompose(placed, tool=options.tool, root_direction=root,
                              check_collisions=not several)
         else:
-            plan = single_plan(placed)
+            plan = single_plan(placed, (0.0, 0.0, 1.0) if isinstance(root, str) else root)
         laid = lay_out(plan, gap)
         if several:
             laid.order = build_order(laid.subparts, tool=options.tool, notes=laid.notes,
@@ -351,12 +416,17 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
 
 
 def single_plan(shape, direction=(0.0, 0.0, 1.0)) -> BuildPlan:
-    """A plan without splits: each solid of `shape` one sub-part built along `direction`."""
+    """A plan without splits: each solid of `shape` one sub-part built along `direction`,
+    with the overhang it leaves (what supports would hold) measured."""
+    from freecad_conformal.geometry.overhang import overhang_area
     from freecad_conformal.geometry.solids import solids_of
     from freecad_conformal.decomposition.subparts import SubPart
 
     d = np.asarray(direction, dtype=float)
     d = d / np.linalg.norm(d)
     subparts = [SubPart(index=k, shape=solid, build_direction=d, volume=float(solid.Volume),
-                        name=f"solid {k}", solid_index=k) for k, solid in enumerate(solids_of(shape))]
-    return BuildPlan(subparts=subparts, order=list(range(len(subparts))))
+                        name=f"solid {k}", solid_index=k, overhang_area=overhang_area(solid, d))
+                for k, solid in enumerate(solids_of(shape))]
+    return BuildPlan(subparts=subparts, order=list(range(len(subparts))),
+                     support_area_single_direction=float(sum(s.overhang_area for s in subparts)),
+                     single_direction=d)

@@ -45,8 +45,29 @@ def summary_text(result) -> str:
         f"safe moves between sub-parts checked against built material: {result.assembly.moves_checked}",
         f"G-code: {len(result.post.values)} blocks",
     ]
+    lines += _candidate_lines(result)
     lines += [f"note: {note}" for note in plan.notes]
     return "\n".join(lines) + "\n"
+
+
+#: Candidates the summary names besides the chosen plan (the report lists them all).
+OTHERS_SHOWN = 2
+
+
+def _candidate_lines(result) -> list[str]:
+    """The chosen plan and the best others, as estimated before paths (paths/cost.py)."""
+    if len(result.candidates) < 2:
+        return []
+    chosen = [row for row in result.candidates if row["chosen"]]
+    others = [row for row in result.candidates if not row["chosen"]][:OTHERS_SHOWN]
+    lines = ["", f"plans compared: {len(result.candidates)}, least residual overhang first, then "
+             f"the {result.objective} objective (time and material estimated before paths)",
+             f"   {'plan':<34} {'sub-parts':>9} {'overhang mm2':>12} {'cm3':>8} {'time':>8}"]
+    for mark, row in [("*", r) for r in chosen] + [(" ", r) for r in others]:
+        lines.append(f" {mark} {row['label'][:34]:<34} {row['sub_parts']:>9} "
+                     f"{row['residual_overhang_mm2']:>12.1f} {row['material_mm3'] / 1000:>8.3f} "
+                     f"{format_duration(row['time_s']):>8}")
+    return lines
 
 
 #: Version of the `plan --report` JSON (fields are only added, never renamed).
@@ -84,6 +105,9 @@ def report_data(result) -> dict:
         "build_order": list(plan.order),
         "sub_parts": sub_parts,
         "notes": list(plan.notes),
+        # every plan compared, best first; empty when there was no choice (jobs/search.py)
+        "objective": result.objective,
+        "candidates": [dict(row) for row in result.candidates],
         # empty for options made in Python rather than from settings (settings/plan.py)
         "settings": as_json(PLAN_SETTINGS, result.settings) if result.settings else {},
     }

@@ -82,17 +82,21 @@ def compute_job(inputs: dict, progress) -> dict:
     """The plan of BREP text with setting values (objects/work.py runs it anywhere): the
     steps of jobs/plan.plan_job, with progress between them."""
     from freecad_conformal.jobs.options import plan_options as options_from_values
-    from freecad_conformal.jobs.plan import check_options, machine_plan, run_job, single_plan
+    from freecad_conformal.geometry.solids import solids_of
+    from freecad_conformal.jobs.plan import check_options, choose_plan, run_job
 
     shape = shape_from_text(inputs["brep"])
     options = options_from_values(inputs["values"])
     progress(0.02, "checking the settings")
     checked = check_options(shape, options)     # before any geometry work, as `plan` does
-    progress(0.05, "decomposing and placing on the machine")
+    progress(0.05, "choosing the plan and placing it on the machine")
     before_layout: dict = {}
-    placed, plan = machine_plan(shape, options, decompose=recording_decompose(before_layout))
-    if not before_layout:              # built undecomposed: one sub-part per solid
-        before_layout = {s.index: s.shape for s in single_plan(placed).subparts}
+    choice = choose_plan(shape, options, checked, decompose=recording_decompose(before_layout),
+                         progress=lambda text: progress(0.1, f"plan: {text}"))
+    placed, plan = choice.placed, choice.plan
+    if not before_layout or len(choice.candidates) > 1:
+        # Built whole (undecomposed, or a whole orientation won): one sub-part per solid.
+        before_layout = dict(enumerate(solids_of(placed)))
     count = max(len(plan.subparts), 1)
     done: list[int] = []
 
@@ -101,7 +105,8 @@ def compute_job(inputs: dict, progress) -> dict:
         progress(0.4 + 0.4 * len(done) / count, f"layers of sub-part {len(done)}/{count}")
 
     progress(0.4, "layers")
-    result = run_job(placed, plan, options, inputs["part"], progress=layered, checked=checked)
+    result = run_job(placed, plan, options, inputs["part"], progress=layered, checked=checked,
+                     layers=choice.layers, candidates=choice.candidates)
     progress(0.95, "toolpath stored")
     toolpath = result.assembly.toolpath
     return {"toolpath": toolpath.to_bytes(),

@@ -152,7 +152,7 @@ def perimeter_rings(island: Polygon, width: float, count: int,
 LINESTRING_TYPE = 1
 
 
-def _scan_pieces(area, spacing: float, angle: float) -> tuple[np.ndarray, float]:
+def scan_pieces(area, spacing: float, angle: float) -> tuple[np.ndarray, float]:
     """The pieces scan lines leave inside `area` (rotated frame, lines along x) as an (N, 3)
     array of (row, x0, x1), unsorted, and the first row's grid offset. Lines sit on a global
     grid so sparse lines stack from layer to layer. All in shapely's array functions: one
@@ -178,7 +178,7 @@ def _scan_pieces(area, spacing: float, angle: float) -> tuple[np.ndarray, float]
 
 def _scan_segments(area, spacing: float, angle: float) -> list[list[tuple[float, float, float]]]:
     """Per scan line, in order, the (x0, x1, y) pieces inside `area`, sorted along the line."""
-    pieces, first = _scan_pieces(area, spacing, angle)
+    pieces, first = scan_pieces(area, spacing, angle)
     if len(pieces) == 0:
         return []
     pieces = pieces[np.lexsort((pieces[:, 2], pieces[:, 1], pieces[:, 0]))]
@@ -195,7 +195,7 @@ def fewest_turns_angle(area, spacing: float) -> float:
 
     A scan line's pieces inside the area are half its crossings of the area's boundary, so
     the count for each direction comes from the boundary's edges alone: the grid lines
-    (same global grid as `_scan_pieces`) each edge spans, over all edges and candidate
+    (same global grid as `scan_pieces`) each edge spans, over all edges and candidate
     directions at once in numpy, instead of one GEOS intersection per direction. A vertex
     exactly on a grid line can make this count differ from GEOS's by a piece, so where
     directions tie the choice may differ from counting GEOS pieces (CrankArm: 2 of 1,558

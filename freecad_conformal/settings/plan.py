@@ -22,6 +22,9 @@ ROOT = Setting("root", "direction", "auto", "root direction",
                "turning the solid leaves less overhang), 'as placed' (+Z) or x,y,z",
                group="machine", choices=("auto",))
 
+#: What the choice among candidate plans minimises (jobs/search.py).
+OBJECTIVES = ("balanced", "time", "material")
+
 PLAN_SETTINGS: tuple[Setting, ...] = (
     Setting("machine", "machine", DEFAULT_MACHINE, "machine",
             "machine name (resources/machines) or, on the command line, a .json path",
@@ -35,6 +38,11 @@ PLAN_SETTINGS: tuple[Setting, ...] = (
     Setting("decompose", "bool", True, "decompose",
             "split each solid into support-free sub-parts (off: one sub-part per solid)",
             group="machine"),
+    Setting("objective", "choice", "balanced", "objective",
+            "what the choice among candidate plans (orientations, decompositions) minimises "
+            "once residual overhang is least: estimated time, material, or balanced (both, "
+            "each relative to the least among the candidates)", group="machine",
+            choices=OBJECTIVES),
     Setting("layer_height", "length", 0.2, "layer height",
             "layer height; also the nominal height of adaptive and 3-D layers",
             group="layers", aliases=("--layer",), minimum=0.0, open_minimum=True),

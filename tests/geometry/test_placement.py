@@ -40,7 +40,7 @@ def test_the_hinge_is_turned_until_the_trunnion_reaches_every_sub_part():
 
 
 def test_no_reachable_placement_names_every_one_tried():
-    def along_x(shape):
+    def along_x(shape, placement):
         return BuildPlan([SubPart(0, shape, np.array([1.0, 0.0, 0.0]))], order=[0])
 
     machine = load_machine("three_axis")

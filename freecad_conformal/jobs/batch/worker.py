@@ -42,11 +42,9 @@ def _load(path: Path, body: str):
 
 def plan_gcode(shape, options, part: str):
     """The plan command's pipeline (options checked first: it is quick) -> JobResult."""
-    from freecad_conformal.jobs.plan import check_options, machine_plan, run_job
+    from freecad_conformal.jobs.plan import plan_job
 
-    check_options(shape, options)
-    shape, plan = machine_plan(shape, options)
-    return run_job(shape, plan, options, part=part)
+    return plan_job(shape, options, part=part)
 
 
 def run_part(job: PartJob, options) -> dict[str, Any]:

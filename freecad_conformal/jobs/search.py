@@ -1,0 +1,140 @@
+"""The plan a user pays least for: candidate plans ranked by residual overhang, then cost.
+
+Candidates for a part of one solid with `root="auto"`:
+- the whole solid in one piece along every direction that leaves it support-free standing
+  on a flat face (the cube's 26 directions and the normals of its largest planar faces,
+  `geometry/overhang.orientation_candidates`): a planar slicer's "place on face";
+- when no such direction exists, its decomposition (`decomposition/decompose.py`, which
+  plans from the root as placed and from the single direction with least overhang and keeps
+  the one that leaves less), and, should that keep more overhang than the solid turned
+  whole to its best single direction, the solid built whole that way.
+Each is laid out on the machine as it would be built (`jobs/plan.machine_plan`), sliced, and
+costed without planning paths (`paths/cost.py`: within 10 % of the full plan's estimate).
+The plan with the least residual overhang wins; among those within `OVERHANG_TIE` of it,
+the cheapest by the objective: time, material, or balanced (each candidate's time and
+material over the least of either, summed).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from freecad_conformal.decomposition.planner import MIN_SAVING
+from freecad_conformal.decomposition.subparts import BuildPlan
+from freecad_conformal.errors import PlanError
+from freecad_conformal.geometry.overhang import (MIN_BASE_AREA, base_area, best_single_direction,
+                                                 orientation_candidates, overhang_area)
+from freecad_conformal.geometry.sections import extent_along
+from freecad_conformal.layers.model import Layer
+from freecad_conformal.layers.plan import plan_layers
+from freecad_conformal.paths.assemble import PathSettings
+from freecad_conformal.paths.cost import Motion, PlanCost, plan_cost
+from freecad_conformal.settings.plan import OBJECTIVES
+
+#: Residual overhang (mm²) this close to the least is a tie, settled by cost.
+OVERHANG_TIE = 1.0
+#: At most this many support-free whole orientations are costed (lowest first: fewest layers).
+MAX_WHOLE_ORIENTATIONS = 8
+
+
+@dataclass
+class Candidate:
+    """One way to build the part, laid out on the machine, sliced and costed."""
+
+    label: str
+    placed: object
+    plan: BuildPlan
+    layers: dict[int, list[Layer]]
+    cost: PlanCost
+
+    @property
+    def overhang(self) -> float:
+        return float(self.plan.support_area)
+
+    @property
+    def sub_parts(self) -> int:
+        return sum(1 for sub in self.plan.subparts if self.layers.get(sub.index))
+
+    def row(self, chosen: bool = False) -> dict:
+        """The candidate as report data."""
+        return {"label": self.label, "sub_parts": self.sub_parts,
+                "residual_overhang_mm2": self.overhang,
+                "material_mm3": self.cost.material, "time_s": self.cost.seconds,
+                "chosen": chosen}
+
+
+def ranked(candidates: list[Candidate], objective: str) -> list[Candidate]:
+    """Best first: least residual overhang (within OVERHANG_TIE), then the objective."""
+    if objective not in OBJECTIVES:
+        raise PlanError(f"objective must be one of {', '.join(OBJECTIVES)}, got {objective!r}")
+    if not candidates:
+        return []
+    least = min(c.overhang for c in candidates)
+    fastest = min(c.cost.seconds for c in candidates) or 1.0
+    leanest = min(c.cost.material for c in candidates) or 1.0
+
+    def score(c: Candidate) -> tuple[bool, float, float]:
+        value = {"time": c.cost.seconds, "material": c.cost.material,
+                 "balanced": c.cost.seconds / fastest + c.cost.material / leanest}[objective]
+        return c.overhang > least + OVERHANG_TIE, value, c.overhang
+
+    return sorted(candidates, key=score)
+
+
+def _whole_directions(solid, angle: float) -> list[np.ndarray]:
+    """Directions that leave the whole solid support-free on a flat face, lowest first."""
+    found = [d for d in orientation_candidates(solid)
+             if overhang_area(solid, d, angle) <= MIN_SAVING and base_area(solid, d) >= MIN_BASE_AREA]
+
+    def height(d: np.ndarray) -> float:
+        low, high = extent_along(solid, d)
+        return high - low
+
+    return sorted(found, key=height)[:MAX_WHOLE_ORIENTATIONS]
+
+
+def _text(vector) -> str:
+    return "(" + ", ".join(f"{float(c):+.3g}" for c in vector) + ")"
+
+
+def plan_candidates(solid, make_plan: Callable[[object, bool], tuple], layer_settings,
+                    path_settings: PathSettings, motion: Motion, angle: float,
+                    progress: Callable[[str], None] | None = None) -> list[Candidate]:
+    """Every candidate for one solid (see the module docstring). `make_plan(root, split)`
+    returns (placed shape, plan) as `jobs/plan.machine_plan` lays it out with that root
+    ("auto" or a direction of the part as given) and split (decompose, or build whole)."""
+    makers: list[tuple[str, object, bool]] = [
+        (f"whole along {_text(d)}", tuple(float(c) for c in d), False)
+        for d in _whole_directions(solid, angle)]
+    if not makers:
+        makers = [("decomposed", "auto", True)]
+    candidates: list[Candidate] = []
+    reasons: list[str] = []
+    for label, root, split in makers:
+        if progress is not None:
+            progress(label)
+        try:
+            placed, plan = make_plan(root, split)
+        except PlanError as exc:
+            if len(makers) == 1:
+                raise
+            reasons.append(f"{label}: {exc}")
+            continue
+        layers = {sub.index: plan_layers(sub, layer_settings) for sub in plan.ordered()}
+        if not any(layers.values()):
+            reasons.append(f"{label}: no layer")
+            continue
+        cost = plan_cost(plan, layers, path_settings, motion)
+        candidates.append(Candidate(label, placed, plan, layers, cost))
+        if split and plan.support_area > plan.support_area_single_direction + MIN_SAVING:
+            # The decomposition kept more overhang than the solid turned whole (a split OCC
+            # could not make): building it whole that way is a candidate too (this loop
+            # reaches it).
+            direction, _ = best_single_direction(solid, angle)
+            makers.append((f"whole along {_text(direction)}",
+                           tuple(float(c) for c in direction), False))
+    if not candidates:
+        raise PlanError("no candidate plan could be made for the part: " + "; ".join(reasons))
+    return candidates

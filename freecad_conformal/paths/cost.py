@@ -1,0 +1,330 @@
+"""What a plan will cost before its paths are planned: print time and material per layer.
+
+The fill of `paths.fill2d` is measured, not planned: per layer the perimeter loops are the
+fill's own offsets of the section (`perimeter_rings`), the infill areas its own split into
+solid and sparse (skins, pieces under `solid_below_area`), and the infill rows its own scan
+lines (`scan_pieces` at the fewest-turns angle), so lengths and material match the fill.
+What is skipped is the expensive part: linking rows into zigzags, ordering, mapping to 3D
+and building the toolpath. Times come from the motion model of `paths.timing` applied to
+the pieces: every loop is run through the jerk and acceleration model edge by edge; every
+infill row accelerates from and brakes to the speed of a zigzag's 90° turn; travels between
+islands, loops and rows start and stop at rest. A layer shorter than the minimum layer
+time is slowed as `paths.assemble` slows it (concurrent sub-parts share their levels), and
+the moves between sub-parts follow `paths.approach.transition`.
+
+The estimate is calibrated against the full plan's own estimate (`paths.timing`), within
+`CALIBRATION_GOAL` on every sample part and every part of the shared set (a test).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+import shapely
+from shapely.geometry import MultiPolygon, Polygon
+
+from freecad_conformal.decomposition.subparts import BuildPlan
+from freecad_conformal.layers.model import Layer
+from freecad_conformal.paths.approach import SAFE_MARGIN, bounding_sphere, transition
+from freecad_conformal.paths.assemble import (PERIMETER_ROLES, SIMPLIFY_FRACTION,
+                                              SMALL_PERIMETER_LENGTH, PathSettings, together)
+from freecad_conformal.paths.bead import bead_area, bead_spacing
+from freecad_conformal.paths.fill2d import (LINE_END_INSET, MITRE_LIMIT, scan_pieces,
+                                            fewest_turns_angle, perimeter_rings, polygons_of,
+                                            valid_region)
+from freecad_conformal.paths.map3d import skin_regions
+from freecad_conformal.paths.timing import DEFAULT_JERK, junction_speeds, move_times
+
+#: The estimate's promise: within 10 % of the full plan's time and material (issue 16).
+CALIBRATION_GOAL = 0.10
+#: A zigzag turns 90° into its connector and 90° out of it: the jerk model's corner speed.
+ZIGZAG_TURN = math.pi / 2
+
+
+@dataclass(frozen=True)
+class Motion:
+    """The machine's motion limits the full plan's estimate uses (mm/s, mm/s²)."""
+
+    acceleration: float
+    jerk: float = DEFAULT_JERK
+    max_feed: float | None = None       # mm/min, caps work moves
+    rapid_feed: float | None = None     # mm/min, caps travels
+
+    @classmethod
+    def of(cls, machine, jerk: float = DEFAULT_JERK) -> "Motion":
+        return cls(machine.acceleration, jerk, machine.max_feed, machine.rapid_feed)
+
+    def work_speed(self, feed: float) -> float:
+        return (min(feed, self.max_feed) if self.max_feed else feed) / 60.0
+
+    def travel_speed(self, feed: float) -> float:
+        return (min(feed, self.rapid_feed) if self.rapid_feed else feed) / 60.0
+
+
+@dataclass
+class LayerCost:
+    """One layer: seconds at full speed (with acceleration), the same without acceleration
+    (what the cooling rule reads), material (mm³) and deposited length (mm)."""
+
+    level: float
+    seconds: float
+    nominal_seconds: float
+    travel_nominal_seconds: float
+    material: float
+    length: float
+
+
+@dataclass
+class SubPartCost:
+    index: int
+    layers: list[LayerCost] = field(default_factory=list)
+
+    @property
+    def material(self) -> float:
+        return float(sum(c.material for c in self.layers))
+
+    @property
+    def seconds(self) -> float:
+        return float(sum(c.seconds for c in self.layers))
+
+
+@dataclass
+class PlanCost:
+    """The estimate of a whole plan: seconds and material (mm³), per sub-part too."""
+
+    seconds: float
+    material: float
+    subparts: dict[int, SubPartCost]
+    transition_seconds: float
+
+    def objective(self, name: str, reference: "PlanCost | None" = None) -> float:
+        """The number to minimise: seconds, mm³, or (balanced) their sum relative to
+        `reference` (default: this plan, so 2.0)."""
+        if name == "time":
+            return self.seconds
+        if name == "material":
+            return self.material
+        ref = reference or self
+        return self.seconds / max(ref.seconds, 1e-9) + self.material / max(ref.material, 1e-9)
+
+
+def _segments_time(lengths: np.ndarray, speed: float, edge: float, motion: Motion) -> np.ndarray:
+    """Time of straight moves at `speed` (mm/s) that start and end at `edge` mm/s."""
+    v, a = speed, motion.acceleration
+    edge = min(edge, v)
+    ramp = (v * v - edge * edge) / a              # distance to reach v and brake back
+    cruise = lengths >= ramp
+    full = lengths / v + (v - edge) ** 2 / (a * v)
+    peak = np.sqrt(np.maximum(a * lengths + edge * edge, 0.0))
+    short = 2.0 * (peak - edge) / a
+    return np.where(cruise, full, short)
+
+
+def _ring_time(ring: np.ndarray, speed: float, motion: Motion) -> float:
+    """A closed loop run through the jerk and acceleration model, starting from rest."""
+    steps = np.diff(ring, axis=0)
+    lengths = np.linalg.norm(steps, axis=1)
+    keep = lengths > 0
+    steps, lengths = steps[keep], lengths[keep]
+    if not len(lengths):
+        return 0.0
+    directions = steps / lengths[:, None]
+    speeds = np.full(len(lengths), speed)
+    junction = junction_speeds(directions, speeds, motion.jerk)
+    return float(move_times(lengths, speeds, junction, motion.acceleration).sum())
+
+
+@dataclass
+class _Tally:
+    seconds: float = 0.0
+    nominal: float = 0.0
+    length: float = 0.0
+    travel_count: int = 0
+    travel_length: float = 0.0
+
+    def work(self, length: float, seconds: float, feed_mm_s: float) -> None:
+        self.seconds += seconds
+        self.nominal += length / feed_mm_s
+        self.length += length
+
+    def travel(self, length: float) -> None:
+        self.travel_count += 1
+        self.travel_length += length
+
+
+def _perimeters(island: Polygon, settings: PathSettings, spacing: float, motion: Motion,
+                tally: _Tally) -> int:
+    width = settings.fill.bead_width
+    depths = perimeter_rings(island, width, settings.fill.perimeters, spacing)
+    for depth, rings in enumerate(depths):
+        role = PERIMETER_ROLES[0] if depth == 0 else PERIMETER_ROLES[1]
+        for ring in rings:
+            length = float(np.linalg.norm(np.diff(ring, axis=0), axis=1).sum())
+            feed = settings.feeds.for_role(role)
+            if length <= SMALL_PERIMETER_LENGTH:
+                feed = min(feed, settings.feeds.small_perimeter)
+            speed = motion.work_speed(feed)
+            tally.work(length, _ring_time(ring, speed, motion), speed)
+            tally.travel(spacing)
+    return len(depths)
+
+
+def _rows(area, pitch: float, angle: float, speed: float, motion: Motion,
+          tally: _Tally) -> None:
+    """The zigzag rows of `area`: each row accelerates from and brakes to the turn speed;
+    the connectors between rows are one pitch each; a piece that does not follow on one of
+    the row before (more pieces than there, or a row skipped) starts a chain: a travel."""
+    pieces, _ = scan_pieces(area, pitch, angle)
+    if not len(pieces):
+        return
+    lengths = pieces[:, 2] - pieces[:, 1]
+    turn = motion.jerk / (2.0 * math.sin(ZIGZAG_TURN / 2.0))
+    rows, counts = np.unique(pieces[:, 0], return_counts=True)
+    # A chain starts wherever a row has more pieces than the row before (or follows a gap).
+    before = np.concatenate(([0], np.where(np.diff(rows) == 1, counts[:-1], 0)))
+    chains = int(np.maximum(counts - before, 0).sum())
+    links = len(pieces) - chains
+    seconds = _segments_time(lengths, speed, turn, motion).sum()
+    seconds += links * float(_segments_time(np.array([pitch]), speed, turn, motion)[0])
+    tally.work(float(lengths.sum()) + links * pitch, float(seconds), speed)
+    for _ in range(chains):
+        tally.travel(math.sqrt(max(area.area, 0.0)) * 0.5)
+
+
+def _infill(island: Polygon, depth_count: int, solid, settings: PathSettings, spacing: float,
+            layer_index: int, motion: Motion, tally: _Tally) -> None:
+    fill = settings.fill
+    width = fill.bead_width
+    inset = 0.5 * width + (depth_count - 0.5 - fill.infill_overlap + LINE_END_INSET) * spacing
+    inner = (island.buffer(-inset, join_style="mitre", mitre_limit=MITRE_LIMIT)
+             if depth_count else island)
+    if inner.is_empty:
+        return
+    dense = inner.intersection(solid) if solid is not None and not solid.is_empty else Polygon()
+    sparse = inner.difference(dense) if not dense.is_empty else inner
+    small = [p for p in polygons_of(sparse) if p.area < fill.solid_below_area]
+    if small and fill.density < 1.0:
+        dense = dense.union(MultiPolygon(small))
+        sparse = sparse.difference(MultiPolygon(small))
+    for area, pitch, role in ((dense, spacing, "solid_infill"),
+                              (sparse, spacing / fill.density if fill.density > 0 else 0.0,
+                               "infill")):
+        if area.is_empty or pitch <= 0 or area.area < width * width:
+            continue
+        angle = fill.angle if fill.angle is not None else fewest_turns_angle(area, pitch)
+        if fill.alternate and layer_index % 2:
+            angle += math.pi / 2
+        _rows(area, pitch, angle, motion.work_speed(settings.feeds.for_role(role)), motion, tally)
+
+
+def _travel_seconds(length: float, motion: Motion, feed: float) -> float:
+    if length <= 0:
+        return 0.0
+    return float(_segments_time(np.array([length]), motion.travel_speed(feed), 0.0, motion)[0])
+
+
+def layer_cost(layer: Layer, skin, settings: PathSettings, motion: Motion) -> LayerCost:
+    """Time and material of one layer filled as `paths.fill2d` fills it (`skin`: its solid
+    area, from `paths.map3d.skin_regions`)."""
+    width = settings.fill.bead_width
+    spacing = bead_spacing(width, layer.thickness, settings.fill.bead_model)
+    region = valid_region(layer.region.simplify(width * SIMPLIFY_FRACTION))
+    solid = None if skin is None else valid_region(skin)
+    tally = _Tally()
+    islands = polygons_of(region)
+    for island in islands:
+        try:
+            depths = _perimeters(island, settings, spacing, motion, tally)
+            _infill(island, depths, solid, settings, spacing, layer.index, motion, tally)
+        except shapely.errors.GEOSException:
+            continue   # the fill raises a named error for this island; the estimate skips it
+    level = float(layer.top_point @ layer.top_normal)
+    if tally.length <= 0:
+        return LayerCost(level, 0.0, 0.0, 0.0, 0.0, 0.0)   # nothing a bead can follow
+    # From island to island, and from the last path to the next layer's first one.
+    bounds = region.bounds if not region.is_empty else (0.0, 0.0, 0.0, 0.0)
+    size = math.hypot(bounds[2] - bounds[0], bounds[3] - bounds[1])
+    tally.travel(0.5 * size)
+    if len(islands) > 1:
+        centres = np.array([[p.centroid.x, p.centroid.y] for p in islands])
+        hops = np.linalg.norm(np.diff(centres[np.argsort(centres[:, 0])], axis=0), axis=1)
+        for hop in hops:
+            tally.travel(float(hop))
+    travel_feed = settings.feeds.travel
+    travel_seconds = tally.travel_count * _travel_seconds(
+        tally.travel_length / max(tally.travel_count, 1), motion, travel_feed)
+    travel_nominal = 60.0 * tally.travel_length / travel_feed
+    material = tally.length * bead_area(width, layer.thickness, settings.fill.bead_model)
+    return LayerCost(level, tally.seconds + travel_seconds, tally.nominal + travel_nominal,
+                     travel_nominal, material, tally.length)
+
+
+def subpart_cost(index: int, layers: Sequence[Layer], settings: PathSettings, motion: Motion,
+                 rests_on_parent: bool) -> SubPartCost:
+    """Every layer's cost of one sub-part (skins as the fill sees them)."""
+    skins = skin_regions(layers, settings.top_layers, settings.bottom_layers, rests_on_parent)
+    return SubPartCost(index, [layer_cost(layer, skin, settings, motion)
+                               for layer, skin in zip(layers, skins)])
+
+
+#: Layer tops of concurrent sub-parts closer than this (mm) are one level (paths.assemble).
+SAME_LEVEL = 1e-6
+
+
+def _cooled(costs: list[LayerCost], settings: PathSettings) -> float:
+    """Seconds of one level (the layers of concurrent sub-parts at one height), slowed as
+    `paths.assemble._layer_feeds` slows a level under the minimum layer time: deposits
+    capped at one speed, not below `min_speed`."""
+    seconds = sum(c.seconds for c in costs)
+    nominal = sum(c.nominal_seconds for c in costs)
+    if nominal >= settings.min_layer_time or nominal <= 0:
+        return seconds
+    travel = sum(c.travel_nominal_seconds for c in costs)
+    slowest = travel + 60.0 * sum(c.length for c in costs) / settings.min_speed
+    return max(seconds, min(settings.min_layer_time, slowest))
+
+
+def plan_cost(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSettings,
+              motion: Motion) -> PlanCost:
+    """Time and material of building `plan` with `layers`, without planning paths."""
+    subparts = {sub.index: subpart_cost(sub.index, layers[sub.index], settings, motion,
+                                        sub.parent is not None)
+                for sub in plan.ordered() if layers[sub.index]}
+    seconds = 0.0
+    moves = 0.0
+    built: list = []
+    previous = None
+    for group in together(plan, layers):
+        levels: list[tuple[float, list[LayerCost]]] = []
+        for cost in sorted((c for sub in group for c in subparts[sub.index].layers),
+                           key=lambda c: c.level):
+            if levels and cost.level - levels[-1][0] <= SAME_LEVEL:
+                levels[-1][1].append(cost)
+            else:
+                levels.append((cost.level, [cost]))
+        seconds += sum(_cooled(costs, settings) for _, costs in levels)
+        first = layers[group[0].index][0]
+        start = _centre_3d(first)
+        axis = np.asarray(first.top_normal, dtype=float)
+        if previous is None:
+            lift = SAFE_MARGIN + bounding_sphere([sub.shape for sub in group])[1]
+            moves += 2.0 * _travel_seconds(lift, motion, settings.feeds.travel)
+        else:
+            centre, radius = bounding_sphere(built)
+            points, _ = transition(previous[0], previous[1], start, axis, centre, radius)
+            path = np.vstack((previous[0][None], points))
+            lengths = np.linalg.norm(np.diff(path, axis=0), axis=1)
+            moves += sum(_travel_seconds(float(x), motion, settings.feeds.travel)
+                         for x in lengths)
+        last = layers[group[-1].index][-1]
+        previous = (_centre_3d(last), np.asarray(last.top_normal, dtype=float))
+        built.extend(sub.shape for sub in group)
+    material = float(sum(cost.material for cost in subparts.values()))
+    return PlanCost(seconds + moves, material, subparts, moves)
+
+
+def _centre_3d(layer: Layer) -> np.ndarray:
+    centroid = layer.region.centroid
+    return layer.to_3d(np.array([[centroid.x, centroid.y]]))[0]
