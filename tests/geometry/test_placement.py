@@ -25,18 +25,32 @@ def test_turn_up_puts_the_direction_along_z():
 
 @pytest.mark.slow
 def test_the_hinge_is_turned_until_the_trunnion_reaches_every_sub_part():
-    """As modelled its lugs need the tool along −Z (A = 180°, beyond ±120°). (Left to
-    `root="auto"` the hinge is built turned over whole, support-free: the root is pinned
-    to +Z here to exercise the placement.)"""
+    """As modelled its lugs need the tool along −Z (A = 180°, beyond ±120°). A decomposition
+    that builds the root along +Z of whatever it is given (left to "auto" the hinge is built
+    turned over whole, support-free) is given the part turned over, lugs up."""
+    from freecad_conformal.decomposition.decompose import decompose
+
+    def root_up(placed, **options):
+        return decompose(placed, **{**options, "root_direction": (0.0, 0.0, 1.0)})
+
     hinge = samples.hinge()
-    options = PlanOptions(machine="trunnion_ac", root=(0.0, 0.0, 1.0))
-    placed, plan = machine_plan(hinge, options)
+    options = PlanOptions(machine="trunnion_ac")
+    placed, plan = machine_plan(hinge, options, decompose=root_up)
     check_reach(load_machine("trunnion_ac"), plan)
     assert any("part placed with its" in note for note in plan.notes)
     assert placed.Volume == pytest.approx(hinge.Volume, rel=1e-6)
     assert plan.support_area == 0.0
     result = run_job(placed, plan, options, part="hinge")
     assert 0.3 * hinge.Volume < result.material_volume < 0.9 * hinge.Volume
+
+
+@pytest.mark.slow
+def test_a_root_given_stays_the_users_when_the_part_is_turned():
+    """`--root 0,0,1` is +Z of the part as given: turning the part does not turn the root
+    with it behind the user's back, so the hinge's lugs (−Z from that root) stay out of the
+    trunnion's reach in every placement, and the error says so."""
+    with pytest.raises(PlanError, match=r"no placement .* A = 180\.000°"):
+        machine_plan(samples.hinge(), PlanOptions(machine="trunnion_ac", root=(0.0, 0.0, 1.0)))
 
 
 def test_no_reachable_placement_names_every_one_tried():
