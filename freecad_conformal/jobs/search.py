@@ -6,8 +6,9 @@ Candidates for a part of one solid with `root="auto"`:
   `geometry/overhang.orientation_candidates`): a planar slicer's "place on face";
 - when no such direction exists, its decomposition (`decomposition/decompose.py`, which
   plans from the root as placed and from the single direction with least overhang and keeps
-  the one that leaves less), and, should that keep more overhang than the solid turned
-  whole to its best single direction, the solid built whole that way.
+  the one that leaves less), and, should that leave any overhang, the solid built whole
+  along its best single direction (splitting that does not remove the overhang only adds
+  walls and skins).
 Each is laid out on the machine as it would be built (`jobs/plan.machine_plan`), sliced, and
 costed without planning paths (`paths/cost.py`: within 10 % of the full plan's estimate).
 The plan with the least residual overhang wins; among those within `OVERHANG_TIE` of it,
@@ -128,10 +129,11 @@ def plan_candidates(solid, make_plan: Callable[[object, bool], tuple], layer_set
             continue
         cost = plan_cost(plan, layers, path_settings, motion)
         candidates.append(Candidate(label, placed, plan, layers, cost))
-        if split and plan.support_area > plan.support_area_single_direction + MIN_SAVING:
-            # The decomposition kept more overhang than the solid turned whole (a split OCC
-            # could not make): building it whole that way is a candidate too (this loop
-            # reaches it).
+        if split and plan.support_area > MIN_SAVING:
+            # The decomposition did not remove all overhang (the table's splayed legs), or
+            # kept more than turning the solid whole (a split OCC could not make): the solid
+            # built whole along its best single direction is a candidate too, and wins when
+            # it leaves no more overhang for less cost (this loop reaches it).
             direction, _ = best_single_direction(solid, angle)
             makers.append((f"whole along {_text(direction)}",
                            tuple(float(c) for c in direction), False))
