@@ -196,12 +196,16 @@ def _platform_centre(machine: Machine) -> np.ndarray:
 
 
 def centred_if_off_platform(shape, machine: Machine):
-    """(shape, note): a part modelled outside the machine's X/Y travel is moved over the
-    platform's centre (a note says by how much); any other part is left as placed."""
+    """(shape, note): a part that could leave the machine's X/Y travel once turned to be
+    built (its bounding sphere, about which the layout turns it, reaches outside) is moved
+    over the platform's centre (a note says by how much); any other part is left as placed.
+    The Pump_Nut, modelled at y 263..278 and 60 mm tall, reached y = 300.3 on its side."""
     limits = {axis.name: axis.limits for axis in machine.linear}
     box = shape.BoundBox
-    inside = all(name not in limits or (limits[name][0] <= low and high <= limits[name][1])
-                 for name, low, high in (("X", box.XMin, box.XMax), ("Y", box.YMin, box.YMax)))
+    radius = 0.5 * box.DiagonalLength
+    inside = all(name not in limits or (limits[name][0] <= centre - radius
+                                        and centre + radius <= limits[name][1])
+                 for name, centre in (("X", box.Center.x), ("Y", box.Center.y)))
     if inside:
         return shape, None
     centre = _platform_centre(machine)
@@ -211,9 +215,9 @@ def centred_if_off_platform(shape, machine: Machine):
     App, _ = import_freecad()
     moved = shape.copy()
     moved.translate(App.Vector(*shift))
-    return moved, (f"part modelled outside the machine's X/Y travel: moved by "
-                   f"({shift[0]:+.3f}, {shift[1]:+.3f}, +0.000) mm over the platform's centre; "
-                   "its G-code is in that frame")
+    return moved, (f"part modelled where, turned to be built, it could leave the machine's X/Y "
+                   f"travel: moved by ({shift[0]:+.3f}, {shift[1]:+.3f}, +0.000) mm over the "
+                   "platform's centre; its G-code is in that frame")
 
 
 def _part_size(shape) -> float:

@@ -81,8 +81,26 @@ def test_a_part_modelled_off_the_platform_is_moved_over_its_centre(Part):
     placed, plan = machine_plan(far, PlanOptions(decompose=False))
     centre = placed.BoundBox.Center
     assert abs(centre.x) < 1e-6 and abs(centre.y) < 1e-6
-    assert plan.notes[0].startswith("part modelled outside the machine's X/Y travel: moved by "
-                                    "(-1010.000, +690.000, +0.000) mm")
+    assert plan.notes[0].startswith("part modelled where, turned to be built, it could leave "
+                                    "the machine's X/Y travel: moved by (-1010.000, +690.000, "
+                                    "+0.000) mm")
+
+
+def test_a_part_that_could_leave_the_travel_once_turned_is_centred(Part):
+    """Inside the travel as modelled (y 265..285), but 60 mm tall: on its side it would
+    reach y = 305 (the Pump_Nut reached 300.3 and the post refused it)."""
+    from freecad_conformal.freecad_env import import_freecad
+    from freecad_conformal.jobs.plan import centred_if_off_platform
+    from freecad_conformal.post.machine import load_machine
+
+    App, _ = import_freecad()
+    machine = load_machine("trunnion_ac")
+    tall = Part.makeBox(20, 20, 60, App.Vector(50, 265, -30))
+    moved, note = centred_if_off_platform(tall, machine)
+    assert note is not None and "moved by (-60.000, -275.000, +0.000) mm" in note
+    assert moved.BoundBox.Center.y == pytest.approx(0.0, abs=1e-9)
+    small = Part.makeBox(20, 20, 10, App.Vector(50, 200, 0))
+    assert centred_if_off_platform(small, machine) == (small, None)
 
 
 def test_a_part_that_fits_no_orientation_is_refused_before_any_geometry_work(Part, monkeypatch):
