@@ -341,6 +341,18 @@ def _nearest(candidates: list[Path2D], position: np.ndarray, reversible: bool) -
     return int(np.argmin(gaps)), False
 
 
+#: Grid (mm) a region is snapped to when GEOS finds non-noded intersections in its
+#: Booleans: a hundred-thousandth of a millimetre moves no bead, and on a fixed-precision
+#: grid the overlay nodes every crossing.
+SNAP_GRID = 1e-5
+
+
+def _snapped(geometry):
+    if geometry is None or geometry.is_empty:
+        return geometry
+    return valid_region(shapely.set_precision(geometry, SNAP_GRID))
+
+
 def fill_layer(region, settings: FillSettings, layer_index: int = 0, solid=None,
                position: np.ndarray | None = None, height: float | None = None) -> list[Path2D]:
     """Ordered paths of one layer: per island, perimeters (innermost first) then infill.
@@ -366,9 +378,16 @@ def fill_layer(region, settings: FillSettings, layer_index: int = 0, solid=None,
         island = islands.pop(k)
         try:
             paths = _island_paths(island, settings, spacing, layer_index, solid, here)
-        except shapely.errors.GEOSException as exc:
-            raise PlanError(f"layer {layer_index}: the island at {island.representative_point().wkt} "
-                            f"({island.area:.3f} mm²) cannot be filled: {exc}") from None
+        except shapely.errors.GEOSException:
+            try:
+                # Nearly coincident edges of the island and its skin (non-noded
+                # intersections): the same on a fixed grid, where GEOS's overlay is robust.
+                paths = _island_paths(_snapped(island), settings, spacing, layer_index,
+                                      _snapped(solid), here)
+            except shapely.errors.GEOSException as exc:
+                raise PlanError(f"layer {layer_index}: the island at "
+                                f"{island.representative_point().wkt} ({island.area:.3f} mm²) "
+                                f"cannot be filled: {exc}") from None
         ordered.extend(paths)
         if paths:
             here = paths[-1].points[-1]

@@ -25,11 +25,8 @@ from freecad_conformal.paths.cost import CALIBRATION_GOAL, Motion, plan_cost
 from freecad_conformal.paths.map3d import skin_regions
 
 SAMPLE_PARTS = ("bracket", "jack", "hinge", "l_block", "t_block", "inclined_rod")
-SHARED_PARTS = ("CrankArm.brep", "MODERN_Table_1.brep", "bottle.brep", "revolved_sphere.step",
-                "screw.step", "sliced_cylinder.step", "wedge_ok.brep",
-                # The post cannot yet follow its tool through the trunnion's pole (issue 19).
-                pytest.param("Pump_Nut.brep", marks=pytest.mark.xfail(
-                    strict=True, reason="rotary joints jump at A = 0 in the post (issue 19)")))
+SHARED_PARTS = ("CrankArm.brep", "MODERN_Table_1.brep", "Pump_Nut.brep", "bottle.brep",
+                "revolved_sphere.step", "screw.step", "sliced_cylinder.step", "wedge_ok.brep")
 
 
 def _option(name: str, seconds: float, material: float, overhang: float = 0.0):
