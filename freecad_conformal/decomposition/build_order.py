@@ -89,7 +89,11 @@ def _search(subparts: list[SubPart], checker,
         ready = sorted((s for s in subparts if s.index not in done
                         and (s.parent is None or s.parent in done)),
                        key=lambda s: (-s.volume, s.index))
-        for s in ready:
+        # The check let concurrent sub-parts pass each other because the toolpath builds
+        # them together, layer by layer; it does so only for consecutive ones, so a ready
+        # concurrent mate of the last one placed comes next.
+        mates = [s for s in ready if done and checker.concurrent_with(done[-1], s.index)]
+        for s in mates or ready:
             tried += 1
             if tried > MAX_ORDERS_TRIED:
                 return None

@@ -180,13 +180,14 @@ class CollisionChecker:
         """Built sub-parts the envelope meets while sub-part `index` is deposited."""
         return [other for other in built if self._hits_one(index, other)]
 
-    def _concurrent(self, index: int, other: int) -> bool:
+    def concurrent_with(self, index: int, other: int) -> bool:
+        """Whether the two sub-parts are built together, layer by layer (`concurrent`)."""
         return concurrent(self.directions[index], self.levels[index],
                           self.directions[other], self.levels[other])
 
     def _hits_one(self, index: int, other: int) -> bool:
         key = (index, other)
-        if self._concurrent(index, other):
+        if self.concurrent_with(index, other):
             return False
         if key not in self._cache:
             d = self.directions[index]
