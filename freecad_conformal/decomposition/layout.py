@@ -123,6 +123,14 @@ def lay_out(plan: BuildPlan, gap: float) -> BuildPlan:
     return laid
 
 
+def shifted(plan: BuildPlan, offset) -> BuildPlan:
+    """A copy of the plan with every solid moved by `offset` (x, y) mm, noted."""
+    shift = np.array([float(offset[0]), float(offset[1]), 0.0])
+    moves = {k: SolidMove(k, UP.copy(), 0.0, np.zeros(3), shift.copy())
+             for k in sorted({sub.solid_index for sub in plan.subparts})}
+    return _moved(plan, moves)
+
+
 #: Sides a solid may be set beside the others: +X, −X, +Y, −Y (the first wins a tie).
 SIDES = (np.array([1.0, 0.0]), np.array([-1.0, 0.0]), np.array([0.0, 1.0]), np.array([0.0, -1.0]))
 

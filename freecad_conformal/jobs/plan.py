@@ -414,9 +414,26 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
 
     shape, centred = centred_if_off_platform(shape, machine)
     placed, plan, _ = reachable_plan(shape, planned, lambda p: check_reach(machine, p))
+    plan = _within_travel(plan, machine)
     if centred:
         plan.notes.insert(0, centred)
     return placed, plan
+
+
+def _within_travel(plan: BuildPlan, machine: Machine) -> BuildPlan:
+    """The laid-out plan moved over the platform's centre when its solids, set side by side,
+    reach outside the machine's X/Y travel (CrankArm's arm went to x = 355, past 300)."""
+    from freecad_conformal.decomposition.layout import shifted
+
+    limits = {axis.name: axis.limits for axis in machine.linear}
+    boxes = [sub.shape.BoundBox for sub in plan.subparts]
+    low = np.array([min(b.XMin for b in boxes), min(b.YMin for b in boxes)])
+    high = np.array([max(b.XMax for b in boxes), max(b.YMax for b in boxes)])
+    inside = all(name not in limits or (limits[name][0] <= low[k] and high[k] <= limits[name][1])
+                 for k, name in enumerate(("X", "Y")))
+    if inside:
+        return plan
+    return shifted(plan, _platform_centre(machine) - 0.5 * (low + high))
 
 
 def single_plan(shape, direction=(0.0, 0.0, 1.0)) -> BuildPlan:

@@ -94,3 +94,20 @@ def test_the_plan_builds_every_solid_from_the_platform(App, Part):
     for sub in plan.subparts:
         tips = np.vstack([path.points for path in result.assembly.paths if path.subpart == sub.index])
         assert tips[:, 2].min() == pytest.approx(options.layers.thickness, abs=1e-9), sub.name
+
+
+def test_solids_set_side_by_side_past_the_travel_are_moved_back_over_the_platform(App, Part):
+    """A pin near the X limit with a ring hovering around it: set beside the pin the ring
+    would end past x = 300 (CrankArm's arm reached 355); the arrangement is moved over the
+    platform's centre instead, and the notes say so."""
+    from freecad_conformal.jobs.plan import PlanOptions, machine_plan
+
+    pin = Part.makeCylinder(3, 40, App.Vector(270, 0, 0))
+    ring = Part.makeCylinder(10, 5, App.Vector(270, 0, 15)).cut(
+        Part.makeCylinder(4, 5, App.Vector(270, 0, 15)))
+    _, plan = machine_plan(Part.Compound([pin, ring]), PlanOptions(decompose=False))
+    boxes = [sub.shape.BoundBox for sub in plan.subparts]
+    low, high = min(b.XMin for b in boxes), max(b.XMax for b in boxes)
+    assert -300.0 <= low and high <= 300.0
+    assert abs(0.5 * (low + high)) < 1e-6               # over the trunnion's pivot
+    assert sum("laid out on the platform" in note for note in plan.notes) >= 3
