@@ -274,13 +274,22 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
     the root left to "auto", decomposition on and one solid, the candidates of
     `jobs/search.py` (support-free whole orientations, else the decomposition) are laid out,
     sliced and costed, and the least residual overhang, then the cheapest by
-    `options.objective`, wins; otherwise the one plan of `machine_plan`. `progress(text)`
-    hears of each candidate."""
+    `options.objective`, wins; otherwise the one plan of `machine_plan`, or each solid built
+    whole when no decomposition can be built. `progress(text)` hears of each candidate."""
     from freecad_conformal.geometry.solids import solids_of
 
     solids = solids_of(shape)
     if not (options.decompose and isinstance(options.root, str) and len(solids) == 1):
-        placed, plan = machine_plan(shape, options, decompose)
+        try:
+            placed, plan = machine_plan(shape, options, decompose)
+        except PlanError as exc:
+            if not options.decompose:
+                raise
+            # No decomposition can be built (no collision-free order): each solid whole is
+            # what a user can still print.
+            placed, plan = machine_plan(shape, options, decompose, split=False)
+            plan.notes.insert(0, f"no decomposition could be built ({exc}); each solid is "
+                                 "built whole")
         return Choice(placed, plan)
     from freecad_conformal.geometry.overhang import DEFAULT_OVERHANG_ANGLE
     from freecad_conformal.jobs.search import plan_candidates, ranked

@@ -6,9 +6,8 @@ Candidates for a part of one solid with `root="auto"`:
   `geometry/overhang.orientation_candidates`): a planar slicer's "place on face";
 - when no such direction exists, its decomposition (`decomposition/decompose.py`, which
   plans from the root as placed and from the single direction with least overhang and keeps
-  the one that leaves less), and, should that leave any overhang, the solid built whole
-  along its best single direction (splitting that does not remove the overhang only adds
-  walls and skins).
+  the one that leaves less), and, should that leave any overhang or fail (no collision-free
+  order), the solid built whole along its best single direction (splitting that does not remove the overhang only adds walls and skins).
 Each is laid out on the machine as it would be built (`jobs/plan.machine_plan`), sliced, and
 costed without planning paths (`paths/cost.py`: within 10 % of the full plan's estimate).
 The plan with the least residual overhang wins; among those within `OVERHANG_TIE` of it,
@@ -49,6 +48,8 @@ class Candidate:
     plan: BuildPlan
     layers: dict[int, list[Layer]]
     cost: PlanCost
+    #: made by the decomposition (False: the solid built whole)
+    split: bool = False
 
     @property
     def overhang(self) -> float:
@@ -112,31 +113,44 @@ def plan_candidates(solid, make_plan: Callable[[object, bool], tuple], layer_set
     if not makers:
         makers = [("decomposed", "auto", True)]
     candidates: list[Candidate] = []
-    reasons: list[str] = []
+    failures: list[tuple[str, PlanError]] = []
+    notes: list[str] = []
+
+    def whole_along_best() -> None:
+        # This loop reaches it.
+        direction, _ = best_single_direction(solid, angle)
+        makers.append((f"whole along {_text(direction)}", tuple(float(c) for c in direction),
+                       False))
+
     for label, root, split in makers:
         if progress is not None:
             progress(label)
         try:
             placed, plan = make_plan(root, split)
         except PlanError as exc:
-            if len(makers) == 1:
-                raise
-            reasons.append(f"{label}: {exc}")
+            failures.append((label, exc))
+            if split:
+                # No support-free decomposition can be built (no collision-free order):
+                # the part built whole, with its overhang, is what a user can still print.
+                notes.append(f"no decomposition could be built ({exc}); built whole instead")
+                whole_along_best()
             continue
         layers = {sub.index: plan_layers(sub, layer_settings) for sub in plan.ordered()}
         if not any(layers.values()):
-            reasons.append(f"{label}: no layer")
+            failures.append((label, PlanError("the part is thinner than one layer")))
             continue
+        plan.notes.extend(notes)
         cost = plan_cost(plan, layers, path_settings, motion)
-        candidates.append(Candidate(label, placed, plan, layers, cost))
+        candidates.append(Candidate(label, placed, plan, layers, cost, split))
         if split and plan.support_area > MIN_SAVING:
             # The decomposition did not remove all overhang (the table's splayed legs), or
             # kept more than turning the solid whole (a split OCC could not make): the solid
             # built whole along its best single direction is a candidate too, and wins when
-            # it leaves no more overhang for less cost (this loop reaches it).
-            direction, _ = best_single_direction(solid, angle)
-            makers.append((f"whole along {_text(direction)}",
-                           tuple(float(c) for c in direction), False))
+            # it leaves no more overhang for less cost.
+            whole_along_best()
     if not candidates:
-        raise PlanError("no candidate plan could be made for the part: " + "; ".join(reasons))
+        if len(failures) == 1:
+            raise failures[0][1]
+        raise PlanError("no candidate plan could be made for the part: "
+                        + "; ".join(f"{label}: {exc}" for label, exc in failures))
     return candidates

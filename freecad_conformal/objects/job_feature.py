@@ -94,7 +94,7 @@ def compute_job(inputs: dict, progress) -> dict:
     choice = choose_plan(shape, options, checked, decompose=recording_decompose(before_layout),
                          progress=lambda text: progress(0.1, f"plan: {text}"))
     placed, plan = choice.placed, choice.plan
-    if not before_layout or len(choice.candidates) > 1:
+    if not before_layout or (choice.candidates and not choice.candidates[0].split):
         # Built whole (undecomposed, or a whole orientation won): one sub-part per solid.
         before_layout = dict(enumerate(solids_of(placed)))
     count = max(len(plan.subparts), 1)

@@ -164,3 +164,29 @@ def test_the_cost_is_calibrated_on_the_samples(name):
 @pytest.mark.parametrize("name", SHARED_PARTS)
 def test_the_cost_is_calibrated_on_the_real_parts(parts_dir, name):
     _check_calibrated(load_shape(parts_dir / name), name)
+
+
+@pytest.mark.slow
+def test_a_decomposition_that_cannot_be_built_gives_way_to_the_whole_part():
+    """No support-free orientation, and the decomposition fails (as with no collision-free
+    order): the part built whole along its best single direction is still a plan, and its
+    notes say why, instead of no plan at all."""
+    from freecad_conformal.geometry.overhang import DEFAULT_OVERHANG_ANGLE
+    from freecad_conformal.jobs.plan import machine_plan
+    from freecad_conformal.jobs.search import plan_candidates
+
+    jack = samples.jack()
+    options = plan_options({})
+    checked = check_options(jack, options)
+
+    def make_plan(root, split):
+        if split:
+            raise PlanError("no collision-free build order for 6 sub-parts: P2 would hit P1")
+        return machine_plan(jack, PlanOptions(root=root, decompose=False))
+
+    found = plan_candidates(jack, make_plan, options.layers, checked[3],
+                            Motion.of(checked[4], options.jerk), DEFAULT_OVERHANG_ANGLE)
+    assert [c.label.split(" (")[0] for c in found] == ["whole along"]
+    assert found[0].overhang > 100.0 and found[0].sub_parts == 1
+    assert any("no decomposition could be built (no collision-free build order" in note
+               for note in found[0].plan.notes)
