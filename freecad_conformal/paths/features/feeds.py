@@ -39,7 +39,7 @@ class CureSetting:
     def describe(self, what: str) -> str:
         return (f"{what} {self.width:.3f} mm at {self.feed:.1f} mm/min "
                 f"({self.feed / _SECONDS_PER_MINUTE:.3f} mm/s), {self.power:g} W, "
-                f"{self.energy_per_mm:.3f} J/mm [{self.source}]")
+                f"{self.energy_per_mm:.3f} J/mm ({self.source})")
 
 
 def material_settings(tool: Tool, material: str | None = None) -> tuple[str, ProcessSettings]:
@@ -115,7 +115,7 @@ def _setting(fit: WorkingCurveFit | None, tool: Tool, settings: ProcessSettings,
         raise PlanError(f"{what}: {width:g} mm needs {model_feed:.4g} mm/min, faster than "
                         f"{max_feed:g} mm/min; {tool.id} cures no narrower than "
                         f"{narrowest:.3g} mm at {power:g} W")
-    return CureSetting(model_feed, width, power, fit.describe())
+    return CureSetting(model_feed, width, power, f"{fit.motion} curing fit")
 
 
 def line_setting(tool: Tool, width: float, feed: float | None = None,
