@@ -23,3 +23,16 @@ def plan_feature(face, kind: str, values: Mapping[str, Any], what: str = "", par
                "pattern": planners.plan_pattern, "channels": planners.plan_channels,
                "texture": planners.plan_texture}[kind]
     return planner(settings, face, what or kind, part=part)
+
+
+def plan_features(part, features, what: str = "features", collision_rule: str = "envelope"):
+    """One program for several features of `part`: (face, kind, values, name) each, in
+    order, tool changes where the tool changes, every move checked (planners.plan_sequence)."""
+    from freecad_conformal.paths.features import planners
+
+    items = []
+    for face, kind, values, name in features:
+        if kind not in KINDS:
+            raise PlanError(f"{name}: feature kind must be one of {', '.join(KINDS)}, got {kind!r}")
+        items.append((SimpleNamespace(**validate(FEATURE_SETTINGS, values)), face, kind, name))
+    return planners.plan_sequence(items, part, what, collision_rule)

@@ -17,7 +17,8 @@ from freecad_conformal.geometry.faces import domain_grid, face_kind, normals_at,
 
 #: The refined facing point's normal is within this angle (rad) of the best one.
 ANGLE_TOLERANCE = 1e-9
-_GRID = 16
+_GRID = 24
+_SEEDS = 8
 
 
 def _on_face(face, uv) -> bool:
@@ -66,10 +67,15 @@ def facing_point(face, direction) -> tuple[float, float]:
     grid = domain_grid(face, _GRID)
     if not len(grid):
         raise PlanError("the face has no interior point to centre a pattern on")
-    start = grid[int(np.argmax(normals_at(face, grid) @ up))]
-    result = minimize(lambda uv: _cost(face, up, uv), start, method="Nelder-Mead",
-                      options={"xatol": 1e-10, "fatol": ANGLE_TOLERANCE ** 2, "maxiter": 2000})
-    best = result.x if result.fun <= _cost(face, up, start) else start
+    # several seeds: a wavy face has local optima
+    seeds = grid[np.argsort(-(normals_at(face, grid) @ up))[:_SEEDS]]
+    best, best_cost = seeds[0], _cost(face, up, seeds[0])
+    for seed in seeds:
+        result = minimize(lambda uv: _cost(face, up, uv), seed, method="Nelder-Mead",
+                          options={"xatol": 1e-10, "fatol": ANGLE_TOLERANCE ** 2,
+                                   "maxiter": 2000})
+        if result.fun < best_cost:
+            best, best_cost = result.x, float(result.fun)
     return float(best[0]), float(best[1])
 
 

@@ -103,25 +103,26 @@ def channels_toolpath(face, tools: list[Tool], footprint, gaps, wall_height: flo
     base_tool, wall_tool = base_choice.recommended, wall_choice.recommended
     program = program or FeatureProgram(what)
     lift = base_thickness + wall_height + TRAVEL_CLEARANCE
-    base_number = program.use(base_tool)
     base_width = base_tool.spec.min_line_width
     base_setting = setting_for(base_tool, base_width, f"{what} base")
-    program.cures(base_number, base_setting, "base lines")
     base_paths, _ = pattern_paths(face, footprint, base_width, base_thickness,
                                   base_thickness, centre=centre, fill="zigzag", what=f"{what} base")
+    base_number = program.enter(base_tool, base_paths[0].points[0], base_paths[0].axes[0])
+    program.cures(base_number, base_setting, "base lines", base_thickness)
     patterns_toolpath(base_paths, base_setting.feed, base_number,
                       program.power_fraction(base_number, base_setting), lift=lift,
                       builder=program.builder, face=face,
                       energy_per_mm=base_setting.energy_per_mm)
     last = base_paths[-1]
-    wall_number = program.use(wall_tool, (last.points[-1] + lift * last.axes[-1], last.axes[-1]))
+    program.last = (last.points[-1] + lift * last.axes[-1], last.axes[-1])
     width = min(wall_tool.spec.min_line_width * 2, wall_width)
     wall_setting = setting_for(wall_tool, width, f"{what} walls")
-    program.cures(wall_number, wall_setting, "wall lines")
     wall_paths, _ = pattern_paths(face, walls, width, wall_height, layer, centre=centre,
                                   fill="contours", what=f"{what} walls")
     for path in wall_paths:                 # walls stand on the base
         path.points = path.points + base_thickness * path.axes
+    wall_number = program.enter(wall_tool, wall_paths[0].points[0], wall_paths[0].axes[0])
+    program.cures(wall_number, wall_setting, "wall lines", layer)
     patterns_toolpath(wall_paths, wall_setting.feed, wall_number,
                       program.power_fraction(wall_number, wall_setting), lift=lift,
                       builder=program.builder, face=face,
@@ -130,4 +131,6 @@ def channels_toolpath(face, tools: list[Tool], footprint, gaps, wall_height: flo
             f"gap {gap:.3g} mm): {wall_choice.explanation()}; rs {rs:.4g} mm, tilt up to "
             f"{math.degrees(tilt):.1f}°")
     program.choices.append(text)
+    end = wall_paths[-1]
+    program.last = (end.points[-1] + lift * end.axes[-1], end.axes[-1])
     return ChannelPlan(base_tool, wall_tool, program.builder, text)

@@ -37,6 +37,14 @@ def _part_points(part, face) -> np.ndarray:
     return clearance.part_samples(part if part is not None else face)
 
 
+def _done(program: FeatureProgram, owned: bool, part, face, rule: str,
+          check_part: bool = True) -> Toolpath | None:
+    """Finish a program this planner started; one shared with others is finished by its owner."""
+    if not owned:
+        return None
+    return program.finish(_part_points(part, face) if check_part else None, rule)
+
+
 def _chosen(s, library: ToolLibrary, program: FeatureProgram, face, cd: float,
             resolution: float | None, what: str, axes: np.ndarray | None = None) -> Tool:
     """The tool given by --tool, else the one the curvature rules choose for the face (the
@@ -49,7 +57,8 @@ def _chosen(s, library: ToolLibrary, program: FeatureProgram, face, cd: float,
     return choice.tool
 
 
-def plan_rods(s, face, what: str, part=None, library: ToolLibrary | None = None) -> Toolpath:
+def plan_rods(s, face, what: str, part=None, library: ToolLibrary | None = None,
+              program: FeatureProgram | None = None) -> Toolpath | None:
     """Rods normal to a sphere (rings round the pole) or a cylinder (rings along the axis)."""
     library = library or ToolLibrary.load()
     tool = library.get(s.tool or DEFAULT_TOOLS["rods"])
@@ -73,15 +82,17 @@ def plan_rods(s, face, what: str, part=None, library: ToolLibrary | None = None)
         _published_rule(layout, tool, what)
     else:
         rods.check_layout(layout, tool, what)
-    program = FeatureProgram(what)
-    number = program.use(tool)
+    program, owned = (FeatureProgram(what), True) if program is None else (program, False)
+    number = program.enter(tool, layout.bases[0], layout.axes[0])
     settings = feeds.rod_settings(tool, s.diameter_profile or [s.rod_diameter], s.feed,
                                   what=what)
     for setting in dict.fromkeys(settings):
         program.cures(number, setting, "rod")
     rods.rods_toolpath(layout, tool, settings, number, builder=program.builder,
                        max_power=max(getattr(tool.spec, "power_levels", None) or [settings[0].power]))
-    return program.finish(_part_points(part, face), s.collision_rule)
+    program.last = (layout.bases[-1] + (layout.length + rods.CLEARANCE) * layout.axes[-1],
+                    layout.axes[-1])
+    return _done(program, owned, part, face, s.collision_rule)
 
 
 def _published_rule(layout: rods.RodLayout, tool: Tool, what: str) -> None:
@@ -118,10 +129,11 @@ def _on_face(layout, face, what):
     return _subset(layout, keep)
 
 
-def plan_shell(s, face, what: str, part=None, library: ToolLibrary | None = None) -> Toolpath:
+def plan_shell(s, face, what: str, part=None, library: ToolLibrary | None = None,
+               program: FeatureProgram | None = None) -> Toolpath | None:
     """Rings by rotation on a sphere/cylinder/cone face, or an inverse conical cup."""
     library = library or ToolLibrary.load()
-    program = FeatureProgram(what)
+    program, owned = (FeatureProgram(what), True) if program is None else (program, False)
     if s.cup_height:
         tool = library.get(s.tool or DEFAULT_TOOLS["cup"])
     else:
@@ -135,30 +147,33 @@ def plan_shell(s, face, what: str, part=None, library: ToolLibrary | None = None
     width = s.width or (process.width if s.cup_height and process.width else None) \
         or tool.spec.min_line_width
     setting = feeds.line_setting(tool, width, s.feed, what=what)
-    number = program.use(tool)
-    program.cures(number, setting, "wall" if s.cup_height else "ring")
     if s.cup_height:
         first = feeds.line_setting(tool, width, setting.feed * shells.FIRST_LAYER_FEED_FACTOR,
                                    what=f"{what} first layer")
-        program.cures(number, first, "first layer")
         rings = shells.conical_cup(face, tool, s.cup_height, s.layer, setting.feed, s.first_layer,
                                    first_feed=first.feed, build_direction=s.build_direction,
                                    what=what, width=width)
-        travel_face, part_points, lift = None, None, TRAVEL_CLEARANCE
+        travel_face, lift = None, TRAVEL_CLEARANCE
     else:
         rings = shells.base_shell(face, tool, width, s.layers, s.layer, setting.feed, tilt,
                                   s.build_direction, what)
-        travel_face, part_points = face, _part_points(part, face)
+        travel_face = face
         lift = s.layers * s.layer + TRAVEL_CLEARANCE
+    number = program.enter(tool, rings[0].points[0], rings[0].axes[0])
+    program.cures(number, setting, "wall" if s.cup_height else "ring", s.layer)
+    if s.cup_height:
+        program.cures(number, first, "first layer", s.first_layer)
     shells.rings_toolpath(rings, number, program.power_fraction(number, setting), lift=lift,
                           builder=program.builder, face=travel_face, power_w=setting.power)
+    program.last = (rings[-1].points[-1] + lift * rings[-1].axes[-1], rings[-1].axes[-1])
     # the cup is the part being built: only what the program cures can be hit
-    return program.finish(part_points, s.collision_rule)
+    return _done(program, owned, part, face, s.collision_rule, check_part=not s.cup_height)
 
 
-def plan_pattern(s, face, what: str, part=None, library: ToolLibrary | None = None) -> Toolpath:
+def plan_pattern(s, face, what: str, part=None, library: ToolLibrary | None = None,
+                 program: FeatureProgram | None = None) -> Toolpath | None:
     library = library or ToolLibrary.load()
-    program = FeatureProgram(what)
+    program, owned = (FeatureProgram(what), True) if program is None else (program, False)
     region = outline_region(s, what)
     centre = pattern_centre(face, s.at, s.at_point, s.build_direction, what)
     finest = min(t.spec.min_line_width for t in _uv_tools(library))
@@ -173,20 +188,23 @@ def plan_pattern(s, face, what: str, part=None, library: ToolLibrary | None = No
                                           what=what)
     setting = feeds.line_setting(tool, width, s.feed, what=what)
     shells.check_tilt(np.vstack([p.axes for p in paths]), tool, s.build_direction, what)
-    number = program.use(tool)
-    program.cures(number, setting, "lines")
+    number = program.enter(tool, paths[0].points[0], paths[0].axes[0])
+    program.cures(number, setting, "lines", s.layer)
     patterns.patterns_toolpath(paths, setting.feed, number, program.power_fraction(number, setting),
                                lift=s.height + TRAVEL_CLEARANCE, builder=program.builder,
                                face=face, energy_per_mm=setting.energy_per_mm)
-    return program.finish(_part_points(part, face), s.collision_rule)
+    lift = s.height + TRAVEL_CLEARANCE
+    program.last = (paths[-1].points[-1] + lift * paths[-1].axes[-1], paths[-1].axes[-1])
+    return _done(program, owned, part, face, s.collision_rule)
 
 
-def plan_channels(s, face, what: str, part=None, library: ToolLibrary | None = None) -> Toolpath:
+def plan_channels(s, face, what: str, part=None, library: ToolLibrary | None = None,
+                  program: FeatureProgram | None = None) -> Toolpath | None:
     library = library or ToolLibrary.load()
     tools = _uv_tools(library)
     footprint, gaps = channels.straight_channels(s.channels, s.channel_length, s.gap, s.wall)
     centre = pattern_centre(face, s.at, s.at_point, s.build_direction, what)
-    program = FeatureProgram(what)
+    program, owned = (FeatureProgram(what), True) if program is None else (program, False)
 
     def setting_for(tool: Tool, width: float, part_what: str) -> feeds.CureSetting:
         return feeds.line_setting(tool, width, s.feed, what=part_what)
@@ -194,10 +212,11 @@ def plan_channels(s, face, what: str, part=None, library: ToolLibrary | None = N
     channels.channels_toolpath(face, tools, footprint, gaps, s.wall_height, s.layer, setting_for,
                                centre=centre, build_direction=s.build_direction, what=what,
                                program=program)
-    return program.finish(_part_points(part, face), s.collision_rule)
+    return _done(program, owned, part, face, s.collision_rule)
 
 
-def plan_texture(s, face, what: str, part=None, library: ToolLibrary | None = None) -> Toolpath:
+def plan_texture(s, face, what: str, part=None, library: ToolLibrary | None = None,
+                 program: FeatureProgram | None = None) -> Toolpath | None:
     """A masked tool's shape stamped on a grid or along a curve (paths/features/texture.py)."""
     library = library or ToolLibrary.load()
     tool = library.get(s.tool or "uv_mask_disk")
@@ -209,8 +228,8 @@ def plan_texture(s, face, what: str, part=None, library: ToolLibrary | None = No
     centre = pattern_centre(face, s.at, s.at_point, s.build_direction, what)
     stamps = texture.stamp_positions(face, centre, s.layout, s.pitch, s.extent, what)
     shells.check_tilt(stamps.normals, tool, s.build_direction, what)
-    program = FeatureProgram(what)
-    number = program.use(tool)
+    program, owned = (FeatureProgram(what), True) if program is None else (program, False)
+    number = program.enter(tool, stamps.points[0], stamps.normals[0])
     builder, lift = program.builder, s.thickness + TRAVEL_CLEARANCE
     fraction = min(power / max(getattr(tool.spec, "power_levels", None) or [power]), 1.0)
     if s.stamp == "dwell":
@@ -241,4 +260,27 @@ def plan_texture(s, face, what: str, part=None, library: ToolLibrary | None = No
         builder.event("light_off")
         previous_axis = normal
     retract(builder, previous, previous_axis, lift, 600.0, number)
-    return program.finish(_part_points(part, face), s.collision_rule)
+    program.last = (previous + lift * previous_axis, previous_axis)
+    return _done(program, owned, part, face, s.collision_rule)
+
+
+PLANNERS = {"rods": plan_rods, "shell": plan_shell, "pattern": plan_pattern,
+            "channels": plan_channels, "texture": plan_texture}
+
+
+def plan_sequence(features, part, what: str = "features", rule: str = "envelope",
+                  library: ToolLibrary | None = None) -> Toolpath:
+    """Several features of one part in one program, in order: `features` are (settings,
+    face, kind, what) tuples. Tool changes are inserted where the tool changes (the tool
+    retracts home first), and every move of the whole program is checked against the part
+    and everything built before it."""
+    library = library or ToolLibrary.load()
+    program = FeatureProgram(what)
+    cup = False
+    for s, face, kind, name in features:
+        if kind not in PLANNERS:
+            raise PlanError(f"{name}: unknown feature kind {kind!r}")
+        PLANNERS[kind](s, face, name, part, library, program=program)
+        cup = cup or (kind == "shell" and bool(s.cup_height))
+    # a cup is the part being built, so a program holding one is checked against itself only
+    return program.finish(None if cup else _part_points(part, None), rule)

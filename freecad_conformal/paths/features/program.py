@@ -36,7 +36,10 @@ class FeatureProgram:
     current: int | None = None
     notes: list[str] = field(default_factory=list)
     choices: list[str] = field(default_factory=list)
-    _widths: dict[tuple[int, float], float] = field(default_factory=dict)
+    #: (point, axis) where the last feature left the tool (the retract above its last cure);
+    #: the planners set it when they end
+    last: tuple[np.ndarray, np.ndarray] | None = None
+    _widths: dict[tuple[int, float], tuple[float, float]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         self.builder = ToolpathBuilder(part=self.what, material="UV resin")
@@ -50,22 +53,30 @@ class FeatureProgram:
         self.tools[number] = tool
         return number
 
-    def use(self, tool: Tool, last: tuple[np.ndarray, np.ndarray] | None = None) -> int:
-        """Make `tool` the current one; a change from another tool first retracts `HOME_LIFT`
-        mm along the last axis from the `last` (point, axis) (the tool goes home)."""
+    def enter(self, tool: Tool, point: np.ndarray, axis: np.ndarray) -> int:
+        """Make `tool` current for a feature starting at `point` along `axis`. After an
+        earlier feature the tool first retracts `HOME_LIFT` mm along its last axis (home),
+        changes if another tool is needed, and comes back `HOME_LIFT` mm out along the new
+        axis, so the feature's own approach starts from there. Returns the tool number."""
         number = self.number(tool)
+        if self.last is not None:
+            last_point, last_axis = self.last
+            self.builder.add_segment([last_point + HOME_LIFT * last_axis], axes=last_axis,
+                                     kind="travel", feed=600.0, tool=self.current or number)
         if number != self.current:
-            if self.current is not None and last is not None:
-                point, axis = last
-                self.builder.add_segment([point + HOME_LIFT * axis], axes=axis, kind="travel",
-                                         feed=600.0, tool=self.current)
             self.builder.event("tool_change", tool=number)
             self.current = number
+        if self.last is not None:
+            self.builder.add_segment([np.asarray(point) + HOME_LIFT * np.asarray(axis)], axes=axis,
+                                     kind="travel", feed=600.0, tool=number)
         return number
 
-    def cures(self, tool_number: int, setting: CureSetting, what: str) -> None:
-        """Record that cures of `tool_number` at `setting.feed` make `setting.width`."""
-        self._widths[(tool_number, round(setting.feed, 9))] = setting.width
+    def cures(self, tool_number: int, setting: CureSetting, what: str,
+              thickness: float | None = None) -> None:
+        """Record that cures of `tool_number` at `setting.feed` make lines `setting.width`
+        wide and `thickness` thick along the tool axis (default: round, as rods are)."""
+        self._widths[(tool_number, round(setting.feed, 9))] = (setting.width,
+                                                               thickness or setting.width)
         tool = self.tools[tool_number]
         self.notes.append(f"T{tool_number} {tool.id}: " + setting.describe(what))
 
@@ -73,16 +84,17 @@ class FeatureProgram:
         levels = getattr(self.tools[tool_number].spec, "power_levels", None) or [setting.power]
         return min(setting.power / max(levels), 1.0)
 
-    def cured_widths(self, tp: Toolpath) -> np.ndarray:
+    def cured_sizes(self, tp: Toolpath) -> tuple[np.ndarray, np.ndarray]:
+        """Per segment the width and thickness it cures (0 for other moves)."""
         cure = KINDS.index("cure")
-        widths = np.zeros(tp.segment_count)
+        widths, thicknesses = np.zeros(tp.segment_count), np.zeros(tp.segment_count)
         for s in np.flatnonzero(tp.kind == cure):
             key = (int(tp.tool[s]), round(float(tp.feed[s]), 9))
             if key not in self._widths:
                 raise PlanError(f"{self.what}: cure segment {s} at {tp.feed[s]:g} mm/min has no "
                                 "recorded width (a planner bug)")
-            widths[s] = self._widths[key]
-        return widths
+            widths[s], thicknesses[s] = self._widths[key]
+        return widths, thicknesses
 
     def finish(self, part_points: np.ndarray | None, rule: str = "envelope") -> Toolpath:
         """Build, annotate and check the program (PlanError on any contact)."""
@@ -95,9 +107,10 @@ class FeatureProgram:
             self.builder.metadata["tool_choice"] = "; ".join(self.choices)
         self.builder.metadata["collision_rule"] = rule
         tp = self.builder.build()
-        widths = self.cured_widths(tp)
+        widths, thicknesses = self.cured_sizes(tp)
         envelopes = {n: t.envelope for n, t in self.tools.items()}
-        contacts = clearance.check_toolpath(tp, envelopes, widths, part_points)
+        contacts = clearance.check_toolpath(tp, envelopes, widths, part_points,
+                                            cured_thickness=thicknesses)
         if rule == "published":
             contacts = [c for c in contacts if c.kind != "cure"]
         if contacts:
