@@ -1,7 +1,8 @@
 """Where a pattern sits on its face: given parameters, a given point projected onto the face,
 or the point whose normal is closest to the build direction (the least tilt).
 
-The facing point is exact: closed forms on spheres (centre + R·up), cylinders and cones
+The facing point is exact: closed forms on planes (the face's centre of mass: every point
+faces the same way), spheres (centre + R·up), cylinders and cones
 (the meridian facing up, at the middle of the face's axial range); on other faces, or when
 the closed form falls outside the trimmed face, the best point of a coarse grid refined by
 a Nelder–Mead search of the normal's angle to the build direction (to `ANGLE_TOLERANCE`).
@@ -33,6 +34,8 @@ def _cost(face, up: np.ndarray, uv) -> float:
 
 def _closed_form(face, up: np.ndarray) -> list[np.ndarray]:
     kind, surface = face_kind(face), face.Surface
+    if kind == "plane":            # one normal everywhere: the middle of the face
+        return [parameters_of(face, np.array([tuple(face.CenterOfMass)]))[0]]
     if kind == "sphere":
         centre = np.array(tuple(surface.Center))
         return [parameters_of(face, centre + sign * surface.Radius * up)[0] for sign in (1, -1)]

@@ -36,6 +36,11 @@ def write_preview(tp: Toolpath, path: str | os.PathLike, title: str,
         step = max(len(surface) // MAX_SURFACE_POINTS, 1)
         s = surface[::step]
         axes.scatter(s[:, 0], s[:, 1], s[:, 2], s=1, c="0.8", alpha=0.4, depthshade=False)
+    cured = tp.points[np.isin(np.repeat(np.arange(tp.segment_count), np.diff(starts)),
+                              np.flatnonzero(tp.kind == cure))]
+    box = cured if len(cured) else tp.points
+    low, high = box.min(axis=0), box.max(axis=0)
+    middle, half = (low + high) / 2, max(float(np.max(high - low)) / 2, 1.0) * 1.1
     labelled: set[int] = set()
     for seg in range(tp.segment_count):
         first = max(starts[seg] - 1, 0) if tp.kind[seg] == travel else starts[seg]
@@ -47,12 +52,9 @@ def write_preview(tp: Toolpath, path: str | os.PathLike, title: str,
             axes.plot(xyz[:, 0], xyz[:, 1], xyz[:, 2], color=colour[tool], linewidth=1.2,
                       label=label)
         elif tp.kind[seg] == travel:
-            axes.plot(xyz[:, 0], xyz[:, 1], xyz[:, 2], color="0.6", linewidth=0.3)
-    cured = tp.points[np.isin(np.repeat(np.arange(tp.segment_count), np.diff(starts)),
-                              np.flatnonzero(tp.kind == cure))]
-    box = cured if len(cured) else tp.points
-    low, high = box.min(axis=0), box.max(axis=0)
-    middle, half = (low + high) / 2, max(float(np.max(high - low)) / 2, 1.0) * 1.1
+            # 3D axes do not clip: travels home (20 mm out) are cut at the box
+            shown = np.where(np.all(np.abs(xyz - middle) <= half, axis=1)[:, None], xyz, np.nan)
+            axes.plot(shown[:, 0], shown[:, 1], shown[:, 2], color="0.6", linewidth=0.3)
     axes.set_xlim(middle[0] - half, middle[0] + half)
     axes.set_ylim(middle[1] - half, middle[1] + half)
     axes.set_zlim(middle[2] - half, middle[2] + half)
