@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from freecad_conformal.errors import ProcessError
-from freecad_conformal.process.curing import _exposure_speed_product
+from freecad_conformal.process.curing import exposure_speed_product
 
 MOTIONS = ("line", "point")
 _SECONDS_PER_MINUTE = 60.0
@@ -98,7 +98,7 @@ class WorkingCurveFit:
 
     def critical_exposure(self, profile: str = "gaussian") -> float:
         """Ec (mJ/cm²) implied by the cut-off with the nominal spot's exposure formula."""
-        return _exposure_speed_product(1.0, self.nominal_spot, profile) / self.cutoff_per_watt
+        return exposure_speed_product(1.0, self.nominal_spot, profile) / self.cutoff_per_watt
 
     def describe(self) -> str:
         return (f"{self.motion} curing fit: Beff {self.spot:.3g} mm (core {self.nominal_spot:g}), "

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import pytest
 
-from freecad_conformal.paths.features import examples
+from freecad_conformal.jobs import feature_examples as examples
 
 
 @pytest.mark.slow

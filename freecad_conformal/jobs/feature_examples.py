@@ -1,5 +1,5 @@
 """The published test cases of METHODS section 1, planned with the calibrated tools and set
-against the published figures: `python -m freecad_conformal.paths.features.examples -o DIR`
+against the published figures: `python -m freecad_conformal.jobs.feature_examples -o DIR`
 writes each part (.brep), toolpath (.npz), preview (.png) and a table (examples.md).
 
 The calibration points of the shipped tools are themselves published figures (the rods'
