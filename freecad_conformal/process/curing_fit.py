@@ -58,7 +58,8 @@ class CurePoint:
             raise ProcessError(f"{where}: width must be >= 0 mm, got {self.width!r}")
 
     def to_dict(self) -> dict:
-        data = {"power_w": self.power, "speed_mm_s": self.speed, "width": self.width}
+        data: dict[str, float | str] = {"power_w": self.power, "speed_mm_s": self.speed,
+                                        "width": self.width}
         if self.source:
             data["source"] = self.source
         return data

@@ -53,7 +53,7 @@ class ProcessSettings:
             if isinstance(value, bool) or not isinstance(value, (int, float, str)):
                 raise ProcessError(f"{where}: parameter {name!r} must be a number or text, "
                                    f"got {value!r}")
-        calibration = {attr: _points(data.get(key, []), f"{where} {key}")
+        calibration: dict[str, Any] = {attr: _points(data.get(key, []), f"{where} {key}")
                        for key, attr in CALIBRATION_KEYS.items()}
         return cls(**values, parameters=parameters,
                    source=schema.text(data, "source", where, default="", non_empty=False),

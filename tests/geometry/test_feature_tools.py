@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from freecad_conformal.errors import PlanError
-from freecad_conformal.geometry.faces import face_kind, normals_at, points_at, smallest_radius
+from freecad_conformal.geometry.faces import face_kind, normals_at, smallest_radius
 from freecad_conformal.jobs.feature import plan_feature, plan_features
 from freecad_conformal.paths.features import clearance, feeds, rods, texture
 from freecad_conformal.paths.features.centre import facing_point

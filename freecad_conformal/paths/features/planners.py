@@ -243,6 +243,7 @@ def plan_texture(s, face, what: str, part=None, library: ToolLibrary | None = No
             raise PlanError(f"{what}: {tool.id} has no stamping feed for its resin; give --feed")
         setting = feeds.CureSetting(feed, mask.size, power, "stamping feed")
         program.cures(number, setting, f"{mask.shape} stamps {s.thickness:g} mm thick,")
+    previous, previous_axis = stamps.points[0], stamps.normals[0]
     for k, (point, normal) in enumerate(zip(stamps.points, stamps.normals)):
         start = point + (s.thickness if s.stamp == "dwell" else 0.0) * normal
         if k == 0:

@@ -13,7 +13,6 @@ metadata (`process`: widths, feeds, power and energy per tool; `tools`: the tool
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
