@@ -36,7 +36,8 @@ class ConformalFeature(ToolpathFeature):
         body, (face_name, *_) = obj.Source
         face = face_by_name(body.Shape, face_name)
         values = values_from_object(obj, FEATURE_SETTINGS)
-        store_toolpath(obj, plan_feature(face, obj.Kind, values, f"{obj.Kind} on {face_name}"))
+        store_toolpath(obj, plan_feature(face, obj.Kind, values, f"{obj.Kind} on {face_name}",
+                                         part=body.Shape))
 
 
 def create_feature(doc, body, face: str, kind: str = "rods", name: str = "Feature"):

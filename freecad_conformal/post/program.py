@@ -151,6 +151,8 @@ def _header(tp: Toolpath, machine: Machine, writer: Dialect, summary, tolerance:
         f"tolerance: {tolerance:g} mm, {math.degrees(angular_tolerance):g} deg; "
         f"{tp.segment_count} segments, {len(tp.points)} points, {blocks} blocks",
     ]
+    # what the planner says it cures (feature programs: widths, feeds, power per tool)
+    text += [f"process: {note}" for note in tp.metadata.get("process", "").split("; ") if note]
     return [writer.comment(line) for line in text]
 
 

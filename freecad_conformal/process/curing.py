@@ -64,7 +64,7 @@ def depth_for_line_width(width: float, spot_diameter: float, dp: float) -> float
     return 2.0 * dp * (width / spot_diameter) ** 2
 
 
-def _exposure_speed_product(power: float, spot_diameter: float, profile: str) -> float:
+def exposure_speed_product(power: float, spot_diameter: float, profile: str) -> float:
     """E·v (mJ/cm² · mm/s): the exposure of a line is this divided by the speed."""
     _positive(power, "power")
     _positive(spot_diameter, "spot diameter B")
@@ -82,7 +82,7 @@ def line_exposure(power: float, spot_diameter: float, feed: float,
                   profile: str = "gaussian") -> float:
     """Exposure (mJ/cm²) on the centre of a line drawn at `feed` mm/min."""
     _positive(feed, "feed")
-    return _exposure_speed_product(power, spot_diameter, profile) / (feed / _SECONDS_PER_MINUTE)
+    return exposure_speed_product(power, spot_diameter, profile) / (feed / _SECONDS_PER_MINUTE)
 
 
 def minimum_line_width(spot_diameter: float, dp: float, min_depth: float) -> float:
@@ -118,7 +118,7 @@ class LineCuring:
     def max_feed(self) -> float:
         """The feed (mm/min) at which the exposure falls to Ec: faster lines do not cure."""
         _positive(self.ec, "critical exposure Ec")
-        speed = _exposure_speed_product(self.power, self.spot_diameter, self.profile) / self.ec
+        speed = exposure_speed_product(self.power, self.spot_diameter, self.profile) / self.ec
         return speed * _SECONDS_PER_MINUTE
 
     def feed_for_width(self, width: float) -> float:
@@ -126,5 +126,5 @@ class LineCuring:
         _positive(width, "line width")
         exposure = exposure_for_depth(depth_for_line_width(width, self.spot_diameter, self.dp),
                                       self.dp, self.ec)
-        speed = _exposure_speed_product(self.power, self.spot_diameter, self.profile) / exposure
+        speed = exposure_speed_product(self.power, self.spot_diameter, self.profile) / exposure
         return speed * _SECONDS_PER_MINUTE

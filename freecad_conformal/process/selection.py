@@ -72,7 +72,8 @@ def choose_tool(tools: Iterable[Tool], rs: float, cd: float, theta: float,
     depth `cd` (mm) and rotation `theta` (rad), and the recommended one.
 
     `resolution` is the finest feature width asked (mm): a tool resolves it when its smallest
-    line (UV `min_line_width`, else its diameter) is not wider. `kind` filters the tools
+    line (UV `min_line_width`, else its diameter) is not wider. Masked tools (textures) are
+    never chosen for lines. `kind` filters the tools
     (None keeps all kinds). Raises ProcessError on impossible inputs, never when nothing fits.
     """
     reach, rotation = diameter_limits(rs, cd, theta)
@@ -82,6 +83,9 @@ def choose_tool(tools: Iterable[Tool], rs: float, cd: float, theta: float,
     reasons: dict[str, str] = {}
     for tool in tools:
         if kind is not None and tool.kind != kind:
+            continue
+        if getattr(tool.spec, "mask", None) is not None:
+            reasons[tool.id] = "masked tip: it stamps its mask's shape, it does not draw lines"
             continue
         low, high = tool.reachable_tilt()
         if theta > high + TILT_TOLERANCE or theta < low - TILT_TOLERANCE:

@@ -6,14 +6,18 @@ from dataclasses import replace
 
 from freecad_conformal.settings.schema import Setting
 
-KINDS = ("rods", "shell", "pattern", "channels")
+KINDS = ("rods", "shell", "pattern", "channels", "texture")
 
 _SETTINGS: tuple[Setting, ...] = (
     Setting("tool", "text", None, "tool", "tool id", group="tool",
             derived="uv_small for rods and pattern walls, uv_large for shells; channels "
                     "choose by curvature"),
     Setting("feed", "feed", None, "curing feed", "curing feed", group="tool", minimum=0.0, open_minimum=True,
-            derived="the tool's"),
+            derived="the tool's curing fit for the width or rod diameter"),
+    Setting("collision_rule", "choice", "envelope", "collision rule",
+            "how moves are checked: the tool's real envelope, or the published rule (i) "
+            "for the rod layout (travels still checked)", group="tool",
+            choices=("envelope", "published")),
     Setting("tilt", "angle", 0.0, "tool tilt", "tilt of the tool from the surface normal (shell)",
             group="tool", minimum=-90.0, maximum=90.0),
     Setting("layer", "length", 1.0, "layer thickness", "layer thickness", group="tool",
@@ -53,7 +57,10 @@ _SETTINGS: tuple[Setting, ...] = (
     Setting("fill", "choice", "contours", "pattern fill", "how the pattern is filled",
             group="pattern", choices=("contours", "zigzag")),
     Setting("at", "numbers", None, "pattern centre", "face parameters u,v of the pattern centre",
-            group="pattern", derived="the face's centre"),
+            group="placement", derived="the point facing the build direction"),
+    Setting("at_point", "numbers", None, "pattern centre point",
+            "x,y,z of a point projected onto the face as the pattern centre", group="placement",
+            derived="the point facing the build direction"),
     Setting("channels", "int", 3, "channels", "number of parallel channels", group="channels",
             minimum=1),
     Setting("channel_length", "length", 15.0, "channel length", "channel length",
@@ -64,9 +71,24 @@ _SETTINGS: tuple[Setting, ...] = (
             minimum=0.0, open_minimum=True),
     Setting("wall_height", "length", 1.0, "wall height", "wall height", group="channels",
             minimum=0.0, open_minimum=True),
+    Setting("pitch", "length", 3.0, "stamp pitch", "distance between texture stamps",
+            group="texture", minimum=0.0, open_minimum=True),
+    Setting("thickness", "length", 0.5, "texture thickness", "thickness of each stamp",
+            group="texture", minimum=0.0, open_minimum=True),
+    Setting("stamp", "choice", "travel", "stamp mode",
+            "thickness set by moving the masked tool out (travel) or by the dwell time",
+            group="texture", choices=("travel", "dwell")),
+    Setting("layout", "choice", "grid", "texture layout",
+            "stamps on a grid about the centre, or along the u iso-curve through it",
+            group="texture", choices=("grid", "curve")),
+    Setting("extent", "length", 10.0, "texture extent", "size of the stamped area (grid side "
+            "or curve length)", group="texture", minimum=0.0, open_minimum=True),
 )
 
 #: A setting grouped under a kind applies to features of that kind only (the task panel
 #: shows it for that kind; help texts say "only with kind rods").
+_PLACED = ("pattern", "channels", "texture")
 FEATURE_SETTINGS: tuple[Setting, ...] = tuple(
-    replace(s, only_when=("kind", (s.group,))) if s.group in KINDS else s for s in _SETTINGS)
+    replace(s, only_when=("kind", (s.group,))) if s.group in KINDS
+    else replace(s, only_when=("kind", _PLACED)) if s.group == "placement" else s
+    for s in _SETTINGS)

@@ -9,7 +9,7 @@ import pytest
 from freecad_conformal.cli import main
 from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry.faces import face_kind, normals_at, points_at
-from freecad_conformal.paths.features import channels, patterns, rods, shells
+from freecad_conformal.paths.features import channels, feeds, patterns, rods, shells
 from freecad_conformal.paths.features.outlines import region_from_rings, svg_path_rings, text_rings
 from freecad_conformal.post.machine import load_machine
 from freecad_conformal.post.program import post_toolpath
@@ -33,7 +33,7 @@ def test_rods_on_the_revolved_sphere(parts_dir, Part, library):
     tool = library.get("uv_small")
     layout = rods.sphere_layout(centre, (0, 0, 1), 5.0, 2.0, 0.8, 1.5, tool.max_tilt)
     rods.check_layout(layout, tool)
-    builder = rods.rods_toolpath(layout, tool, rods.PointCuring(), profile=[1.0, 0.8])
+    builder = rods.rods_toolpath(layout, tool, feeds.rod_settings(tool, [1.0, 0.8]))
     tp = builder.build()
     cure = np.flatnonzero(tp.kind == KINDS.index("cure"))
     assert len(cure) == 2 * len(layout.bases)             # two diameters per rod
@@ -82,10 +82,20 @@ def test_inverse_conical_cup(Part, library):
     cup = Part.makeCone(10, 20, 15).cut(Part.makeCone(7.7, 17.7, 15))
     inner = next(f for f in cup.Faces if face_kind(f) == "cone" and f.Surface.Radius < 9)
     tool = library.get("uv_large")
-    rings = shells.conical_cup(inner, tool, 8.0, layer=1.0, feed=24.0)
+    on_face = shells.conical_cup(inner, tool, 8.0, layer=1.0, feed=24.0)
+    rings = shells.conical_cup(inner, tool, 8.0, layer=1.0, feed=24.0, width=2.3)
     alpha = inner.Surface.SemiAngle
-    z = [r.points[0][2] for r in rings]
+    z = [r.points[0][2] for r in on_face]
     assert z[0] == pytest.approx(0.25) and np.diff(z[1:]) == pytest.approx(np.ones(len(z) - 2))
+    # the rings run on the wall's centre: 1.15 mm inside the material, along the face normal
+    for ring, bare in zip(rings, on_face):
+        offset = np.linalg.norm(ring.points - bare.points, axis=1)
+        np.testing.assert_allclose(offset, 1.15, atol=1e-9)
+    # inside the cup's wall (the face's normal points out of the material, into the cup);
+    # the first ring's centre is below the cup's bottom (it bonds to the base)
+    import FreeCAD as App
+    for ring in rings[1:]:
+        assert all(cup.isInside(App.Vector(*p), 1e-6, False) for p in ring.points[::7])
     assert rings[0].feed == 12.0 and all(r.feed == 24.0 for r in rings[1:])
     for ring in rings:
         tilt = np.arccos(ring.axes @ np.array([0, 0, 1.0]))
@@ -164,7 +174,10 @@ def test_channels_change_tools(App, Part, library):
     uv = np.array([[u, 20.0] for u in np.linspace(0, 2 * math.pi, 721)])
     top = uv[int(np.argmax(normals_at(face, uv)[:, 2]))]
     footprint, gaps = channels.straight_channels(3, 15.0, 1.0, 1.0)
-    plan = channels.channels_toolpath(face, tools, footprint, gaps, 1.0, 0.5, 24.0, 45.0,
+    def setting_for(tool, width, what):
+        return feeds.line_setting(tool, width, what=what)
+
+    plan = channels.channels_toolpath(face, tools, footprint, gaps, 1.0, 0.5, setting_for,
                                       centre=tuple(top))
     assert (plan.base_tool.id, plan.wall_tool.id) == ("uv_large", "uv_small")
     tp = plan.builder.build()
@@ -172,7 +185,7 @@ def test_channels_change_tools(App, Part, library):
     assert len(changes) == 2 and changes[0] != changes[1]
     narrow, _ = channels.straight_channels(2, 15.0, 0.6, 1.0)
     with pytest.raises(PlanError, match="narrowest channel gap is 0.6"):
-        channels.channels_toolpath(face, tools, narrow, _, 1.0, 0.5, 24.0, 45.0, centre=tuple(top))
+        channels.channels_toolpath(face, tools, narrow, _, 1.0, 0.5, setting_for, centre=tuple(top))
 
 
 def test_feature_command_and_bad_input(App, Part, tmp_path, capsys):
@@ -192,7 +205,11 @@ def test_feature_command_and_bad_input(App, Part, tmp_path, capsys):
         (["--face", "Face9", "--kind", "rods"], dome, "Face9 is not in the part"),
         (["--face", "Face1", "--kind", "pattern", "--text", "HELLO WORLD", "--text-size", "15"],
          tube, "pattern on Face1: the pattern .* is larger than its face"),
-        (["--face", "Face1", "--kind", "shell", "--tilt", "70"], dome, "shell on Face1: a tilt of 70"),
+        (["--face", "Face1", "--kind", "shell", "--tilt", "70", "--tool", "uv_large"], dome,
+         "shell on Face1: a tilt of 70"),
+        # the angled tool reaches 70° from the normal, but its body then dips into the dome
+        (["--face", "Face1", "--kind", "shell", "--tilt", "70"], dome,
+         r"shell on Face1: \d+ move\(s\) of the tool envelope hit the part"),
         (["--face", "Face1", "--kind", "rods", "--spacing", "0.8", "--rod-length", "6"], dome,
          "rods on Face1: the uv_small envelope"),
         (["--face", "Face6", "--kind", "rods"], plate, "rods on Face6: rods need a sphere or cylinder face"),

@@ -11,10 +11,12 @@ from freecad_conformal.errors import GeometryError, PlanError
 from freecad_conformal.paths.features.channels import narrowest, straight_channels
 from freecad_conformal.paths.features.fill import contours, long_axis_angle, zigzag
 from freecad_conformal.paths.features.outlines import region_from_rings, svg_path_rings
-from freecad_conformal.paths.features.rods import (
-    PointCuring, collisions, published_min_angle, rod_feeds, sphere_layout)
+from freecad_conformal.paths.features.feeds import rod_settings
+from freecad_conformal.paths.features.rods import collisions, published_min_angle, sphere_layout
 from freecad_conformal.jobs.mandrel import (
     band_inclination, compensated_extrusion, corrected_feed, sample_joint_line, stitch_across_seam)
+from freecad_conformal.process.curing_fit import CurePoint
+from freecad_conformal.process.process_settings import ProcessSettings
 from freecad_conformal.process.tools import Envelope, Tool, UvGuide
 
 
@@ -100,14 +102,20 @@ def test_collision_test_against_closed_form_and_published_rule():
     assert 1.5 < published / closed < 2.5
 
 
-def test_point_curing_reference_and_inverse():
-    curing = PointCuring()
-    assert curing.diameter(45.0) == pytest.approx(1.2)
-    assert curing.diameter(30.0) > 1.2 > curing.diameter(90.0)      # slower: thicker rod
-    for d in (0.8, 1.0, 1.4):
-        assert curing.diameter(curing.feed_for_diameter(d)) == pytest.approx(d)
-    with pytest.raises(PlanError, match="too thin"):
-        rod_feeds(curing, [1.2, 0.5], max_feed=213.36)
+def test_rod_feeds_from_the_point_curing_fit():
+    tool = _tool(3.0)
+    tool.settings["resin"] = ProcessSettings(power=0.495, rod_points=[CurePoint(0.495, 0.75, 1.2)],
+                                             line_points=[CurePoint(0.495, 2.532, 0.2)])
+    rod, = rod_settings(tool, [1.2])
+    assert rod.feed == pytest.approx(45.0)                      # the published point
+    thick, thin = rod_settings(tool, [1.4, 1.0])
+    assert thick.feed < 45.0 < thin.feed                        # slower: thicker rod
+    assert thin.energy_per_mm == pytest.approx(0.495 / (thin.feed / 60))
+    with pytest.raises(PlanError, match="faster than 213.36 mm/min"):
+        rod_settings(tool, [1.2, 0.5])
+    bare = _tool(3.0)
+    with pytest.raises(PlanError, match="neither calibration points nor a feed"):
+        rod_settings(bare, [1.2])
 
 
 def test_svg_subset():

@@ -13,13 +13,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 from shapely.geometry import MultiPolygon, Polygon, box
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry.faces import face_kind, smallest_radius
+from freecad_conformal.paths.features.feeds import CureSetting
+from freecad_conformal.paths.features.moves import TRAVEL_CLEARANCE
 from freecad_conformal.paths.features.patterns import pattern_paths, patterns_toolpath
+from freecad_conformal.paths.features.program import FeatureProgram
 from freecad_conformal.paths.features.shells import check_tilt
 from freecad_conformal.process.selection import choose_tool
 from freecad_conformal.process.tools import Tool
@@ -71,10 +75,12 @@ class ChannelPlan:
 
 
 def channels_toolpath(face, tools: list[Tool], footprint, gaps, wall_height: float,
-                      layer: float, base_feed: float, wall_feed: float,
+                      layer: float, setting_for: Callable[[Tool, float, str], CureSetting],
                       base_thickness: float = BASE_THICKNESS, centre=None,
-                      build_direction=(0, 0, 1), what: str = "channels") -> ChannelPlan:
-    """Base with the large tool, walls with the small one, on a cylinder face."""
+                      build_direction=(0, 0, 1), what: str = "channels",
+                      program: FeatureProgram | None = None) -> ChannelPlan:
+    """Base with the large tool, walls with the small one, on a cylinder face; the feed of
+    each from `setting_for(tool, line width, what)` (the tool's curing fit)."""
     if face_kind(face) != "cylinder":
         raise PlanError(f"{what}: channels are built on a cylinder face, not a {face_kind(face)}")
     gap = narrowest(gaps)
@@ -95,20 +101,36 @@ def channels_toolpath(face, tools: list[Tool], footprint, gaps, wall_height: flo
         if choice.recommended is None:
             raise PlanError(f"{what}: no tool for the {part}: {choice.explanation()}")
     base_tool, wall_tool = base_choice.recommended, wall_choice.recommended
-    builder = ToolpathBuilder(part="channels", material="UV resin")
-    ids = {t.id: k + 1 for k, t in enumerate(tools)}
-    builder.event("tool_change", tool=ids[base_tool.id])
-    base_paths, _ = pattern_paths(face, footprint, base_tool.spec.min_line_width, base_thickness,
+    program = program or FeatureProgram(what)
+    lift = base_thickness + wall_height + TRAVEL_CLEARANCE
+    base_width = base_tool.spec.min_line_width
+    base_setting = setting_for(base_tool, base_width, f"{what} base")
+    base_paths, _ = pattern_paths(face, footprint, base_width, base_thickness,
                                   base_thickness, centre=centre, fill="zigzag", what=f"{what} base")
-    patterns_toolpath(base_paths, base_feed, ids[base_tool.id], builder=builder)
-    builder.event("tool_change", tool=ids[wall_tool.id])
+    base_number = program.enter(base_tool, base_paths[0].points[0], base_paths[0].axes[0])
+    program.cures(base_number, base_setting, "base lines", base_thickness)
+    patterns_toolpath(base_paths, base_setting.feed, base_number,
+                      program.power_fraction(base_number, base_setting), lift=lift,
+                      builder=program.builder, face=face,
+                      energy_per_mm=base_setting.energy_per_mm)
+    last = base_paths[-1]
+    program.last = (last.points[-1] + lift * last.axes[-1], last.axes[-1])
     width = min(wall_tool.spec.min_line_width * 2, wall_width)
+    wall_setting = setting_for(wall_tool, width, f"{what} walls")
     wall_paths, _ = pattern_paths(face, walls, width, wall_height, layer, centre=centre,
                                   fill="contours", what=f"{what} walls")
     for path in wall_paths:                 # walls stand on the base
         path.points = path.points + base_thickness * path.axes
-    patterns_toolpath(wall_paths, wall_feed, ids[wall_tool.id], builder=builder)
+    wall_number = program.enter(wall_tool, wall_paths[0].points[0], wall_paths[0].axes[0])
+    program.cures(wall_number, wall_setting, "wall lines", layer)
+    patterns_toolpath(wall_paths, wall_setting.feed, wall_number,
+                      program.power_fraction(wall_number, wall_setting), lift=lift,
+                      builder=program.builder, face=face,
+                      energy_per_mm=wall_setting.energy_per_mm)
     text = (f"base: {base_choice.explanation()}; walls (narrowest wall {wall_width:.3g} mm, "
             f"gap {gap:.3g} mm): {wall_choice.explanation()}; rs {rs:.4g} mm, tilt up to "
             f"{math.degrees(tilt):.1f}°")
-    return ChannelPlan(base_tool, wall_tool, builder, text)
+    program.choices.append(text)
+    end = wall_paths[-1]
+    program.last = (end.points[-1] + lift * end.axes[-1], end.axes[-1])
+    return ChannelPlan(base_tool, wall_tool, program.builder, text)

@@ -25,6 +25,7 @@ import numpy as np
 from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry.faces import face_kind, normals_at, parameters_of, points_at
 from freecad_conformal.paths.features.fill import contours, zigzag
+from freecad_conformal.paths.features.moves import approach, retract, travel
 from freecad_conformal.toolpath import ToolpathBuilder
 
 #: Fill lines are resampled at this step (mm) before mapping, so the mapped polyline follows
@@ -214,16 +215,30 @@ def pattern_paths(face, region, width: float, height: float, layer: float,
 
 
 def patterns_toolpath(paths: list[PatternPath], feed: float, tool_number: int = 0,
-                      power: float = 1.0, travel_feed: float = 600.0, retract: float = 2.0,
-                      builder: ToolpathBuilder | None = None) -> ToolpathBuilder:
-    """Travel along the normal onto each path, light on, cure it, light off."""
+                      power: float = 1.0, travel_feed: float = 600.0, lift: float = 2.0,
+                      builder: ToolpathBuilder | None = None, face=None,
+                      energy_per_mm: float = 0.0) -> ToolpathBuilder:
+    """Come down the normal onto the first path, cure each path with the light on, and travel
+    between paths `lift` mm above the face (moves.travel: along the offset face, not a chord
+    through what is built; a straight move when no face is given); retract at the end."""
     builder = builder or ToolpathBuilder(part="pattern", material="UV resin")
+    previous = None
     for path in paths:
-        builder.add_segment([path.points[0] + retract * path.axes[0], path.points[0]],
-                            axes=path.axes[0], kind="travel", feed=travel_feed, tool=tool_number)
+        start, axis = path.points[0], path.axes[0]
+        if previous is None:
+            approach(builder, start, axis, lift, travel_feed, tool_number)
+        elif face is not None:
+            travel(builder, face, previous.points[-1], previous.axes[-1], start, axis, lift,
+                   travel_feed, tool_number)
+        else:
+            builder.add_segment([previous.points[-1] + lift * previous.axes[-1],
+                                 start + lift * axis, start], axes=axis, kind="travel",
+                                feed=travel_feed, tool=tool_number)
         builder.event("light_on", power=power)
-        builder.add_segment(path.points, path.axes, kind="cure", feed=feed, tool=tool_number)
+        builder.add_segment(path.points, path.axes, kind="cure", feed=feed, tool=tool_number,
+                            flow=energy_per_mm)
         builder.event("light_off")
-        builder.add_segment([path.points[-1] + retract * path.axes[-1]], axes=path.axes[-1],
-                            kind="travel", feed=travel_feed, tool=tool_number)
+        previous = path
+    if previous is not None:
+        retract(builder, previous.points[-1], previous.axes[-1], lift, travel_feed, tool_number)
     return builder

@@ -13,13 +13,15 @@ library's cone tip and cylindrical body along the rod axis, from the surface out
 stay clear of every rod already built, each a cylinder of diameter a and length l.
 
 Rod diameter by speed (point curing: the tool moves along its own axis, so the exposure per
-mm of rod is inversely proportional to the speed). METHODS gives one measured point (small
-tool, ∅ ~1.2 mm at 0.75 mm/s) and the working curve's shape, not a point-curing model; the
-line-width model cannot be used as is (with a 0.3 mm spot it never reaches 1.2 mm). So
-`PointCuring` keeps the working curve's form, d = B·sqrt(Cd / (2·Dp)) with
-Cd = Dp·ln(E/Ec), E ∝ 1/v, calibrated on the reference point with E_ref/Ec = e^q (q, the
-reference cure depth in penetration depths, defaults to 4: a placeholder for a DOE).
-A diameter profile along the rod becomes one feed per piece.
+mm of rod is inversely proportional to the speed): the feed of each rod piece comes from the
+tool's point-curing fit (paths/features/feeds.py, process/curing_fit.py); a diameter profile
+along the rod becomes one feed per piece.
+
+Moves between rods: retract along the rod axis to `CLEARANCE` above the rod tips, travel on
+the surface offset by l + CLEARANCE (an arc round the sphere's centre or the cylinder's axis,
+sampled so its chords dip less than a quarter of the clearance), then come down the next
+rod's axis to its base. The whole program is then checked against the tool envelope
+(paths/features/clearance.py).
 """
 from __future__ import annotations
 
@@ -29,8 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from freecad_conformal.errors import PlanError
-from freecad_conformal.process.curing import (
-    cure_depth, depth_for_line_width, exposure_for_depth, line_width)
+from freecad_conformal.paths.features.feeds import CureSetting
 from freecad_conformal.process.tools import Tool
 from freecad_conformal.toolpath import ToolpathBuilder
 
@@ -38,14 +39,8 @@ from freecad_conformal.toolpath import ToolpathBuilder
 #: rod diameter (>= 0.2 mm), so a contact cannot slip between two samples.
 ENVELOPE_STEP = 0.05
 
-#: METHODS section 1: rods of ∅ ~1.2 mm with the small tool at 0.75 mm/s (45 mm/min).
-REFERENCE_DIAMETER = 1.2
-REFERENCE_FEED = 45.0
-#: ln(E_ref / Ec) at the reference point (placeholder, see the module docstring).
-REFERENCE_DEPTH_RATIO = 4.0
-
-#: Clearance (mm) the tool retracts along the rod axis before moving to the next rod.
-RETRACT = 2.0
+#: Clearance (mm) above the rod tips at which the tool travels to the next rod.
+CLEARANCE = 2.0
 
 
 def published_min_angle(a: float, radius: float, length: float, head: float) -> float:
@@ -84,6 +79,15 @@ class RodLayout:
     bases: np.ndarray = field(repr=False)    # (n, 3)
     axes: np.ndarray = field(repr=False)     # (n, 3) unit outward normals
     ring_of: np.ndarray = field(repr=False)  # (n,)
+    centre: np.ndarray | None = field(default=None, repr=False)  # sphere centre / axis point
+    axis: np.ndarray | None = field(default=None, repr=False)    # cylinder axis (unit)
+
+    def foot(self, normal: np.ndarray, along: float = 0.0) -> np.ndarray:
+        """The surface point whose outward normal is `normal` (cylinder: at `along` mm)."""
+        centre = np.zeros(3) if self.centre is None else self.centre
+        if self.surface == "cylinder" and self.axis is not None:
+            return centre + along * self.axis + self.radius * normal
+        return centre + self.radius * normal
 
 
 def _frame(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -121,7 +125,8 @@ def sphere_layout(center, pole, radius: float, spacing: float, diameter: float, 
             ring_of.append(i)
     axes = np.array(normals)
     return RodLayout("sphere", radius, spacing, theta, diameter, length, out_rings,
-                     np.asarray(center, dtype=float) + radius * axes, axes, np.array(ring_of))
+                     np.asarray(center, dtype=float) + radius * axes, axes, np.array(ring_of),
+                     np.asarray(center, dtype=float))
 
 
 def cylinder_layout(origin, axis, radius: float, spacing: float, diameter: float, length: float,
@@ -146,7 +151,7 @@ def cylinder_layout(origin, axis, radius: float, spacing: float, diameter: float
             bases.append(np.asarray(origin, dtype=float) + z * axis + radius * normal)
             ring_of.append(i)
     return RodLayout("cylinder", radius, spacing, beta, diameter, length, rings, np.array(bases),
-                     np.array(normals), np.array(ring_of))
+                     np.array(normals), np.array(ring_of), np.asarray(origin, dtype=float), axis)
 
 
 def _segment_distance(points: np.ndarray, start: np.ndarray, end: np.ndarray) -> np.ndarray:
@@ -192,60 +197,60 @@ def check_layout(layout: RodLayout, tool: Tool, what: str = "rods") -> None:
                         f"apart (d {layout.spacing:g} mm) or shorten them (l {layout.length:g} mm)")
 
 
-@dataclass(frozen=True)
-class PointCuring:
-    """Rod diameter versus speed for point curing, in normalised units (Dp = Ec = 1)."""
-
-    reference_diameter: float = REFERENCE_DIAMETER
-    reference_feed: float = REFERENCE_FEED
-    depth_ratio: float = REFERENCE_DEPTH_RATIO
-
-    @property
-    def _spot(self) -> float:
-        return self.reference_diameter * math.sqrt(2.0 / self.depth_ratio)
-
-    def diameter(self, feed: float) -> float:
-        """Rod diameter (mm) at `feed` mm/min (0 when nothing cures)."""
-        exposure = math.exp(self.depth_ratio) * self.reference_feed / feed
-        return line_width(cure_depth(exposure, 1.0, 1.0), self._spot, 1.0)
-
-    def feed_for_diameter(self, diameter: float) -> float:
-        """Feed (mm/min) that cures a rod `diameter` mm wide."""
-        if not diameter > 0:
-            raise PlanError(f"rods: diameter must be > 0 mm, got {diameter!r}")
-        exposure = exposure_for_depth(depth_for_line_width(diameter, self._spot, 1.0), 1.0, 1.0)
-        return self.reference_feed * math.exp(self.depth_ratio) / exposure
+def _slerp(n0: np.ndarray, n1: np.ndarray, t: np.ndarray) -> np.ndarray:
+    angle = math.acos(float(np.clip(n0 @ n1, -1.0, 1.0)))
+    if angle < 1e-12:
+        return np.repeat(n0[None, :], len(t), axis=0)
+    return (np.outer(np.sin((1 - t) * angle), n0) + np.outer(np.sin(t * angle), n1)) / math.sin(angle)
 
 
-def rod_feeds(curing: PointCuring, diameters, max_feed: float | None = None) -> np.ndarray:
-    """Point-curing feed (mm/min) for each rod diameter (mm); PlanError above `max_feed`."""
-    feeds = np.array([curing.feed_for_diameter(float(a)) for a in np.atleast_1d(diameters)])
-    if max_feed is not None and np.any(feeds > max_feed):
-        k = int(np.argmax(feeds))
-        raise PlanError(f"rods: a diameter of {np.atleast_1d(diameters)[k]:g} mm needs "
-                        f"{feeds[k]:.4g} mm/min, faster than {max_feed:g} mm/min: too thin for "
-                        "this tool")
-    return feeds
+def travel_between(layout: RodLayout, j: int, k: int, clearance: float = CLEARANCE) -> tuple[np.ndarray, np.ndarray]:
+    """Points and axes from above rod j's tip to rod k's base: an arc on the surface offset
+    by l + clearance, then down rod k's axis."""
+    lift = layout.radius + layout.length + clearance
+    n0, n1 = layout.axes[j], layout.axes[k]
+    angle = math.acos(float(np.clip(n0 @ n1, -1.0, 1.0)))
+    # chord sagitta lift·(1 − cos(δ/2)) within a quarter of the clearance
+    step = 2.0 * math.acos(max(1.0 - clearance / (4.0 * lift), -1.0))
+    t = np.linspace(0.0, 1.0, max(int(math.ceil(angle / step)), 1) + 1)
+    normals = _slerp(n0, n1, t)
+    if layout.surface == "cylinder" and layout.axis is not None and layout.centre is not None:
+        along0 = float((layout.bases[j] - layout.centre) @ layout.axis)
+        along1 = float((layout.bases[k] - layout.centre) @ layout.axis)
+        feet = np.array([layout.foot(n, a) for n, a in zip(normals, along0 + t * (along1 - along0))])
+    else:
+        feet = np.array([layout.foot(n) for n in normals])
+    arc = feet + (lift - layout.radius) * normals
+    points = np.vstack([arc, layout.bases[k][None, :]])
+    return points, np.vstack([normals, n1[None, :]])
 
 
-def rods_toolpath(layout: RodLayout, tool: Tool, curing: PointCuring, tool_number: int = 1,
-                  profile: list[float] | None = None, travel_feed: float = 600.0,
-                  power: float = 1.0, builder: ToolpathBuilder | None = None) -> ToolpathBuilder:
-    """Steps 9–15: for each rod, travel to its base on the normal, light on, move along the
-    normal for l (one piece per entry of the diameter `profile`, default constant a, each at
-    its own feed), light off, retract."""
+def rods_toolpath(layout: RodLayout, tool: Tool, settings: list[CureSetting], tool_number: int = 1,
+                  travel_feed: float = 600.0, max_power: float | None = None,
+                  builder: ToolpathBuilder | None = None,
+                  clearance: float = CLEARANCE) -> ToolpathBuilder:
+    """Steps 9–15: for each rod, come down its axis to the base, light on, move along the
+    normal for l (one piece per setting: a diameter profile from base to tip, each at its
+    own feed), light off, retract to the clearance and travel to the next rod above the tips."""
+    if not settings:
+        raise PlanError("rods: no cure setting (diameter) given")
     builder = builder or ToolpathBuilder(part="rods", material="UV resin")
-    diameters = np.asarray(profile if profile else [layout.diameter], dtype=float)
-    feeds = rod_feeds(curing, diameters)
-    pieces = np.linspace(0.0, layout.length, len(diameters) + 1)
-    for base, axis in zip(layout.bases, layout.axes):
-        above = base + RETRACT * axis
-        builder.add_segment([above, base], axes=axis, kind="travel", feed=travel_feed, tool=tool_number)
-        builder.event("light_on", power=power)
-        for k, feed in enumerate(feeds):
+    pieces = np.linspace(0.0, layout.length, len(settings) + 1)
+    top = layout.length + clearance
+    power = settings[0].power / (max_power or settings[0].power)
+    for index, (base, axis) in enumerate(zip(layout.bases, layout.axes)):
+        if index == 0:
+            builder.add_segment([base + top * axis, base], axes=axis, kind="travel",
+                                feed=travel_feed, tool=tool_number)
+        else:
+            points, axes = travel_between(layout, index - 1, index, clearance)
+            builder.add_segment(points, axes, kind="travel", feed=travel_feed, tool=tool_number)
+        builder.event("light_on", power=min(power, 1.0))
+        for k, setting in enumerate(settings):
             builder.add_segment([base + pieces[k] * axis, base + pieces[k + 1] * axis], axes=axis,
-                                kind="cure", feed=float(feed), tool=tool_number)
+                                kind="cure", feed=setting.feed, tool=tool_number,
+                                flow=setting.energy_per_mm)
         builder.event("light_off")
-        builder.add_segment([base + (layout.length + RETRACT) * axis], axes=axis, kind="travel",
-                            feed=travel_feed, tool=tool_number)
+        builder.add_segment([base + top * axis], axes=axis, kind="travel", feed=travel_feed,
+                            tool=tool_number)
     return builder

@@ -22,6 +22,7 @@ import numpy as np
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry.faces import face_kind, normals_at, points_at
+from freecad_conformal.paths.features.moves import approach, retract, travel
 from freecad_conformal.process.selection import TILT_TOLERANCE
 from freecad_conformal.process.tools import Tool
 from freecad_conformal.tolerances import DEFAULT_LINEAR_TOLERANCE
@@ -128,9 +129,11 @@ def _ring_radius(face, v: float) -> float:
 def conical_cup(face, tool: Tool, height: float, layer: float = 1.0, feed: float = 24.0,
                 first_layer: float = FIRST_LAYER_HEIGHT,
                 first_feed: float | None = None, build_direction=(0, 0, 1),
-                what: str = "conical cup") -> list[RingPath]:
+                what: str = "conical cup", width: float = 0.0) -> list[RingPath]:
     """A wall `height` mm tall grown up a cone face: ring k at height z_k along the cone
-    axis (first layer `first_layer`, then `layer` each), tool along the cone's generator."""
+    axis (first layer `first_layer`, then `layer` each), tool along the cone's generator.
+    The face is one side of a wall `width` mm thick: the rings run `width`/2 inside the
+    material (against the face's outward normal), i.e. on the wall's centre."""
     if face_kind(face) != "cone":
         raise PlanError(f"{what}: needs a cone face, not a {face_kind(face)}")
     if not (height > 0 and layer > 0 and first_layer > 0):
@@ -154,22 +157,36 @@ def conical_cup(face, tool: Tool, height: float, layer: float = 1.0, feed: float
         generators *= np.sign(generators @ axis)[:, None]
         ring_tilt = check_tilt(generators, tool, build_direction, f"{what} layer {k + 1}")
         this_feed = (feed * FIRST_LAYER_FEED_FACTOR if first_feed is None else first_feed) if k == 0 else feed
-        rings.append(RingPath(points_at(face, uv), generators, k, ring_tilt, this_feed))
+        centre = points_at(face, uv) - 0.5 * width * normals_at(face, uv)
+        rings.append(RingPath(centre, generators, k, ring_tilt, this_feed))
     return rings
 
 
 def rings_toolpath(rings: list[RingPath], tool_number: int = 0, power: float = 1.0,
-                   travel_feed: float = 600.0, retract: float = 2.0,
-                   builder: ToolpathBuilder | None = None) -> ToolpathBuilder:
-    """Steps 2–6 per ring: travel in along the axis, light on, one full rotation, light off."""
+                   travel_feed: float = 600.0, lift: float = 2.0,
+                   builder: ToolpathBuilder | None = None, face=None,
+                   power_w: float = 0.0) -> ToolpathBuilder:
+    """Steps 2–6 per ring: come in along the axis, light on, one full rotation, light off;
+    between rings travel `lift` mm above the face (moves.travel) or, without a face (the
+    cup, whose next ring is straight up the tool axis), move straight to the next start.
+    Each cure carries its energy per mm, `power_w`/v (J/mm)."""
     builder = builder or ToolpathBuilder(part="shell", material="UV resin")
+    previous = None
     for ring in rings:
         start, axis = ring.points[0], ring.axes[0]
-        builder.add_segment([start + retract * axis, start], axes=axis, kind="travel",
-                            feed=travel_feed, tool=tool_number)
+        if previous is None:
+            approach(builder, start, axis, lift, travel_feed, tool_number)
+        elif face is not None:
+            travel(builder, face, previous.points[-1], previous.axes[-1], start, axis, lift,
+                   travel_feed, tool_number)
+        else:
+            builder.add_segment([start], axes=axis, kind="travel", feed=travel_feed,
+                                tool=tool_number)
         builder.event("light_on", power=power)
-        builder.add_segment(ring.points, ring.axes, kind="cure", feed=ring.feed, tool=tool_number)
+        builder.add_segment(ring.points, ring.axes, kind="cure", feed=ring.feed, tool=tool_number,
+                            flow=power_w / (ring.feed / 60.0) if power_w else 0.0)
         builder.event("light_off")
-        builder.add_segment([ring.points[-1] + retract * ring.axes[-1]], axes=ring.axes[-1],
-                            kind="travel", feed=travel_feed, tool=tool_number)
+        previous = ring
+    if previous is not None:
+        retract(builder, previous.points[-1], previous.axes[-1], lift, travel_feed, tool_number)
     return builder

@@ -21,8 +21,9 @@ def half_normal_panel(axes, points: HalfNormal, margins: Lenth, chosen: set[str]
                  label=f"Lenth ME {margins.me:.3g}")
     axes.axhline(margins.sme, color="tab:gray", linestyle=":", linewidth=1,
                  label=f"Lenth SME {margins.sme:.3g}")
-    # Lenth's SME is often far above every effect of a small design: keep the points readable
-    axes.set_ylim(0.0, 1.15 * max(max(points.magnitudes), margins.me))
+    # both margins stay inside the axes (SME is often far above every effect of a small
+    # design: the plot is then mostly empty, but the comparison is what it is drawn for)
+    axes.set_ylim(0.0, 1.15 * max(max(points.magnitudes), margins.me, margins.sme))
     axes.set_xlabel("half-normal quantile")
     axes.set_ylabel("|effect|")
     axes.set_title(title)
