@@ -99,16 +99,6 @@ class PlanCost:
     subparts: dict[int, SubPartCost]
     transition_seconds: float
 
-    def objective(self, name: str, reference: "PlanCost | None" = None) -> float:
-        """The number to minimise: seconds, mm³, or (balanced) their sum relative to
-        `reference` (default: this plan, so 2.0)."""
-        if name == "time":
-            return self.seconds
-        if name == "material":
-            return self.material
-        ref = reference or self
-        return self.seconds / max(ref.seconds, 1e-9) + self.material / max(ref.material, 1e-9)
-
 
 def _segments_time(lengths: np.ndarray, speed: float, edge: float, motion: Motion) -> np.ndarray:
     """Time of straight moves at `speed` (mm/s) that start and end at `edge` mm/s."""
