@@ -202,6 +202,25 @@ class FeatureCommand(ObjectCommand):
         return obj
 
 
+class FeatureExamplesCommand:
+    """METHODS section 1's published test cases as parts with Feature objects."""
+
+    def GetResources(self):  # noqa: N802
+        return {"Pixmap": icon("Conformal_FeatureExamples"),
+                "MenuText": _tr("Published feature examples"),
+                "ToolTip": _tr("A new document with the published UV test cases (flat spiral, "
+                               "conical cup, fluidic channels, rods on a sphere, tilted rod) as "
+                               "parts with Feature objects, computed in the background")}
+
+    def IsActive(self):  # noqa: N802
+        return True
+
+    def Activated(self):  # noqa: N802
+        from freecad_conformal.gui.examples import open_examples
+
+        return open_examples()
+
+
 class PostCommand(ObjectCommand):
     NAME, MENU = "Post", "Post-process"
     TIP = "G-code of the selected job, toolpath or feature for a machine"
@@ -270,6 +289,7 @@ COMMANDS = {
     "Conformal_Decompose": DecomposeCommand,
     "Conformal_Sections": SectionsCommand,
     "Conformal_Feature": FeatureCommand,
+    "Conformal_FeatureExamples": FeatureExamplesCommand,
     "Conformal_Plan": PlanCommand,
     "Conformal_Post": PostCommand,
     "Conformal_Verify": VerifyCommand,

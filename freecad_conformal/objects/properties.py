@@ -167,3 +167,20 @@ def values_from_object(obj, settings) -> dict[str, Any]:
             value = None
         values[setting.key] = value
     return values
+
+
+def set_values(obj, settings, values: dict[str, Any]) -> None:
+    """Set the properties of `settings` keys in `values` (how a script or an example sets
+    up an object): the inverse of values_from_object. Unknown keys raise KeyError."""
+    by_key = {s.key: s for s in settings}
+    for key, value in values.items():
+        if key not in by_key or not by_key[key].property_name:
+            raise KeyError(f"{obj.Label}: no property for setting {key!r}")
+        setting = by_key[key]
+        if value is None:
+            value = "" if _property_type(setting) == "App::PropertyString" else 0
+        elif isinstance(value, (tuple, list)):
+            value = ", ".join(f"{float(c):.12g}" for c in value)
+        elif setting.kind == "feed":
+            value = value / SECONDS_PER_MINUTE
+        setattr(obj, setting.property_name, value)

@@ -22,6 +22,7 @@ TASKS = {
     "sections": "freecad_conformal.objects.sections_feature:compute_sections",
     "post": "freecad_conformal.objects.post_feature:compute_post",
     "verify": "freecad_conformal.objects.post_feature:compute_verify",
+    "feature": "freecad_conformal.objects.feature_object:compute_feature",
 }
 #: How a progress line starts on the worker's stdout: PREFIX, fraction (or -), text.
 PROGRESS_PREFIX = "conformal-progress"

@@ -43,8 +43,8 @@ _SETTINGS: tuple[Setting, ...] = (
             minimum=0.0, open_minimum=True, derived="no cup"),
     Setting("first_layer", "length", 0.5, "cup first layer", "cup first layer", group="shell",
             minimum=0.0, open_minimum=True),
-    Setting("svg", "text", None, "SVG path", "file holding one SVG path 'd' string (or an .svg "
-            "file)", group="pattern", derived="none"),
+    Setting("svg", "text", None, "SVG path", "an .svg file, a file holding one SVG path 'd' string, "
+            "or the 'd' string itself (M...)", group="pattern", derived="none"),
     Setting("text", "text", None, "pattern text", "text to wrap onto the face", group="pattern",
             prop="PatternText", derived="none"),
     Setting("text_size", "length", 5.0, "text size", "text size", group="pattern",
