@@ -212,8 +212,12 @@ def _fit_linear_limits(machine: Machine, points: np.ndarray, candidates: np.ndar
     """Poses whose chosen angles put X, Y or Z out of limits: take instead the other
     orientation solution, or another value of an angle that is free there (a tool axis
     along a rotary axis), whichever fits and turns least."""
+    outside = _outside_linear(machine, joints)
+    if not outside.any() or not machine.rotary:
+        return joints
+    joints = _hold_free_runs(machine, points, candidates, joints, outside)
     rows = np.flatnonzero(_outside_linear(machine, joints))
-    if len(rows) == 0 or not machine.rotary:
+    if len(rows) == 0:
         return joints
     chosen = joints[rows, 3:]                                      # (m, r), unwound
     raw = candidates[rows]                                         # (m, branches, r)
@@ -237,10 +241,51 @@ def _fit_linear_limits(machine: Machine, points: np.ndarray, candidates: np.ndar
                      & (options[..., k] <= axis.limits[1] + LIMIT_SLACK))
     cost = np.where(fits, np.abs(options - chosen[:, None, :]).sum(axis=2), np.inf)
     best = np.argmin(cost, axis=1)
+    for run in _runs(rows):
+        # one option for a run of consecutive refused poses when one fits them all: picked
+        # pose by pose, neighbours could take turns either side (C +5°, -5°, +5°) and the
+        # joints would jump within every move between them
+        common = fits[run].all(axis=0)
+        if common.any() and len(run) > 1:
+            best[run] = int(np.argmin(np.where(common, cost[run].sum(axis=0, where=common[None, :]
+                                                                    & fits[run]), np.inf)))
     found = np.isfinite(cost[np.arange(m), best])
     out = joints.copy()
     out[rows[found]] = trial[np.flatnonzero(found), best[found]]
     return out
+
+
+def _hold_free_runs(machine: Machine, points: np.ndarray, candidates: np.ndarray,
+                    joints: np.ndarray, outside: np.ndarray) -> np.ndarray:
+    """Where an angle is free over a run of consecutive poses (the tool along that rotary
+    axis, as a planar layer on an A/C table) and some of them are outside the linear travel,
+    give the whole run the one value of that angle, turned least, that puts all of it inside:
+    the angle then holds still while the tool moves instead of turning back and forth."""
+    free = np.isnan(candidates).all(axis=1)                      # (n, r)
+    out = joints.copy()
+    for k, axis in enumerate(machine.rotary):
+        indices = np.flatnonzero(free[:, k])
+        for run in (indices[p] for p in _runs(indices)):
+            if not outside[run].any():
+                continue
+            for step in sorted(FREE_ANGLE_STEPS, key=abs):
+                trial = out[run].copy()
+                trial[:, 3 + k] += step
+                if axis.limits is not None and not (
+                        (trial[:, 3 + k] >= axis.limits[0] - LIMIT_SLACK).all()
+                        and (trial[:, 3 + k] <= axis.limits[1] + LIMIT_SLACK).all()):
+                    continue
+                trial[:, :3] = positions_for(machine, points[run], trial)
+                if not _outside_linear(machine, trial).any():
+                    out[run] = trial
+                    break
+    return out
+
+
+def _runs(rows: np.ndarray) -> list[np.ndarray]:
+    """Positions in `rows` (sorted point indices) grouped into runs of consecutive points."""
+    breaks = np.flatnonzero(np.diff(rows) != 1) + 1
+    return np.split(np.arange(len(rows)), breaks)
 
 
 def _wrap_pi(delta: np.ndarray) -> np.ndarray:

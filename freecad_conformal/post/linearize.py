@@ -19,7 +19,7 @@ from freecad_conformal.errors import PostError
 from freecad_conformal.post.kinematics import forward, inverse, positions_for
 from freecad_conformal.post.machine import Machine
 from freecad_conformal.tolerances import (DEFAULT_ANGULAR_TOLERANCE, DEFAULT_LINEAR_TOLERANCE,
-                                         WRAP_MAX_STEP)
+                                         LIMIT_SLACK, WRAP_MAX_STEP)
 from freecad_conformal.toolpath import INTERPOLATIONS, Toolpath
 
 #: Joint-space deviation (as tip mm) allowed when merging collinear moves, as a fraction of
@@ -136,7 +136,7 @@ def linearize(tp: Toolpath, machine: Machine, tolerance: float = DEFAULT_LINEAR_
         worst[~part_linear] = 0.0
         if np.all(worst <= 1.0):
             break
-        _refuse_jumps(tp, machine, parts, worst, last_worst, last_parts, joints, origin)
+        _refuse_jumps(tp, machine, parts, worst, last_worst, last_parts, points, joints, origin)
         new_parts = _grow(parts, order, worst, last_worst, last_parts)
         if int(new_parts.sum()) > MAX_REFINED_POINTS:
             i = int(np.argmax(new_parts))
@@ -189,8 +189,8 @@ def split_wrapped_turns(machine: Machine, blocks: Blocks) -> Blocks:
 
 
 def _refuse_jumps(tp: Toolpath, machine: Machine, parts: np.ndarray, worst: np.ndarray,
-                  last_worst: np.ndarray, last_parts: np.ndarray, joints: np.ndarray,
-                  origin: np.ndarray) -> None:
+                  last_worst: np.ndarray, last_parts: np.ndarray, points: np.ndarray,
+                  joints: np.ndarray, origin: np.ndarray) -> None:
     """Refuse moves whose deviation does not fall as they are split: the joints jump there.
 
     That happens when a rotary limit forces the other orientation solution in the middle
@@ -207,15 +207,37 @@ def _refuse_jumps(tp: Toolpath, machine: Machine, parts: np.ndarray, worst: np.n
     row = int(rows[np.argmax(step)])
     jumps = ", ".join(f"{a.name} {math.degrees(joints[row - 1, 3 + k]):.1f}° -> "
                       f"{math.degrees(joints[row, 3 + k]):.1f}°" for k, a in enumerate(machine.rotary))
+    where = f"cannot follow the move into {tp.locate(move)} on machine {machine.name}"
+    outside = _outside_with_angles_kept(machine, points[row], joints[row - 1])
+    if outside:
+        tip = ", ".join(f"{c:.3f}" for c in points[row])
+        travel = ", ".join(f"{a.name} [{a.limits[0]:g}, {a.limits[1]:g}]" for a in machine.linear)
+        raise PostError(f"{where}: the tip at ({tip}) is outside the linear travel with the "
+                        f"angles kept ({outside}); reaching it turns the rotary axes within the "
+                        f"move ({jumps}), which would swing the part under the tool. Move the "
+                        f"part toward the middle of the travel ({travel} mm) or use a machine "
+                        "with more travel")
     limits = "; ".join(f"{a.name} limits [{math.degrees(a.limits[0]):g}, {math.degrees(a.limits[1]):g}]°"
                        for a in machine.rotary if a.limits is not None) or "no rotary limits"
-    linear = ", ".join(f"{a.name} [{a.limits[0]:g}, {a.limits[1]:g}]" for a in machine.linear)
-    raise PostError(f"cannot follow the move into {tp.locate(move)} on machine {machine.name}: "
-                    f"the rotary joints jump within it ({jumps}) and splitting it "
-                    f"{int(parts[move])}-fold did not help. Either a rotary limit forces the "
-                    f"other orientation solution there ({limits}), or with the angles kept the "
-                    f"tool would be outside the limits of the linear axes ({linear} mm); widen "
-                    "the limits or change the path")
+    raise PostError(f"{where}: the rotary joints jump within it ({jumps}) and splitting it "
+                    f"{int(parts[move])}-fold did not help: a rotary limit forces the other "
+                    f"orientation solution there ({limits}); widen the limits or split the path "
+                    "there")
+
+
+def _outside_with_angles_kept(machine: Machine, point: np.ndarray, before: np.ndarray) -> str:
+    """The linear axes out of limits, as "Y = 300.500 mm > 300", when the tip goes to `point`
+    with the rotary angles of the pose `before`; "" when they all fit."""
+    kept = before.copy()
+    kept[:3] = positions_for(machine, point[None, :], kept[None, :])[0]
+    words = []
+    for k, axis in enumerate(machine.linear):
+        low, high = axis.limits
+        if kept[k] > high + LIMIT_SLACK:
+            words.append(f"{axis.name} = {kept[k]:.3f} mm > {high:g}")
+        elif kept[k] < low - LIMIT_SLACK:
+            words.append(f"{axis.name} = {kept[k]:.3f} mm < {low:g}")
+    return ", ".join(words)
 
 
 def _grow(parts: np.ndarray, order: np.ndarray, worst: np.ndarray, last_worst: np.ndarray,

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -153,6 +154,39 @@ def test_nutating_table_takes_the_other_solution_when_one_leaves_the_limits():
         except KinematicsError:
             refused += 1
     assert refused == 0
+
+
+def _edge_path(*points):
+    from freecad_conformal.toolpath import ToolpathBuilder
+    builder = ToolpathBuilder(part="edge of the travel")
+    builder.add_segment(np.array(points, dtype=float), np.tile([0.0, 0.0, 1.0], (len(points), 1)),
+                        kind="deposit", feed=1000.0)
+    return builder.build()
+
+
+def test_free_angle_holds_one_value_over_a_run_that_leaves_the_travel():
+    # a vertical tool (C free) along Y = 300.5 on a ±300 mm trunnion: picked pose by pose C
+    # took +5° and -5° in turn and the post refused a "rotary jump"; one C fits the whole run
+    from freecad_conformal.post.program import post_toolpath
+    from freecad_conformal.post.verify import verify_program
+    machine = load_machine("trunnion_ac")
+    toolpath = _edge_path((0, 290, 0), (0, 300.5, 0), (10, 300.5, 0))
+    text = post_toolpath(toolpath, machine).text
+    c_words = {float(w) for w in re.findall(r"^G[01].* C(-?[\d.]+)", text, re.M)}
+    assert len(c_words) == 1 and c_words != {0.0}, c_words
+    deviation = verify_program(text, machine, toolpath)
+    assert deviation.position < 0.01
+
+
+def test_point_outside_the_travel_is_named_not_called_a_rotary_jump():
+    # from a corner that fits only at C = 0 to a point that needs C turned: no one C fits
+    from freecad_conformal.errors import PostError
+    from freecad_conformal.post.program import post_toolpath
+    toolpath = _edge_path((299, 299, 0), (0, 300.5, 0))
+    with pytest.raises(PostError, match=r"the tip at \(.*\) is outside the linear travel with "
+                                        r"the angles kept \(Y = 300\.\d+ mm > 300\)") as error:
+        post_toolpath(toolpath, load_machine("trunnion_ac"))
+    assert "rotary limit" not in str(error.value)
 
 
 @pytest.mark.parametrize("name", ["head_head_cb", "offset_table_bc", "nutating_table"])

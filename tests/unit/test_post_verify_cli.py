@@ -77,7 +77,8 @@ def test_cli_post_and_verify(tmp_path, capsys):
 
 def bad_toolpath_file(tmp_path):
     builder = ToolpathBuilder()
-    builder.add_segment([[0, 0, 10], [200, 0, 10]], kind="cure", feed=100)   # X beyond 150 mm
+    # 250 mm from the table's axis: beyond X/Y ±150 mm at every C (the corner is 212 mm out)
+    builder.add_segment([[0, 0, 10], [250, 0, 10]], kind="cure", feed=100)
     path = tmp_path / "far.npz"
     builder.build().save(path)
     return path
