@@ -23,6 +23,11 @@ POSE_LEVER = 50.0
 #: holds few pieces of a dense path.
 FIRST_RADIUS = 0.02
 
+#: Points whose guessed bound is at least this share of the largest bound are searched in
+#: full first (nearest_where_it_matters): few enough to be cheap, and the exact maximum is
+#: nearly always among them, so no second round is needed.
+CLOSE_TO_WORST = 0.8
+
 #: Candidates handled at once (memory: about 200 bytes each).
 CHUNK = 2_000_000
 
@@ -94,8 +99,9 @@ def _evaluate(points, axes, path, path_axes, query, move):
     distance = np.linalg.norm(a + t[:, None] * chord - p, axis=1)
     axis_a, axis_b = path_axes[move], path_axes[move + 1]
     # a pure reorientation (the tip does not move): the nearest axis on its arc
-    still = length2 <= ZERO_CHORD ** 2
-    t = np.where(still, _arc_parameter(axis_a, axis_b, axes[query]), t)
+    still = np.flatnonzero(length2 <= ZERO_CHORD ** 2)
+    if len(still):
+        t[still] = _arc_parameter(axis_a[still], axis_b[still], axes[query[still]])
     designed = slerp(axis_a, axis_b, t)
     angle = np.arccos(np.clip(np.einsum("ij,ij->i", designed, axes[query]), -1.0, 1.0))
     return distance, angle
@@ -132,16 +138,61 @@ def nearest_poses(points: np.ndarray, axes: np.ndarray, path: np.ndarray,
 
 
 def near_guess(points: np.ndarray, axes: np.ndarray, path: np.ndarray, path_axes: np.ndarray,
-               guess: np.ndarray, spread: int = 1) -> tuple[np.ndarray, np.ndarray]:
+               guess: np.ndarray, spread: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Like `nearest_poses`, but looking only at the moves within `spread` of `guess`:
     the result is a pose on the path, so its distance is an upper bound of the nearest."""
-    offsets = np.arange(-spread, spread)
-    moves = np.clip(guess[:, None] + offsets, 0, len(path) - 2)
-    query = np.repeat(np.arange(len(points)), len(offsets))
-    poses = np.column_stack([points, axes])[query]
-    cost = _screen(poses, _moves(path, path_axes)[moves.ravel()]).reshape(len(points), -1)
+    moves = np.clip(guess[:, None] + np.arange(-spread, spread), 0, len(path) - 2)   # (n, k)
+    start, start_axis = path[moves], path_axes[moves]                                 # (n, k, 3)
+    chord, turn = path[moves + 1] - start, path_axes[moves + 1] - start_axis
+    length2 = np.einsum("nkj,nkj->nk", chord, chord)
+    offset = points[:, None, :] - start
+    t = np.clip(np.einsum("nkj,nkj->nk", offset, chord) / np.maximum(length2, 1e-30), 0.0, 1.0)
+    axis_offset = axes[:, None, :] - start_axis
+    turn2 = np.einsum("nkj,nkj->nk", turn, turn)
+    t_axis = np.clip(np.einsum("nkj,nkj->nk", axis_offset, turn) / np.maximum(turn2, 1e-30),
+                     0.0, 1.0)
+    offset -= t[..., None] * chord
+    axis_offset -= np.where(length2 <= ZERO_CHORD ** 2, t_axis, t)[..., None] * turn
+    cost = (np.sqrt(np.einsum("nkj,nkj->nk", offset, offset))      # as _screen, per move
+            + POSE_LEVER * np.sqrt(np.einsum("nkj,nkj->nk", axis_offset, axis_offset)))
     best = moves[np.arange(len(points)), np.argmin(cost, axis=1)]
-    return _evaluate(points, axes, path, path_axes, np.arange(len(points)), best)
+    distance, angle = _evaluate(points, axes, path, path_axes, np.arange(len(points)), best)
+    return distance, angle, best
+
+
+def arc_length_guess(points: np.ndarray, path: np.ndarray) -> np.ndarray:
+    """Per point of an ordered polyline that follows `path` (a replay of it), the path move
+    at the same fraction of the length along both: a guess for `near_guess`."""
+    def along(line: np.ndarray) -> np.ndarray:
+        return np.concatenate(([0.0], np.cumsum(np.linalg.norm(np.diff(line, axis=0), axis=1))))
+
+    on_path, on_points = along(path), along(points)
+    scale = on_path[-1] / on_points[-1] if on_points[-1] > 0 else 0.0
+    return np.clip(np.searchsorted(on_path, on_points * scale) - 1, 0, len(path) - 2)
+
+
+def nearest_where_it_matters(points: np.ndarray, axes: np.ndarray, path: np.ndarray,
+                             path_axes: np.ndarray, guess: np.ndarray,
+                             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """`nearest_poses` for the points that decide the largest distance and angle, upper
+    bounds (`near_guess`) for the rest: the maxima are those of `nearest_poses`.
+
+    A guessed match bounds a point's distance from above, so a point whose bound is below
+    the largest exact distance found cannot raise it; only points whose bounds reach
+    CLOSE_TO_WORST of the largest bound are searched in full, then any still above the
+    exact maximum, until none is.
+    """
+    distance, angle, matched = near_guess(points, axes, path, path_axes, guess)
+    exact = np.zeros(len(points), dtype=bool)
+    ask = (distance >= CLOSE_TO_WORST * distance.max()) | (angle >= CLOSE_TO_WORST * angle.max())
+    while ask.any():
+        rows = np.flatnonzero(ask)
+        distance[rows], angle[rows], matched[rows] = nearest_poses(points[rows], axes[rows], path,
+                                                                   path_axes)
+        exact[rows] = True
+        worst_distance, worst_angle = distance[exact].max(), angle[exact].max()
+        ask = ~exact & ((distance > worst_distance) | (angle > worst_angle))
+    return distance, angle, matched
 
 
 def _match(queries, home, keys, move, packed, points, axes, path, path_axes, out) -> None:

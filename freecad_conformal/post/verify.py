@@ -21,7 +21,8 @@ from freecad_conformal.errors import PostError
 from freecad_conformal.post.gcode_reader import read_joints
 from freecad_conformal.post.kinematics import forward, head_offset
 from freecad_conformal.post.machine import Machine
-from freecad_conformal.post.nearest import near_guess, nearest_poses
+from freecad_conformal.post.nearest import (
+    arc_length_guess, near_guess, nearest_poses, nearest_where_it_matters)
 from freecad_conformal.toolpath import Toolpath
 
 #: The replay's polyline stays this close to the true path of every block (mm, rad):
@@ -160,7 +161,11 @@ def verify_program(text: str, machine: Machine, toolpath: Toolpath) -> Deviation
     joints, tools = read_program_tools(text, machine)
     tips, axes = replay(machine, joints, tools)
     design, design_axes = toolpath.points, toolpath.axes
-    distance, angle, matched = nearest_poses(tips, axes, design, design_axes)
+    if len(tips) >= 2 and len(design) >= 2:
+        distance, angle, matched = nearest_where_it_matters(
+            tips, axes, design, design_axes, arc_length_guess(tips, design))
+    else:
+        distance, angle, matched = nearest_poses(tips, axes, design, design_axes)
     there = (float(distance.max()), float(angle.max()))
     if len(tips) < 2:
         back = polyline_deviation(design, design_axes, tips, axes)
@@ -168,7 +173,7 @@ def verify_program(text: str, machine: Machine, toolpath: Toolpath) -> Deviation
     order = np.argsort(matched, kind="stable")
     first = np.searchsorted(matched[order], np.arange(len(design)) - 1)
     guess = order[np.clip(first, 0, len(order) - 1)]
-    back_distance, back_angle = near_guess(design, design_axes, tips, axes, guess)
+    back_distance, back_angle, _ = near_guess(design, design_axes, tips, axes, guess)
     unsure = np.flatnonzero((back_distance > there[0]) | (back_angle > there[1]))
     if len(unsure):
         exact = nearest_poses(design[unsure], design_axes[unsure], tips, axes)

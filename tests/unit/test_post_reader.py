@@ -67,6 +67,32 @@ def test_nearest_poses_is_exact_against_brute_force():
     assert np.allclose(distance, brute, atol=1e-12)
 
 
+def test_guessed_matches_give_the_exact_largest_deviation():
+    # a replay that follows a wiggly path closely, with a few samples pushed off it: the
+    # arc-length guess plus the full search where it matters finds the same maxima as the
+    # full search everywhere, and never matches a point better than the full search
+    from freecad_conformal.post.nearest import (
+        POSE_LEVER, arc_length_guess, nearest_where_it_matters)
+    rng = np.random.default_rng(11)
+    t = np.linspace(0.0, 20.0, 4000)
+    path = np.column_stack([10 * np.cos(t), 10 * np.sin(t), 0.5 * t])
+    path_axes = np.column_stack([0.3 * np.cos(t), 0.3 * np.sin(t), np.ones_like(t)])
+    path_axes /= np.linalg.norm(path_axes, axis=1)[:, None]
+    s = np.sort(rng.uniform(0.0, 20.0, 3000))
+    samples_ = np.column_stack([10 * np.cos(s), 10 * np.sin(s), 0.5 * s])
+    samples_ += rng.normal(scale=1e-3, size=samples_.shape)
+    pushed = rng.choice(len(s), 5, replace=False)
+    samples_[pushed] += rng.normal(scale=0.05, size=(5, 3))
+    sample_axes = np.column_stack([0.3 * np.cos(s), 0.3 * np.sin(s), np.ones_like(s)])
+    sample_axes /= np.linalg.norm(sample_axes, axis=1)[:, None]
+    full = nearest_poses(samples_, sample_axes, path, path_axes)
+    fast = nearest_where_it_matters(samples_, sample_axes, path, path_axes,
+                                    arc_length_guess(samples_, path))
+    assert fast[0].max() == full[0].max() and fast[1].max() == full[1].max()
+    assert np.argmax(fast[0]) in pushed
+    assert np.all(fast[0] + POSE_LEVER * fast[1] >= full[0] + POSE_LEVER * full[1] - 1e-12)
+
+
 def test_verify_finds_a_program_that_skips_part_of_the_path():
     machine, toolpath = load_machine("trunnion_ac"), samples.tilted_ring()
     text = post_toolpath(toolpath, machine).text
