@@ -1,63 +1,45 @@
-"""`sections PART --layer 0.2 [--direction 0,0,1] [--json out.json]`: a section report."""
+"""`sections PART [--layer-height 0.2 | --heights ... | --radii ...] [--direction 0,0,1]
+[--json out.json]`: a section report; the settings are settings/sections.py's."""
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 
-from freecad_conformal.errors import ConformalError
-
-
-def parse_vector(text: str) -> tuple[float, float, float]:
-    try:
-        values = tuple(float(part) for part in text.split(","))
-    except ValueError:
-        values = ()
-    if len(values) != 3:
-        raise argparse.ArgumentTypeError(f"expected three comma-separated numbers, got {text!r}")
-    return values  # type: ignore[return-value]
-
-
-def parse_heights(text: str) -> list[float]:
-    try:
-        return [float(part) for part in text.split(",") if part.strip()]
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected comma-separated heights, got {text!r}") from None
+from freecad_conformal.settings.sections import SECTIONS_SETTINGS
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from freecad_conformal.settings.cli import add_arguments as add_settings
+
     parser.add_argument("part", help="STEP, BREP, IGES or FCStd file")
-    group = parser.add_mutually_exclusive_group()
-    group.add_argument("--layer", type=float, default=None,
-                       help="uniform layer spacing in mm (default 1.0; planes at mid-layer)")
-    group.add_argument("--heights", type=parse_heights, default=None,
-                       help="explicit comma-separated heights (mm along the direction)")
-    group.add_argument("--radii", type=parse_heights, default=None,
-                       help="cylindrical sections at these comma-separated radii instead")
-    parser.add_argument("--direction", type=parse_vector, default=(0.0, 0.0, 1.0),
-                        help="build direction, or cylinder axis with --radii (default 0,0,1)")
-    parser.add_argument("--axis-point", type=parse_vector, default=(0.0, 0.0, 0.0),
-                        help="a point on the cylinder axis with --radii (default 0,0,0)")
-    parser.add_argument("--chord", type=float, default=None,
-                        help="chord tolerance of loop polygons in mm (default 0.001)")
-    parser.add_argument("--workers", type=int, default=1, help="processes to use (default 1)")
+    add_settings(parser, SECTIONS_SETTINGS)
     parser.add_argument("--json", metavar="FILE", help="write the documented JSON report here")
 
 
 def run(args: argparse.Namespace) -> int:
     from freecad_conformal.geometry.report import section_report
+    from freecad_conformal.settings.cli import values_from_args
+    from freecad_conformal.settings.schema import SettingError, validate
+    from freecad_conformal.settings.sections import section_radii
 
-    if args.workers < 1:
-        raise ConformalError(f"--workers must be at least 1, got {args.workers}")
+    if args.layer is not None and args.heights is not None:
+        raise SettingError("give the layer height (--layer-height) or explicit --heights, not both")
+    values = values_from_args(args, SECTIONS_SETTINGS)
+    radii_given = any(getattr(args, key) is not None
+                      for key in ("radii", "radius_start", "radius_end", "radius_step"))
+    if args.mode is None and radii_given:
+        values["mode"] = "cylindrical"            # --radii alone asks for cylinders
+    values = validate(SECTIONS_SETTINGS, values)
+    cylindrical = values["mode"] == "cylindrical"
+    if cylindrical and (args.layer is not None or args.heights is not None):
+        raise SettingError("--layer-height and --heights are for planar sections; cylindrical "
+                           "sections take --radii or --radius-start/--radius-end/--radius-step")
     report = section_report(
-        args.part, layer=args.layer, heights=args.heights, radii=args.radii,
-        direction=args.direction, axis_point=args.axis_point, chord=args.chord,
-        workers=args.workers, json_path=args.json, show_progress=True)
+        args.part, layer=values["layer"], heights=values["heights"],
+        radii=section_radii(values) if cylindrical else None, direction=values["direction"],
+        axis_point=values["axis_point"], chord=values["chord"], workers=values["workers"],
+        json_path=args.json, show_progress=True)
     sys.stdout.write(report.table())
     if args.json:
         print(f"wrote {args.json}")
     return 0
-
-
-def dumps(data: dict) -> str:
-    return json.dumps(data, indent=1)

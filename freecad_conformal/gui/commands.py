@@ -14,6 +14,8 @@ import FreeCADGui
 from freecad_conformal.gui.icons import icon
 from freecad_conformal.gui.qt import translate
 from freecad_conformal.gui.views import show
+from freecad_conformal.objects.properties import set_values
+from freecad_conformal.settings.sections import SECTIONS_SETTINGS
 
 
 def _tr(text: str) -> str:
@@ -120,25 +122,28 @@ class SectionsCommand(ObjectCommand):
         # cylinders about the part's vertical centre line, out to its far side, cut it;
         # the origin's may miss it altogether
         box = source.Shape.BoundBox
-        obj.AxisPoint = FreeCAD.Vector(box.Center.x, box.Center.y, box.ZMin)
-        obj.RadiusEnd = max(obj.RadiusStart.Value, 0.5 * box.DiagonalLength)
-        obj.RadiusStep = max(obj.RadiusStep.Value, obj.RadiusEnd.Value / 50.0)
+        radius_end = max(obj.RadiusStart.Value, 0.5 * box.DiagonalLength)
+        set_values(obj, SECTIONS_SETTINGS, {
+            "axis_point": (box.Center.x, box.Center.y, box.ZMin), "radius_end": radius_end,
+            "radius_step": max(obj.RadiusStep.Value, radius_end / 50.0)})
         return obj
 
     def use_face(self, obj) -> None:
         """A selected plane gives the layers' direction (its normal); a selected cylinder
-        gives the cylinders' axis, in Cylindrical mode."""
+        gives the cylinders' axis, in cylindrical mode."""
         chosen = selected_face(("plane", "cylinder"))
         if chosen is None or chosen[0] != obj.Source:
             return
         face = chosen[0].Shape.getElement(chosen[1])
         if face.Surface.__class__.__name__ == "Cylinder":
-            obj.Mode = "Cylindrical"
-            obj.AxisPoint, obj.AxisDirection = face.Surface.Center, face.Surface.Axis
-            obj.RadiusEnd = max(obj.RadiusEnd.Value, obj.Source.Shape.BoundBox.DiagonalLength)
+            set_values(obj, SECTIONS_SETTINGS, {
+                "mode": "cylindrical", "axis_point": tuple(face.Surface.Center),
+                "direction": tuple(face.Surface.Axis),
+                "radius_end": max(obj.RadiusEnd.Value, obj.Source.Shape.BoundBox.DiagonalLength)})
         else:
             u0, u1, v0, v1 = face.ParameterRange
-            obj.Direction = face.normalAt(0.5 * (u0 + u1), 0.5 * (v0 + v1)) * -1
+            normal = face.normalAt(0.5 * (u0 + u1), 0.5 * (v0 + v1)) * -1
+            set_values(obj, SECTIONS_SETTINGS, {"direction": tuple(normal)})
 
 
 class AnalyseCommand(ObjectCommand):

@@ -3,8 +3,8 @@ words with its unit, grouped as the settings schema groups them, with the condit
 which it is shown (Setting.only_when) and the list it picks from (tools, materials, ...).
 
 Objects made from the schema (Job, Decomposition, Feature) take labels, units, groups and
-conditions from settings/; the few objects without one (Sections, Analysis, Post, Verify)
-get words from their property names and the conditions in OTHER_CONDITIONS.
+conditions from settings/; the few objects without one (Analysis, Post, Verify)
+get words from their property names.
 """
 from __future__ import annotations
 
@@ -19,15 +19,6 @@ PROPERTY_UNITS = {"App::PropertyLength": "mm", "App::PropertyDistance": "mm",
                   "App::PropertyPercent": "%"}
 #: The schema's units as a designer reads them.
 UNIT_WORDS = {"deg": "°", "mm^2": "mm²", "mm^3": "mm³"}
-#: Conditions of properties that are not schema settings: shown only for these values.
-OTHER_CONDITIONS = {
-    "Direction": ("Mode", ("Planar",)), "LayerHeight": ("Mode", ("Planar",)),
-    "AxisPoint": ("Mode", ("Cylindrical",)), "AxisDirection": ("Mode", ("Cylindrical",)),
-    "RadiusStart": ("Mode", ("Cylindrical",)), "RadiusEnd": ("Mode", ("Cylindrical",)),
-    "RadiusStep": ("Mode", ("Cylindrical",)),
-}
-#: Units of vector properties that are positions (directions have none).
-VECTOR_UNITS = {"AxisPoint": "mm"}
 #: Lists a field picks from, by setting key or property name.
 LISTS = {"tool": "tools", "material": "materials", "dialect": "dialects", "Dialect": "dialects",
          "root": "root"}
@@ -86,11 +77,9 @@ def field_specs(properties: Sequence[tuple[str, str, str, str]], settings: Seque
             continue
         setting = by_prop.get(name)
         if setting is None:
-            unit = VECTOR_UNITS.get(name, "") if type_id == "App::PropertyVector" \
-                else PROPERTY_UNITS.get(type_id, "")
+            unit = PROPERTY_UNITS.get(type_id, "")
             others.append(FieldSpec(name, with_unit(words(name), unit), prop_group, type_id,
-                                    tooltip, unit, OTHER_CONDITIONS.get(name),
-                                    LISTS.get(name, "")))
+                                    tooltip, unit, None, LISTS.get(name, "")))
             continue
         when = None
         if setting.only_when is not None:

@@ -105,7 +105,8 @@ PROPERTY_TYPES = {"length": "App::PropertyLength", "angle": "App::PropertyAngle"
                   "percent": "App::PropertyPercent", "int": "App::PropertyInteger",
                   "float": "App::PropertyFloat", "bool": "App::PropertyBool",
                   "choice": "App::PropertyEnumeration", "machine": "App::PropertyEnumeration",
-                  "text": "App::PropertyString", "direction": "App::PropertyString"}
+                  "text": "App::PropertyString", "direction": "App::PropertyString",
+                  "point": "App::PropertyString", "lengths": "App::PropertyString"}
 #: Feeds are set in mm/min (as G-code F words); FreeCAD's speed properties hold mm/s.
 SECONDS_PER_MINUTE = 60.0
 #: Optional settings whose zero is a real value are text properties: empty means derived.

@@ -16,6 +16,8 @@ def _help(setting: Setting) -> str:
         default = f"default: {setting.derived}" if setting.derived else "optional"
     elif setting.kind == "bool":
         default = f"default {'on' if setting.default else 'off'}"
+    elif isinstance(setting.default, tuple):
+        default = "default " + ",".join(f"{c:g}" for c in setting.default)
     else:
         default = f"default {setting.default:g}" if isinstance(setting.default, float) \
             else f"default {setting.default}"

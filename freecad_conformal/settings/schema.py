@@ -14,7 +14,7 @@ from freecad_conformal.errors import PlanError
 #: Kinds of setting and the unit a value of each kind is given in.
 UNITS = {"length": "mm", "angle": "deg", "speed": "mm/s", "area": "mm^2", "volume": "mm^3",
          "time": "s", "feed": "mm/min", "percent": "%", "int": "", "float": "", "bool": "", "choice": "",
-         "text": "", "direction": "", "numbers": "", "machine": ""}
+         "text": "", "direction": "", "numbers": "", "machine": "", "point": "mm", "lengths": "mm"}
 
 
 class SettingError(PlanError):
@@ -116,6 +116,10 @@ class Setting:
             return parse_direction(value, self)
         if kind == "numbers":
             return parse_numbers(value, self)
+        if kind == "point":
+            return parse_point(value, self)
+        if kind == "lengths":
+            return tuple(self._check_number(v) for v in parse_numbers(value, self))
         return self._check_number(value)
 
     def _check_number(self, value: Any) -> float | int:
@@ -157,10 +161,13 @@ def parse_direction(value: Any, setting: Setting) -> str | tuple[float, float, f
         vector = tuple(float(p) for p in parts)
     except (TypeError, ValueError):
         vector = ()
-    words = ", ".join(setting.allowed() + tuple(DIRECTION_WORDS))
     if len(vector) != 3 or not all(map(math.isfinite, vector)) or not any(vector):
-        raise SettingError(f"{setting.describe()} must be {words} or a direction x,y,z, "
-                           f"got {value!r}")
+        words = " or ".join(setting.allowed())
+        what = ("a zero vector" if len(vector) == 3 and not any(vector) else
+                "not finite" if len(vector) == 3 else "not three numbers")
+        raise SettingError(f"{setting.describe()} must be a direction x,y,z"
+                           + (f" or {words}" if words else "")
+                           + f" (finite, not the zero vector), got {value!r}: {what}")
     return vector  # type: ignore[return-value]
 
 
@@ -174,6 +181,14 @@ def parse_numbers(value: Any, setting: Setting) -> tuple[float, ...]:
     if not all(map(math.isfinite, numbers)):
         raise SettingError(f"{setting.describe()} must be finite numbers, got {value!r}")
     return numbers
+
+
+def parse_point(value: Any, setting: Setting) -> tuple[float, float, float]:
+    """Three finite coordinates (mm), given as text "x, y, z" or a sequence."""
+    numbers = parse_numbers(value, setting)
+    if len(numbers) != 3:
+        raise SettingError(f"{setting.describe()} must be a point x,y,z, got {value!r}")
+    return numbers  # type: ignore[return-value]
 
 
 def defaults(settings: Iterable[Setting]) -> dict[str, Any]:

@@ -51,8 +51,10 @@ def test_sections_direction_and_cylindrical(tmp_path, App, Part):
 
 @pytest.mark.parametrize("args, message", [
     (["sections", "missing.step"], "not found"),
-    (["sections", "{part}", "--layer", "0"], "positive"),
-    (["sections", "{part}", "--direction", "0,0,0"], "zero vector"),
+    (["sections", "{part}", "--layer", "0"], "layer height (--layer-height / LayerHeight) must be > 0"),
+    (["sections", "{part}", "--direction", "0,0,0"], "direction (--direction / Direction) must be"),
+    (["sections", "{part}", "--radii", "2", "--layer", "1"], "--layer-height and --heights are for planar"),
+    (["sections", "{part}", "--heights", "0.5", "--layer", "1"], "not both"),
     (["sections", "{shell}"], "not a solid"),      # an open shell (a closed one is sewn)
 ])
 def test_bad_input_exits_non_zero_without_output(tmp_path, App, Part, args, message):
@@ -69,6 +71,8 @@ def test_bad_input_exits_non_zero_without_output(tmp_path, App, Part, args, mess
     assert not list(tmp_path.glob("*.part"))
 
 
-def test_unparsable_vector_is_a_usage_error(tmp_path):
-    result = run_cli("sections", "x.step", "--direction", "1,2")
-    assert result.returncode == 2 and "three comma-separated" in result.stderr
+def test_unparsable_vector_is_named_before_the_part_is_read(tmp_path):
+    result = run_cli("sections", "x.step", "--direction", "1,2")     # x.step does not exist
+    assert result.returncode == 1
+    assert "direction (--direction / Direction) must be a direction x,y,z" in result.stderr
+    assert "not three numbers" in result.stderr

@@ -119,6 +119,22 @@ def test_a_new_decomposition_has_the_decompose_commands_defaults(doc, Part):
         _cli(["decompose", "p.step", "--no-collision"]), DECOMPOSE_SETTINGS))["collision"] is False
 
 
+def test_new_sections_have_the_sections_commands_defaults(doc, Part):
+    """Sections once had their own properties: a cylinder axis of their own, radii as
+    start/end/step where the command took a list."""
+    from freecad_conformal.objects.properties import values_from_object
+    from freecad_conformal.objects.sections_feature import create_sections
+    from freecad_conformal.settings.sections import SECTIONS_SETTINGS
+
+    body = doc.addObject("Part::Feature", "Body")
+    body.Shape = Part.makeBox(10, 10, 10)
+    sections = create_sections(doc, body)
+    gui = validate(SECTIONS_SETTINGS, values_from_object(sections, SECTIONS_SETTINGS))
+    cli = validate(SECTIONS_SETTINGS, values_from_args(_cli(["sections", "p.step"]),
+                                                       SECTIONS_SETTINGS))
+    assert gui == cli and gui["mode"] == "planar" and gui["layer"] == 1.0
+
+
 def test_post_and_verify_objects_have_the_commands_defaults(doc, Part):
     """verify's --max-position once defaulted to no check while the Verify object used 0.01."""
     from freecad_conformal.objects.post_feature import create_post, create_verify

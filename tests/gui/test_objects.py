@@ -42,7 +42,8 @@ def test_failing_parameter_marks_the_object(objects_run):
     sections = objects_run["sections"]
     assert not sections["bad_valid"]
     assert "Invalid" in sections["bad_state"] or "Error" in " ".join(sections["bad_state"])
-    assert "Conformal: BadSections failed: layer thickness must be a positive" in sections["report"]
+    assert ("Conformal: BadSections failed: layer height (--layer-height / LayerHeight) must be "
+            "> 0 mm, got 0 mm") in sections["report"]
 
 
 @pytest.mark.gui

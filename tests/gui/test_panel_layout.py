@@ -60,17 +60,29 @@ def test_feature_help_names_the_kind():
     assert spacing.condition == "kind rods"
 
 
-def test_non_schema_objects_get_words_units_and_mode_conditions():
-    rows = [("Mode", "App::PropertyEnumeration", "Sections", ""),
-            ("LayerHeight", "App::PropertyLength", "Sections", ""),
-            ("AxisPoint", "App::PropertyVector", "Sections", ""),
-            ("AxisDirection", "App::PropertyVector", "Sections", ""),
-            ("LayerCount", "App::PropertyInteger", "Result", "")]
-    fields = {f.prop: f for f in field_specs(rows, (), ("Sections",))}
-    assert set(fields) == {"Mode", "LayerHeight", "AxisPoint", "AxisDirection"}
+def test_sections_fields_come_from_the_schema_with_mode_conditions():
+    from freecad_conformal.objects.properties import setting_properties
+    from freecad_conformal.settings.sections import SECTIONS_SETTINGS
+
+    rows = [(name, type_id, group, tip)
+            for type_id, name, group, tip, _ in setting_properties(SECTIONS_SETTINGS, "Sections")]
+    rows.append(("LayerCount", "App::PropertyInteger", "Result", ""))
+    fields = {f.prop: f for f in field_specs(rows, SECTIONS_SETTINGS, ("Sections",))}
+    assert "LayerCount" not in fields and "Workers" not in fields     # output; CLI only
     assert fields["LayerHeight"].label == "Layer height [mm]"
     assert fields["AxisPoint"].label == "Axis point [mm]"
-    assert fields["AxisDirection"].label == "Axis direction"
-    assert not fields["AxisPoint"].shown({"Mode": "Planar"})
-    assert fields["AxisPoint"].shown({"Mode": "Cylindrical"})
+    assert fields["Direction"].shown({"Mode": "planar"}) and fields["Direction"].shown(
+        {"Mode": "cylindrical"})
+    assert not fields["AxisPoint"].shown({"Mode": "planar"})
+    assert fields["AxisPoint"].shown({"Mode": "cylindrical"})
+    assert not fields["LayerHeight"].shown({"Mode": "cylindrical"})
+    assert fields["Radii"].empty_means == "radius start to radius end by radius step"
+
+
+def test_non_schema_objects_get_words_and_units():
+    rows = [("Dialect", "App::PropertyString", "Post", ""),
+            ("LinearTolerance", "App::PropertyLength", "Post", "")]
+    fields = {f.prop: f for f in field_specs(rows, (), ("Post",))}
+    assert fields["LinearTolerance"].label == "Linear tolerance [mm]"
+    assert fields["Dialect"].picks == "dialects" and fields["Dialect"].when is None
     assert words("AngularTolerance") == "Angular tolerance"

@@ -23,7 +23,7 @@ def pump_brep(parts_dir) -> str:
 
 
 def sections_inputs(brep: str) -> dict:
-    return {"brep": brep, "mode": "Planar", "chord_tolerance": 0.01,
+    return {"brep": brep, "mode": "planar", "chord_tolerance": 0.01,
             "direction": (0.0, 0.0, 1.0), "layer": 2.0}
 
 
@@ -126,8 +126,8 @@ def test_job_paths_map_back_onto_the_part_as_modelled(parts_dir):
 def test_sections_that_miss_the_part_fail_rather_than_pass_empty(pump_brep):
     from freecad_conformal.errors import GeometryError
 
-    inputs = {"brep": pump_brep, "mode": "Cylindrical", "chord_tolerance": 0.01,
+    inputs = {"brep": pump_brep, "mode": "cylindrical", "chord_tolerance": 0.01,
               "radii": [1000.0, 1001.0], "axis_point": (5000.0, 0.0, 0.0),
-              "axis_direction": (0.0, 0.0, 1.0)}
+              "direction": (0.0, 0.0, 1.0)}
     with pytest.raises(GeometryError, match="no section: the cylinders of radii 1000 to 1001"):
         compute("sections", inputs)

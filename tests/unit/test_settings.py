@@ -8,6 +8,7 @@ import pytest
 from freecad_conformal.settings.cli import add_arguments, values_from_args
 from freecad_conformal.settings.feature import FEATURE_SETTINGS
 from freecad_conformal.settings.plan import PLAN_SETTINGS
+from freecad_conformal.settings.sections import SECTIONS_SETTINGS
 from freecad_conformal.settings.schema import (
     Setting, SettingError, as_json, defaults, validate)
 
@@ -20,19 +21,19 @@ def _parse(settings, argv):
     return values_from_args(parser.parse_args(argv), settings)
 
 
-@pytest.mark.parametrize("settings", [PLAN_SETTINGS, FEATURE_SETTINGS])
+@pytest.mark.parametrize("settings", [PLAN_SETTINGS, FEATURE_SETTINGS, SECTIONS_SETTINGS])
 def test_every_default_passes_its_own_check(settings):
     assert validate(settings, {}) == validate(settings, defaults(settings))
 
 
-@pytest.mark.parametrize("settings", [PLAN_SETTINGS, FEATURE_SETTINGS])
+@pytest.mark.parametrize("settings", [PLAN_SETTINGS, FEATURE_SETTINGS, SECTIONS_SETTINGS])
 def test_keys_flags_and_properties_are_unique(settings):
     for name in ("key", "cli_flag", "property_name"):
         values = [getattr(s, name) for s in settings if getattr(s, name)]
         assert len(values) == len(set(values)), name
 
 
-@pytest.mark.parametrize("settings", [PLAN_SETTINGS, FEATURE_SETTINGS])
+@pytest.mark.parametrize("settings", [PLAN_SETTINGS, FEATURE_SETTINGS, SECTIONS_SETTINGS])
 def test_no_flags_gives_the_schema_defaults(settings):
     assert validate(settings, _parse(settings, [])) == validate(settings, {})
 
@@ -129,3 +130,23 @@ def test_settings_that_apply_to_one_mode_name_a_real_setting_and_value():
     parser = argparse.ArgumentParser()
     add_arguments(parser, PLAN_SETTINGS)
     assert "only with layer mode cusp" in " ".join(parser.format_help().split())
+
+
+def test_points_and_length_lists_are_checked_per_element():
+    values = validate(SECTIONS_SETTINGS, {"axis_point": "1, 2, 0", "radii": "2.5; 5"})
+    assert values["axis_point"] == (1.0, 2.0, 0.0) and values["radii"] == (2.5, 5.0)
+    with pytest.raises(SettingError, match=r"axis point .*must be a point x,y,z, got '1,2'"):
+        validate(SECTIONS_SETTINGS, {"axis_point": "1,2"})
+    with pytest.raises(SettingError, match=r"radii .*must be > 0 mm, got 0 mm"):
+        validate(SECTIONS_SETTINGS, {"radii": "2, 0"})
+
+
+def test_section_radii_from_a_list_or_start_end_step():
+    from freecad_conformal.settings.sections import section_radii
+
+    assert section_radii(validate(SECTIONS_SETTINGS, {"radii": "3, 1"})) == (3.0, 1.0)
+    stepped = validate(SECTIONS_SETTINGS, {"radius_start": 1, "radius_end": 2.0000000001,
+                                           "radius_step": 0.5})
+    assert section_radii(stepped) == (1.0, 1.5, 2.0)
+    with pytest.raises(SettingError, match=r"last radius .* 1 mm is below the first radius"):
+        section_radii(validate(SECTIONS_SETTINGS, {"radius_start": 3, "radius_end": 1}))

@@ -38,7 +38,7 @@ def _sections(doc, params) -> dict:
     planar.LayerHeight = 5.0
     sphere = doc.addObject("Part::Sphere", "Ball")
     sphere.Radius = 10.0
-    cylindrical = show(create_sections(doc, sphere, mode="Cylindrical", name="BallSections"))
+    cylindrical = show(create_sections(doc, sphere, mode="cylindrical", name="BallSections"))
     cylindrical.RadiusStart, cylindrical.RadiusEnd, cylindrical.RadiusStep = 2.0, 8.0, 2.0
     doc.recompute()
     out = {"nut_layers_5mm": planar.LayerCount, "nut_valid": planar.isValid(),

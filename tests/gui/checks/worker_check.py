@@ -157,7 +157,7 @@ def main(params):
 
     sections = run_command("Conformal_Sections", body)
     out["sections_planar"] = sections.visible_fields()
-    sections.set_field("Mode", "Cylindrical")
+    sections.set_field("Mode", "cylindrical")
     out["sections_cylindrical"] = sections.visible_fields()
     sections.reject()
     FreeCADGui.Selection.clearSelection()
