@@ -20,13 +20,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--report", help="also write the plan as JSON (totals, sub-parts, notes "
                         "and every setting used; format conformal.plan/1)")
     add_plan_settings(parser)
-    mandrel = parser.add_argument_group("rotating mandrel (METHODS section 5)")
+    mandrel = parser.add_argument_group("mandrel")
     mandrel.add_argument("--mandrel", action="store_true",
                          help="build around the machine's rotary mandrel in unrolled cylindrical layers "
                               "(machine default rotary_mandrel)")
-    mandrel.add_argument("--mapping", choices=("rotary", "linear"),
-                         help="with --mandrel: A in degrees (rotary, default), or the rotation as "
-                              "a linear axis at R0")
+    from freecad_conformal.settings.cli import add_arguments as add_settings
+    from freecad_conformal.settings.mandrel import MAPPING
+
+    add_settings(parser, (MAPPING,), groups={"mandrel": mandrel})
 
 
 def add_plan_settings(parser: argparse.ArgumentParser) -> None:

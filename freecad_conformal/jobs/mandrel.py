@@ -34,12 +34,9 @@ from shapely.geometry import Polygon
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.paths.features.fill import as_region, long_axis_angle, zigzag
+from freecad_conformal.settings.mandrel import PRINT_FEED, TRAVEL_FEED
 from freecad_conformal.toolpath import Toolpath, ToolpathBuilder
 from freecad_conformal.tolerances import DEFAULT_LINEAR_TOLERANCE
-
-#: METHODS section 5 printed at 2000 mm/min and travelled at 2400 mm/min.
-PRINT_FEED = 2000.0
-TRAVEL_FEED = 2400.0
 
 #: Radial lift (mm) for travel moves inside a layer, so the nozzle does not drag over beads.
 TRAVEL_LIFT = 1.0

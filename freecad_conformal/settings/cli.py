@@ -25,11 +25,13 @@ def _help(setting: Setting) -> str:
     return f"{setting.help} ({unit}{default}{only})"
 
 
-def add_arguments(parser: argparse.ArgumentParser, settings: Iterable[Setting]) -> None:
-    """One flag per setting, in argument groups named by the settings' groups. Flags leave
-    unset values as None; `values_from_args` fills in the schema's defaults, so argparse
-    never holds a second copy of a default."""
-    groups: dict[str, Any] = {}
+def add_arguments(parser: argparse.ArgumentParser, settings: Iterable[Setting],
+                  groups: dict[str, Any] | None = None) -> None:
+    """One flag per setting, in argument groups named by the settings' groups (`groups`:
+    ones the command made already, by name). Flags leave unset values as None;
+    `values_from_args` fills in the schema's defaults, so argparse never holds a second
+    copy of a default."""
+    groups = dict(groups or {})
     for setting in settings:
         group = groups.get(setting.group)
         if group is None:

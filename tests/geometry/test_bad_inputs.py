@@ -149,6 +149,8 @@ CASES += [
     (R + ["rods", "--tool", "nosuch"], ["no tool 'nosuch'"]),
     (R + ["rods", "--gcode", "nowhere/x.ngc"], ["--gcode", "nowhere"]),
     (["mandrel", "box.step", "-o", "x.ngc", "--machine", "nosuch"], ["unknown machine 'nosuch'"]),
+    (["mandrel", "box.step", "-o", "x.ngc", "--angle", "inf"], ["raster angle (--angle) must be finite", "inf"]),
+    (["mandrel", "box.step", "-o", "x.ngc", "--feed", "0"], ["print feed (--feed) must be > 0", "got 0"]),
     # batch, tools, demo
     (["batch", "box.step", "-o", "out", "--workers", "-1"], ["--workers", "-1"]),
     (["batch", "box.step", "-o", "out", "--suffix", "gcode"], ["suffix must start with a dot"]),

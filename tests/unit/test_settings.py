@@ -7,6 +7,7 @@ import pytest
 
 from freecad_conformal.settings.cli import add_arguments, values_from_args
 from freecad_conformal.settings.feature import FEATURE_SETTINGS
+from freecad_conformal.settings.mandrel import MANDREL_SETTINGS
 from freecad_conformal.settings.plan import PLAN_SETTINGS
 from freecad_conformal.settings.sections import SECTIONS_SETTINGS
 from freecad_conformal.settings.schema import (
@@ -21,19 +22,22 @@ def _parse(settings, argv):
     return values_from_args(parser.parse_args(argv), settings)
 
 
-@pytest.mark.parametrize("settings", [PLAN_SETTINGS, FEATURE_SETTINGS, SECTIONS_SETTINGS])
+@pytest.mark.parametrize("settings", [PLAN_SETTINGS, FEATURE_SETTINGS, SECTIONS_SETTINGS,
+                                      MANDREL_SETTINGS])
 def test_every_default_passes_its_own_check(settings):
     assert validate(settings, {}) == validate(settings, defaults(settings))
 
 
-@pytest.mark.parametrize("settings", [PLAN_SETTINGS, FEATURE_SETTINGS, SECTIONS_SETTINGS])
+@pytest.mark.parametrize("settings", [PLAN_SETTINGS, FEATURE_SETTINGS, SECTIONS_SETTINGS,
+                                      MANDREL_SETTINGS])
 def test_keys_flags_and_properties_are_unique(settings):
     for name in ("key", "cli_flag", "property_name"):
         values = [getattr(s, name) for s in settings if getattr(s, name)]
         assert len(values) == len(set(values)), name
 
 
-@pytest.mark.parametrize("settings", [PLAN_SETTINGS, FEATURE_SETTINGS, SECTIONS_SETTINGS])
+@pytest.mark.parametrize("settings", [PLAN_SETTINGS, FEATURE_SETTINGS, SECTIONS_SETTINGS,
+                                      MANDREL_SETTINGS])
 def test_no_flags_gives_the_schema_defaults(settings):
     assert validate(settings, _parse(settings, [])) == validate(settings, {})
 
