@@ -11,12 +11,11 @@ from pathlib import Path
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from freecad_conformal.settings.cli import add_arguments as add_settings
+    from freecad_conformal.settings.stream import STREAM_SETTINGS
+
     parser.add_argument("program", help="G-code file to send")
-    parser.add_argument("--port", required=True, help="serial port, e.g. /dev/ttyUSB0 or COM3")
-    parser.add_argument("--baud", type=int, default=115200, help="serial speed (default 115200)")
-    parser.add_argument("--protocol", choices=("marlin", "grbl"), default="marlin",
-                        help="marlin: line numbers, checksums, ok/resend (RepRap firmwares); "
-                             "grbl: character counting (grbl, grblHAL)")
+    add_settings(parser, STREAM_SETTINGS)
     parser.add_argument("--resume", metavar="STATEFILE",
                         help="continue the job saved in STATEFILE after a disconnect or abort")
     parser.add_argument("--state", metavar="STATEFILE",
@@ -30,8 +29,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from freecad_conformal.progress import Progress
+    from freecad_conformal.settings.cli import values_from_args
+    from freecad_conformal.settings.schema import validate
+    from freecad_conformal.settings.stream import STREAM_SETTINGS
     from freecad_conformal.stream import Streamer, load_program
 
+    connection = validate(STREAM_SETTINGS, values_from_args(args, STREAM_SETTINGS))
     program = load_program(args.program)
     state_path = args.resume or args.state or f"{args.program}.stream.json"
     bar = Progress(len(program), label=Path(args.program).name)
@@ -40,7 +43,8 @@ def run(args: argparse.Namespace) -> int:
     def show(progress) -> None:
         bar.update(progress.confirmed - bar.done)
 
-    streamer = Streamer(program, args.port, protocol=args.protocol, baud=args.baud,
+    streamer = Streamer(program, connection["port"], protocol=connection["protocol"],
+                        baud=connection["baud"],
                         state_path=state_path, log_path=args.log, resume=bool(args.resume),
                         from_line=args.from_line, on_progress=show)
     bar.update(streamer.state.confirmed)

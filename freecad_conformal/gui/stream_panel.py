@@ -9,6 +9,7 @@ import FreeCADGui
 
 from freecad_conformal.gui.qt import QtCore, QtWidgets, standard_buttons, translate
 from freecad_conformal.gui.widgets import MessageLine
+from freecad_conformal.settings.stream import COMMON_BAUDS, STREAM_SETTINGS
 
 #: How often the panel reads the worker's progress (ms).
 POLL_MS = 200
@@ -29,11 +30,13 @@ class StreamPanel:
         self.form = QtWidgets.QWidget()
         self.form.setWindowTitle(_tr("Stream"))
         layout = QtWidgets.QFormLayout(self.form)
-        self.port = QtWidgets.QLineEdit("/dev/ttyUSB0")
+        defaults = {s.key: s for s in STREAM_SETTINGS}
+        self.port = QtWidgets.QLineEdit(defaults["port"].default)
         self.baud = QtWidgets.QComboBox()
-        self.baud.addItems(["115200", "250000", "57600", "9600"])
+        self.baud.setEditable(True)             # any speed; the common ones to pick from
+        self.baud.addItems([str(b) for b in COMMON_BAUDS])
         self.protocol = QtWidgets.QComboBox()
-        self.protocol.addItems(["marlin", "grbl"])
+        self.protocol.addItems(list(defaults["protocol"].allowed()))
         self.progress = QtWidgets.QProgressBar()
         buttons = QtWidgets.QHBoxLayout()
         self.start_button = QtWidgets.QPushButton(_tr("Start"))
@@ -57,16 +60,19 @@ class StreamPanel:
     def start(self) -> bool:
         """Open the port and send in a worker thread; errors show in the panel."""
         from freecad_conformal.errors import ConformalError
+        from freecad_conformal.settings.schema import validate
         from freecad_conformal.stream import Streamer, load_program
 
         if self.thread is not None and self.thread.is_alive():
             return False
         path = self.source.GcodeFile
         try:
+            connection = validate(STREAM_SETTINGS, {
+                "port": self.port.text().strip(), "protocol": self.protocol.currentText(),
+                "baud": self.baud.currentText().strip()})
             program = load_program(path)
-            self.streamer = Streamer(program, self.port.text().strip(),
-                                     protocol=self.protocol.currentText(),
-                                     baud=int(self.baud.currentText()),
+            self.streamer = Streamer(program, connection["port"],
+                                     protocol=connection["protocol"], baud=connection["baud"],
                                      state_path=f"{path}.stream.json")
         except (ConformalError, OSError) as exc:
             self.message.error(str(exc))

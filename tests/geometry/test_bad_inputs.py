@@ -149,6 +149,8 @@ CASES += [
     (R + ["rods", "--tool", "nosuch"], ["no tool 'nosuch'"]),
     (R + ["rods", "--gcode", "nowhere/x.ngc"], ["--gcode", "nowhere"]),
     (["mandrel", "box.step", "-o", "x.ngc", "--machine", "nosuch"], ["unknown machine 'nosuch'"]),
+    (["stream", "p.ngc", "--port", "/dev/ttyNOPE0", "--baud", "-5"], ["speed (baud) (--baud) must be >= 1", "-5"]),
+    (["stream", "p.ngc", "--port", "/dev/ttyNOPE0", "--baud", "1.5"], ["--baud", "1.5"]),
     (["mandrel", "box.step", "-o", "x.ngc", "--angle", "inf"], ["raster angle (--angle) must be finite", "inf"]),
     (["mandrel", "box.step", "-o", "x.ngc", "--feed", "0"], ["print feed (--feed) must be > 0", "got 0"]),
     # batch, tools, demo

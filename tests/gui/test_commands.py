@@ -60,6 +60,9 @@ def test_sections_plan_post_verify_feature_chain(commands_run):
 def test_stream_needs_pyserial_and_reports_a_missing_port(commands_run):
     assert commands_run["stream_active"] == commands_run["pyserial"]
     if commands_run["pyserial"]:
+        assert not commands_run["stream_bad_baud_started"]
+        assert "speed (baud) (--baud) must be a number, got 'fast'" in \
+            commands_run["stream_bad_baud_message"]
         assert "no-such-port" in commands_run["stream_message"]
         assert "does not exist" in commands_run["stream_message"]
 

@@ -10,6 +10,7 @@ from freecad_conformal.settings.feature import FEATURE_SETTINGS
 from freecad_conformal.settings.mandrel import MANDREL_SETTINGS
 from freecad_conformal.settings.plan import PLAN_SETTINGS
 from freecad_conformal.settings.sections import SECTIONS_SETTINGS
+from freecad_conformal.settings.stream import STREAM_SETTINGS
 from freecad_conformal.settings.schema import (
     Setting, SettingError, as_json, defaults, validate)
 
@@ -23,7 +24,7 @@ def _parse(settings, argv):
 
 
 @pytest.mark.parametrize("settings", [PLAN_SETTINGS, FEATURE_SETTINGS, SECTIONS_SETTINGS,
-                                      MANDREL_SETTINGS])
+                                      MANDREL_SETTINGS, STREAM_SETTINGS])
 def test_every_default_passes_its_own_check(settings):
     assert validate(settings, {}) == validate(settings, defaults(settings))
 

@@ -125,6 +125,10 @@ def main(params: dict) -> dict:
     gui_support.settle()
     stream_panel = FreeCADGui.Control.activeDialog() and _stream_panel()
     if stream_panel is not None:
+        stream_panel.baud.setEditText("fast")                   # the schema's check, inline
+        out["stream_bad_baud_started"] = stream_panel.start()
+        out["stream_bad_baud_message"] = stream_panel.message.text()
+        stream_panel.baud.setEditText("115200")
         stream_panel.port.setText(os.path.join(params["tmp"], "no-such-port"))
         out["stream_start"] = stream_panel.start()
         if stream_panel.thread is not None:
