@@ -151,6 +151,8 @@ CASES += [
     (["mandrel", "box.step", "-o", "x.ngc", "--machine", "nosuch"], ["unknown machine 'nosuch'"]),
     (["stream", "p.ngc", "--port", "/dev/ttyNOPE0", "--baud", "-5"], ["speed (baud) (--baud) must be >= 1", "-5"]),
     (["stream", "p.ngc", "--port", "/dev/ttyNOPE0", "--baud", "1.5"], ["--baud", "1.5"]),
+    (["demo", "--out", "d", "--layer", "0"], ["section spacing (--layer) must be > 0", "got 0"]),
+    (["demo", "--out", "d", "--plan-layer", "-1"], ["layer height (--plan-layer)", "got -1"]),
     (["mandrel", "box.step", "-o", "x.ngc", "--angle", "inf"], ["raster angle (--angle) must be finite", "inf"]),
     (["mandrel", "box.step", "-o", "x.ngc", "--feed", "0"], ["print feed (--feed) must be > 0", "got 0"]),
     # batch, tools, demo
