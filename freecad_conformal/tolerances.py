@@ -54,3 +54,12 @@ WRAP_MAX_STEP = 0.5 * 3.141592653589793
 #: normalised: 1e-6 is what a unit vector written with 7 significant digits keeps, while a
 #: larger error means the numbers are not a direction (normalising would hide a bug).
 AXIS_UNIT_TOLERANCE = 1e-6
+
+#: A floor for divisors that may be exactly zero (a zero-length chord, a degenerate face):
+#: every real length, area or sine is far larger, so it never changes a result; it only keeps
+#: the division finite where the numerator is zero too.
+DIVISION_GUARD = 1e-300
+
+#: A floor for a quantity whose reciprocal is multiplied later: 1/1e-30 stays finite after a
+#: few products (1/1e-300 would overflow to inf and turn 0·inf into NaN).
+RECIPROCAL_GUARD = 1e-30

@@ -21,6 +21,7 @@ from freecad_conformal.decomposition.cuts import (MAX_EXACT_CUTS, SAVING_TIE, La
 from freecad_conformal.decomposition.mesh_cut import mesh_overhang, mesh_trial
 from freecad_conformal.geometry.face_normals import plane_normal
 from freecad_conformal.geometry.overhang import lowest_level
+from freecad_conformal.tolerances import DIVISION_GUARD
 
 
 @dataclass(frozen=True)
@@ -85,6 +86,9 @@ def best_cut(piece, planes: Iterable[PlaneCandidates], angle: float, search: Cut
 #: the least saving) of the best are all made exactly, the exact totals deciding: the mesh reads
 #: CrankArm's cuts within 0.02 % (0.5 mm² of 2726), symmetric cuts tie exactly.
 MESH_MARGIN = 5e-3
+#: A probe this close (mm) to a region's boundary is inside it: the probe sits two mesh
+#: deflections inside the mesh region, far from the edge.
+INSIDE_REGION = 1e-6
 
 
 def _mesh_trial(piece, mesh, region, angle: float, search: CutSearch):
@@ -109,7 +113,7 @@ def _factor_of(piece, report, angle: float) -> np.ndarray:
     for index, face in enumerate(piece.shape.Faces):
         normal = plane_normal(face)
         if normal is not None and normal @ piece.direction < -threshold:
-            factor[index] = overhang.get(index, 0.0) / max(float(face.Area), 1e-300)
+            factor[index] = overhang.get(index, 0.0) / max(float(face.Area), DIVISION_GUARD)
     return factor
 
 
@@ -153,7 +157,7 @@ def _exact_region(plane: PlaneCandidates, region, mesh) -> SplitCandidate | None
         [inner.representative_point().x, inner.representative_point().y])[0]
     point = App.Vector(*(float(c) for c in probe))
     for candidate in plane.regions():
-        if candidate.region.isInside(point, 1e-6, True):
+        if candidate.region.isInside(point, INSIDE_REGION, True):
             return candidate
     return None
 

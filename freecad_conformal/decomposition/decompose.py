@@ -31,6 +31,7 @@ from freecad_conformal.geometry.overhang import (DEFAULT_OVERHANG_ANGLE, MIN_BAS
                                                 lowest_level, orientation_candidates,
                                                 overhang_area, overhang_report)
 from freecad_conformal.settings.decompose import METHODS
+from freecad_conformal.tolerances import PARALLEL_COS_SLACK, ZERO_LENGTH
 #: `root_direction` value that lets each solid's root be built along the best of ±X, ±Y, ±Z
 #: when that leaves less overhang than the part as placed (+Z).
 AUTO_ROOT = "auto"
@@ -72,7 +73,7 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
     if auto and root_direction != AUTO_ROOT:
         raise PlanError(f"root direction must be a 3-vector or {AUTO_ROOT!r}, got {root_direction!r}")
     root = np.array([0.0, 0.0, 1.0]) if auto else np.asarray(root_direction, dtype=float)
-    if root.shape != (3,) or not np.all(np.isfinite(root)) or np.linalg.norm(root) < 1e-12:
+    if root.shape != (3,) or not np.all(np.isfinite(root)) or np.linalg.norm(root) < ZERO_LENGTH:
         raise PlanError(f"root direction must be a non-zero 3-vector, got {list(root_direction)!r}")
     root = root / np.linalg.norm(root)
     solids = solids_of(shape, "part")
@@ -228,7 +229,7 @@ def _bed_face(shape, d: np.ndarray):
     best = None
     for face in shape.Faces:
         normal = plane_normal(face)
-        if normal is None or normal @ d > -1 + 1e-9:
+        if normal is None or normal @ d > -1 + PARALLEL_COS_SLACK:
             continue
         if abs(float(np.array(tuple(face.Vertexes[0].Point)) @ d) - low) > LEVEL_TOLERANCE:
             continue

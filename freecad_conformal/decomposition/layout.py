@@ -23,6 +23,7 @@ from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.sections import extent_along
 from freecad_conformal.geometry.rotation import rodrigues_matrix, rotation_to
 from freecad_conformal.decomposition.subparts import BuildPlan
+from freecad_conformal.tolerances import ZERO_LENGTH
 
 UP = np.array([0.0, 0.0, 1.0])
 
@@ -158,7 +159,7 @@ def _beside(box, placed: dict, directions: dict, k: int, gap: float) -> np.ndarr
 
 
 def _upright(root) -> bool:
-    return bool(np.allclose(root.build_direction, UP, atol=1e-12))
+    return bool(np.allclose(root.build_direction, UP, atol=ZERO_LENGTH))
 
 
 def _moved(plan: BuildPlan, moves: dict[int, SolidMove]) -> BuildPlan:

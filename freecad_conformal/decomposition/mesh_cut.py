@@ -21,6 +21,7 @@ from shapely.geometry import LineString, Polygon
 
 from freecad_conformal.geometry.components import connected_labels
 from freecad_conformal.geometry.surface_mesh import SurfaceMesh
+from freecad_conformal.tolerances import PARALLEL_COS_SLACK
 
 #: A node within this (mm) of the plane lies on it: OCC's confusion distance; nodes on a
 #: planar face in the plane sit there to ~1e-12.
@@ -254,7 +255,7 @@ def mesh_trial(mesh: SurfaceMesh, region: MeshRegion, direction: np.ndarray, thr
     if any(total_area[k] > minimum and k not in sides for k in range(len(total_area))):
         return None  # a part of the surface bounded by neither side: not a solid's mesh
     levels = corners @ direction
-    base = (mesh.planar[split.source] & (normals[:, 0] @ direction < -1.0 + 1e-9)
+    base = (mesh.planar[split.source] & (normals[:, 0] @ direction < -1.0 + PARALLEL_COS_SLACK)
             & (np.abs(levels[tri_of].max(axis=1) - low) <= level_tolerance))
     # As `support.lowest_level`, a part's lowest level is that of its vertices (the
     # shape's; the cut's own are left out).

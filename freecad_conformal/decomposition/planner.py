@@ -21,7 +21,8 @@ from freecad_conformal.decomposition.cut_search import CutSearch, best_cut
 from freecad_conformal.decomposition.cuts import (LazyAxis, SavingEstimate, area_jump_candidates,
                                              face_candidates)
 from freecad_conformal.geometry.overhang import lowest_level, overhang_report
-from freecad_conformal.tolerances import BASE_LEVEL_TOLERANCE, SAME_DIRECTION_ANGLE
+from freecad_conformal.tolerances import (
+    BASE_LEVEL_TOLERANCE, PARALLEL_COS_SLACK, SAME_DIRECTION_ANGLE)
 
 #: A cut must save at least this much overhang (mm², and this fraction of what remains) to
 #: be worth a new sub-part: below it the split only adds a rotation and a seam.
@@ -257,7 +258,7 @@ def touch_area(shape, region) -> float:
     area = 0.0
     for face in shape.Faces:
         n = plane_normal(face)
-        if n is None or abs(abs(n @ normal) - 1) > 1e-9:
+        if n is None or abs(abs(n @ normal) - 1) > PARALLEL_COS_SLACK:
             continue
         if abs(float(np.array(tuple(face.Vertexes[0].Point)) @ normal) - level) > LEVEL_TOLERANCE:
             continue

@@ -18,6 +18,8 @@ from freecad_conformal.post.machine import Machine
 from freecad_conformal.tolerances import LIMIT_SLACK
 
 TWO_PI = 2.0 * math.pi
+#: Joint motions (rad) equal to within rounding: the branch the path is on is kept.
+SAME_MOTION = 1e-12
 
 
 def _wrap(delta: np.ndarray) -> np.ndarray:
@@ -111,7 +113,7 @@ def _branch_states(filled: np.ndarray, valid: np.ndarray, start: np.ndarray,
     same = _distance(previous, filled[1:], short)                       # (n-1, 2)
     cross = _distance(previous, filled[1:, ::-1], short)                # to the other branch
     valid_next = valid[1:]
-    keep = valid_next & ((same <= cross + 1e-12) | ~valid_next[:, ::-1])
+    keep = valid_next & ((same <= cross + SAME_MOTION) | ~valid_next[:, ::-1])
     decisions = np.flatnonzero(~keep.all(axis=1)) + 1
     states = np.full(n, -1, dtype=np.int64)
     states[0] = state0

@@ -16,7 +16,7 @@ import numpy as np
 from freecad_conformal.errors import KinematicsError
 from freecad_conformal.post.branches import choose_rotary
 from freecad_conformal.post.machine import Machine, RotaryAxis
-from freecad_conformal.tolerances import AXIS_UNIT_TOLERANCE, LIMIT_SLACK
+from freecad_conformal.tolerances import AXIS_UNIT_TOLERANCE, LIMIT_SLACK, PARALLEL_COS_SLACK
 
 #: Below this |sin| the tool axis is parallel to a rotary axis and that axis' angle is
 #: undefined (e.g. A ≈ 0 on an A/C table): keep its previous value. 1e-9 rad of tool axis
@@ -130,7 +130,7 @@ def rotary_candidates(machine: Machine, axes: np.ndarray, locate: Locator) -> np
     w1, w2, p, q, order, signs = _orientation_problem(machine, axes)
     c12 = float(w1 @ w2)
     cross = np.cross(w1, w2)
-    if np.linalg.norm(cross) < 1e-9:
+    if np.linalg.norm(cross) < PARALLEL_COS_SLACK:
         raise KinematicsError(f"machine {machine.name}: rotary axes {machine.rotary[0].name} and "
                               f"{machine.rotary[1].name} are parallel; cannot orient the tool")
     w2p, w1q = p @ w2, q @ w1

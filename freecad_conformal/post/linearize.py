@@ -18,8 +18,9 @@ import numpy as np
 from freecad_conformal.errors import PostError
 from freecad_conformal.post.kinematics import forward, inverse, positions_for
 from freecad_conformal.post.machine import Machine
-from freecad_conformal.tolerances import (DEFAULT_ANGULAR_TOLERANCE, DEFAULT_LINEAR_TOLERANCE,
-                                         LIMIT_SLACK, WRAP_MAX_STEP)
+from freecad_conformal.tolerances import (
+    DEFAULT_ANGULAR_TOLERANCE, DEFAULT_LINEAR_TOLERANCE, DIVISION_GUARD, LIMIT_SLACK,
+    ROUNDING_SLACK, WRAP_MAX_STEP, ZERO_LENGTH)
 from freecad_conformal.toolpath import INTERPOLATIONS, Toolpath
 
 #: Joint-space deviation (as tip mm) allowed when merging collinear moves, as a fraction of
@@ -31,6 +32,9 @@ ZERO_MOVE = 1e-9
 
 #: A move shorter than this (mm) only reorients the tool: its axis is matched by parameter.
 ZERO_CHORD = 1e-6
+#: Unit vectors closer than this (sine of their angle) are blended linearly and normalised:
+#: slerp's weights divide by the sine, which loses all digits near zero.
+SLERP_AS_LERP = 1e-6
 
 #: Sample parameters along each sub-move where the deviation is measured.
 CHECK_PARAMETERS = (0.25, 0.5, 0.75)
@@ -69,7 +73,7 @@ def slerp(a: np.ndarray, b: np.ndarray, s: np.ndarray | float) -> np.ndarray:
     dot = np.clip(np.einsum("ij,ij->i", a, b), -1.0, 1.0)[:, None]
     angle = np.arccos(dot)
     sin = np.sin(angle)
-    close = sin[:, 0] < 1e-6
+    close = sin[:, 0] < SLERP_AS_LERP
     wa = np.where(close[:, None], 1.0 - s, np.sin((1.0 - s) * angle) / np.where(close[:, None], 1.0, sin))
     wb = np.where(close[:, None], s, np.sin(s * angle) / np.where(close[:, None], 1.0, sin))
     out = wa * a + wb * b
@@ -175,7 +179,7 @@ def split_wrapped_turns(machine: Machine, blocks: Blocks) -> Blocks:
         return blocks
     delta = np.diff(blocks.joints, axis=0)
     turn = np.abs(delta[:, wrapped]).max(axis=1)
-    parts = np.maximum(np.ceil(turn / WRAP_MAX_STEP * (1.0 + 1e-9)), 1).astype(np.int64)
+    parts = np.maximum(np.ceil(turn / WRAP_MAX_STEP * (1.0 + ROUNDING_SLACK)), 1).astype(np.int64)
     if np.all(parts == 1):
         return blocks
     move = np.repeat(np.arange(len(delta)), parts)                  # block each new row ends in
@@ -268,7 +272,7 @@ def _turn_at_poles(machine: Machine, points: np.ndarray, axes: np.ndarray, origi
     that move is split.
     """
     delta = joints[1:, 3:] - joints[:-1, 3:]
-    leaving = undefined[:-1] & ~undefined[1:] & (np.abs(delta) > 1e-12)
+    leaving = undefined[:-1] & ~undefined[1:] & (np.abs(delta) > ZERO_LENGTH)
     rows = np.flatnonzero(leaving.any(axis=1)) + 1
     if len(rows) == 0:
         return points, axes, origin, joints
@@ -316,7 +320,7 @@ def _deviation_ratio(machine: Machine, points: np.ndarray, axes: np.ndarray, joi
     """Worst (deviation / tolerance) of each move into rows 1.. when joints move linearly."""
     a, b = points[:-1], points[1:]
     chord = b - a
-    length2 = np.maximum(np.einsum("ij,ij->i", chord, chord), 1e-300)
+    length2 = np.maximum(np.einsum("ij,ij->i", chord, chord), DIVISION_GUARD)
     worst = np.zeros(len(a))
     for s in CHECK_PARAMETERS:
         tip, axis = forward(machine, joints[:-1] + s * (joints[1:] - joints[:-1]))
@@ -352,7 +356,7 @@ def _merge(joints: np.ndarray, segment: np.ndarray, scale: np.ndarray, merge_tol
 
 def _line_distance(start: np.ndarray, end: np.ndarray, point: np.ndarray) -> np.ndarray:
     chord = end - start
-    length2 = np.maximum(np.einsum("ij,ij->i", chord, chord), 1e-300)
+    length2 = np.maximum(np.einsum("ij,ij->i", chord, chord), DIVISION_GUARD)
     t = np.clip(np.einsum("ij,ij->i", point - start, chord) / length2, 0.0, 1.0)
     return np.linalg.norm(point - (start + t[:, None] * chord), axis=1)
 

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from freecad_conformal.errors import KinematicsError
+from freecad_conformal.tolerances import ZERO_LENGTH
 
 MACHINES_DIR = Path(__file__).resolve().parents[2] / "resources" / "machines"
 LINEAR_NAMES = ("X", "Y", "Z")
@@ -260,7 +261,7 @@ def _vector(value: object, where: str) -> np.ndarray:
 def _unit(value: object, where: str) -> np.ndarray:
     vector = _vector(value, where)
     norm = float(np.linalg.norm(vector))
-    if norm < 1e-9:
+    if norm < ZERO_LENGTH:
         raise KinematicsError(f"{where} = {value!r} is a zero vector")
     return vector / norm
 

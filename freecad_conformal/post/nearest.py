@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from freecad_conformal.post.linearize import ZERO_CHORD, slerp
+from freecad_conformal.tolerances import DIVISION_GUARD, RECIPROCAL_GUARD
 
 #: Matching weighs the axis angle as tip motion at this lever (mm per rad, about a tool's
 #: length), so where the tip stands still the axis decides.
@@ -41,9 +42,9 @@ def _arc_parameter(a: np.ndarray, b: np.ndarray, q: np.ndarray) -> np.ndarray:
     across = b - np.einsum("ij,ij->i", a, b)[:, None] * a
     width = np.linalg.norm(across, axis=1)
     total = np.arctan2(width, np.einsum("ij,ij->i", a, b))
-    phi = np.arctan2(np.einsum("ij,ij->i", q, across) / np.maximum(width, 1e-300),
+    phi = np.arctan2(np.einsum("ij,ij->i", q, across) / np.maximum(width, DIVISION_GUARD),
                      np.einsum("ij,ij->i", q, a))
-    return np.clip(phi / np.maximum(total, 1e-300), 0.0, 1.0)
+    return np.clip(phi / np.maximum(total, DIVISION_GUARD), 0.0, 1.0)
 
 
 def _pieces(path: np.ndarray, cell: float) -> tuple[np.ndarray, np.ndarray]:
@@ -68,8 +69,8 @@ def _moves(path: np.ndarray, path_axes: np.ndarray) -> np.ndarray:
     turn = np.diff(path_axes, axis=0)
     length2 = np.einsum("ij,ij->i", chord, chord)
     turn2 = np.einsum("ij,ij->i", turn, turn)
-    packed = np.column_stack([path[:-1], chord, 1.0 / np.maximum(length2, 1e-30), path_axes[:-1],
-                              turn, 1.0 / np.maximum(turn2, 1e-30), length2 <= ZERO_CHORD ** 2])
+    packed = np.column_stack([path[:-1], chord, 1.0 / np.maximum(length2, RECIPROCAL_GUARD), path_axes[:-1],
+                              turn, 1.0 / np.maximum(turn2, RECIPROCAL_GUARD), length2 <= ZERO_CHORD ** 2])
     return packed
 
 
@@ -95,7 +96,7 @@ def _evaluate(points, axes, path, path_axes, query, move):
     chord = b - a
     length2 = np.einsum("ij,ij->i", chord, chord)
     p = points[query]
-    t = np.clip(np.einsum("ij,ij->i", p - a, chord) / np.maximum(length2, 1e-300), 0.0, 1.0)
+    t = np.clip(np.einsum("ij,ij->i", p - a, chord) / np.maximum(length2, DIVISION_GUARD), 0.0, 1.0)
     distance = np.linalg.norm(a + t[:, None] * chord - p, axis=1)
     axis_a, axis_b = path_axes[move], path_axes[move + 1]
     # a pure reorientation (the tip does not move): the nearest axis on its arc
@@ -146,10 +147,10 @@ def near_guess(points: np.ndarray, axes: np.ndarray, path: np.ndarray, path_axes
     chord, turn = path[moves + 1] - start, path_axes[moves + 1] - start_axis
     length2 = np.einsum("nkj,nkj->nk", chord, chord)
     offset = points[:, None, :] - start
-    t = np.clip(np.einsum("nkj,nkj->nk", offset, chord) / np.maximum(length2, 1e-30), 0.0, 1.0)
+    t = np.clip(np.einsum("nkj,nkj->nk", offset, chord) / np.maximum(length2, DIVISION_GUARD), 0.0, 1.0)
     axis_offset = axes[:, None, :] - start_axis
     turn2 = np.einsum("nkj,nkj->nk", turn, turn)
-    t_axis = np.clip(np.einsum("nkj,nkj->nk", axis_offset, turn) / np.maximum(turn2, 1e-30),
+    t_axis = np.clip(np.einsum("nkj,nkj->nk", axis_offset, turn) / np.maximum(turn2, DIVISION_GUARD),
                      0.0, 1.0)
     offset -= t[..., None] * chord
     axis_offset -= np.where(length2 <= ZERO_CHORD ** 2, t_axis, t)[..., None] * turn

@@ -170,7 +170,7 @@ def _move_lines(tp: Toolpath, machine: Machine, writer: Dialect, blocks: Blocks,
     segment = blocks.segment[1:]
     minutes = np.maximum.reduce([blocks.tip_length[1:] / tp.feed[segment],
                                  linear / machine.max_feed, rotary / machine.max_rotary_feed,
-                                 np.full(count, 1e-9)])
+                                 np.full(count, STILL)])
     feed_rows = ~rapid[1:]
     inverse = feed_rows & writer.inverse_time & (rotary > STILL)
     controller_length = np.where(linear > STILL, linear, rotary_length)

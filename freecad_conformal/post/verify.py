@@ -24,6 +24,7 @@ from freecad_conformal.post.machine import Machine
 from freecad_conformal.post.nearest import (
     arc_length_guess, near_guess, nearest_poses, nearest_where_it_matters)
 from freecad_conformal.toolpath import Toolpath
+from freecad_conformal.tolerances import DIVISION_GUARD
 
 #: The replay's polyline stays this close to the true path of every block (mm, rad):
 #: a tenth of the default tolerances, so sampling hides nothing the check is about.
@@ -100,7 +101,7 @@ def sample_counts(machine: Machine, joints: np.ndarray, tools: np.ndarray | None
                                           None if tools is None else tools[1:])
     sag = np.linalg.norm(middle - 0.5 * (tips[:-1] + tips[1:]), axis=1)
     blended = axes[:-1] + axes[1:]
-    blended /= np.maximum(np.linalg.norm(blended, axis=1), 1e-300)[:, None]
+    blended /= np.maximum(np.linalg.norm(blended, axis=1), DIVISION_GUARD)[:, None]
     sag_angle = np.arccos(np.clip(np.einsum("ij,ij->i", middle_axes, blended), -1.0, 1.0))
     counts = np.maximum(np.sqrt(sag / SAMPLE_RESOLUTION), np.sqrt(sag_angle / ANGLE_RESOLUTION))
     if machine.rotary:

@@ -162,12 +162,14 @@ def parse_direction(value: Any, setting: Setting) -> str | tuple[float, float, f
     except (TypeError, ValueError):
         vector = ()
     if len(vector) != 3 or not all(map(math.isfinite, vector)) or not any(vector):
-        words = " or ".join(setting.allowed())
+        # words are offered where the setting has choices of its own (root: auto)
+        words = "".join(f"{w}, " for w in setting.allowed() + tuple(DIRECTION_WORDS)) \
+            if setting.allowed() else ""
+        words = f"{words[:-2]} or " if words else ""
         what = ("a zero vector" if len(vector) == 3 and not any(vector) else
                 "not finite" if len(vector) == 3 else "not three numbers")
-        raise SettingError(f"{setting.describe()} must be a direction x,y,z"
-                           + (f" or {words}" if words else "")
-                           + f" (finite, not the zero vector), got {value!r}: {what}")
+        raise SettingError(f"{setting.describe()} must be {words}a direction x,y,z (finite, "
+                           f"not the zero vector), got {value!r}: {what}")
     return vector  # type: ignore[return-value]
 
 

@@ -52,7 +52,8 @@ def test_summary_figures_agree_with_the_toolpath():
     (["--tool", "endmill_6mm"], "is a end_mill"),
     (["--machine", "no_such_machine"], "unknown machine 'no_such_machine'"),
     (["--root", "1,0"], "root direction (--root / Root) must be auto, as placed or a "
-                        "direction x,y,z, got '1,0'"),
+                        "direction x,y,z (finite, not the zero vector), got '1,0': not three "
+                        "numbers"),
     (["--root", "0,0,0"], "got '0,0,0'"),
 ])
 def test_bad_input_writes_nothing(tmp_path, capsys, arguments, message):

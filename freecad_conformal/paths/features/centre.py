@@ -15,9 +15,12 @@ import numpy as np
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry.faces import domain_grid, face_kind, normals_at, parameters_of, points_at
+from freecad_conformal.tolerances import ZERO_LENGTH
 
 #: The refined facing point's normal is within this angle (rad) of the best one.
 ANGLE_TOLERANCE = 1e-9
+#: The refined point's face parameters settle to this (far below a µm on any real face).
+PARAMETER_TOLERANCE = 1e-10
 _GRID = 24
 _SEEDS = 8
 
@@ -42,7 +45,7 @@ def _closed_form(face, up: np.ndarray) -> list[np.ndarray]:
     if kind in ("cylinder", "cone"):
         axis = np.array(tuple(surface.Axis))
         across = up - (up @ axis) * axis
-        if np.linalg.norm(across) < 1e-12:
+        if np.linalg.norm(across) < ZERO_LENGTH:
             return []
         across /= np.linalg.norm(across)
         _, _, v0, v1 = face.ParameterRange
@@ -75,7 +78,7 @@ def facing_point(face, direction) -> tuple[float, float]:
     best, best_cost = seeds[0], _cost(face, up, seeds[0])
     for seed in seeds:
         result = minimize(lambda uv: _cost(face, up, uv), seed, method="Nelder-Mead",
-                          options={"xatol": 1e-10, "fatol": ANGLE_TOLERANCE ** 2,
+                          options={"xatol": PARAMETER_TOLERANCE, "fatol": ANGLE_TOLERANCE ** 2,
                                    "maxiter": 2000})
         if result.fun < best_cost:
             best, best_cost = result.x, float(result.fun)

@@ -36,6 +36,9 @@ BASE_THICKNESS = 0.5
 #: Widths found by `narrowest` are within this (mm) of the true width: GEOS drops the last
 #: slivers of a negative buffer a few 1e-5 mm before they vanish.
 WIDTH_TOLERANCE = 1e-4
+#: Tilt (rad) standing in for zero on a flat face, where the curvature rules have no angle
+#: to divide by.
+FLAT_TILT = 1e-6
 
 
 def straight_channels(count: int, length: float, gap: float, wall: float) -> tuple[Polygon, MultiPolygon]:
@@ -94,7 +97,7 @@ def channels_toolpath(face, tools: list[Tool], footprint, gaps, wall_height: flo
                              what=what)
     tilt = check_tilt(np.vstack([p.axes for p in probe]), max(tools, key=lambda t: t.max_tilt),
                       build_direction, what)
-    theta = max(tilt, 1e-6)
+    theta = max(tilt, FLAT_TILT)       # a flat face: the curvature rules decide alone
     base_choice = choose_tool(tools, rs, base_thickness, theta)
     wall_choice = choose_tool(tools, rs, layer, theta, resolution=min(wall_width, gap))
     for choice, part in ((base_choice, "base"), (wall_choice, "walls")):

@@ -26,6 +26,7 @@ from scipy.spatial import cKDTree
 
 from freecad_conformal.process.tools import Envelope
 from freecad_conformal.toolpath import KINDS, Toolpath
+from freecad_conformal.tolerances import DIVISION_GUARD, ROUNDING_SLACK
 
 #: Poses are sampled this often (mm) along every move: below the narrowest envelope
 #: bodies (3 mm), so a contact between two poses is shallower than about 0.02 mm.
@@ -36,6 +37,8 @@ AXIS_STEP = 1.0
 WORKING_ALLOWANCE = 0.02
 #: Overlaps below this (mm) are sampling noise of the ball chains, not contacts.
 OVERLAP_TOLERANCE = 1e-3
+#: A move whose component across the tool axis is shorter than this (mm) runs along it.
+ALONG_AXIS = 1e-6
 #: Part surface samples are at most this far apart (mm), fewer on very large parts: a
 #: body of radius 1.5 mm can dip 0.75²/(8·1.5) < 0.05 mm between samples unseen.
 PART_SPACING = 0.75
@@ -109,10 +112,10 @@ def cured_surface(points: np.ndarray, axes: np.ndarray, width: float,
         return centres
     lo = np.clip(np.floor(where).astype(int), 0, len(points) - 2)
     tangent = points[lo + 1] - points[lo]
-    tangent /= np.maximum(np.linalg.norm(tangent, axis=1), 1e-300)[:, None]
+    tangent /= np.maximum(np.linalg.norm(tangent, axis=1), DIVISION_GUARD)[:, None]
     ax = axes[np.clip(lo, 0, len(axes) - 1)]
     vertical = ax - np.einsum("ij,ij->i", ax, tangent)[:, None] * tangent
-    along = np.linalg.norm(vertical, axis=1) < 1e-6          # rods: the path is the axis
+    along = np.linalg.norm(vertical, axis=1) < ALONG_AXIS          # rods: the path is the axis
     seed = np.where(np.abs(tangent[:, :1]) < 0.9, np.array([[1.0, 0, 0]]), np.array([[0, 1.0, 0]]))
     vertical[along] = np.cross(tangent[along], seed[along])
     vertical /= np.linalg.norm(vertical, axis=1)[:, None]
@@ -207,6 +210,6 @@ def _working_layer(tp: Toolpath, s: int, tips: np.ndarray, thickness: np.ndarray
     for neighbour, point in ((s + 1, tp.points[starts[s + 1] - 1]), (s - 1, tp.points[starts[s] - 1])):
         if 0 <= neighbour < tp.segment_count and tp.kind[neighbour] == cure:
             half = thickness[neighbour] / 2.0
-            close = np.linalg.norm(tips - point, axis=1) <= half + 1e-9
+            close = np.linalg.norm(tips - point, axis=1) <= half + ROUNDING_SLACK
             allowance[close] = np.maximum(allowance[close], half)
     return allowance

@@ -15,6 +15,7 @@ from freecad_conformal.errors import PlanError, ProcessError
 from freecad_conformal.process.curing_fit import WorkingCurveFit, fit_working_curve
 from freecad_conformal.process.process_settings import ProcessSettings
 from freecad_conformal.process.tools import Tool
+from freecad_conformal.tolerances import ROUNDING_SLACK
 
 #: METHODS section 1: the machine's maximum speed Vmax = 3.556 mm/s (mm/min here).
 MACHINE_MAX_FEED = 3.556 * 60.0
@@ -125,7 +126,7 @@ def line_setting(tool: Tool, width: float, feed: float | None = None,
     if not (width > 0 and math.isfinite(width)):
         raise PlanError(f"{what}: line width must be > 0 mm, got {width!r}")
     finest = getattr(tool.spec, "min_line_width", 0.0)
-    if width < finest - 1e-9:
+    if width < finest - ROUNDING_SLACK:
         raise PlanError(f"{what}: a {width:g} mm line is finer than {tool.id}'s finest "
                         f"({finest:g} mm)")
     _, settings = material_settings(tool, material)

@@ -15,6 +15,7 @@ import numpy as np
 
 from freecad_conformal.geometry.faces import normals_at, parameters_of, points_at
 from freecad_conformal.toolpath import ToolpathBuilder
+from freecad_conformal.tolerances import COINCIDENT_POINTS
 
 #: Clearance (mm) above the highest built material for travels.
 TRAVEL_CLEARANCE = 2.0
@@ -40,7 +41,7 @@ def offset_travel(face, start: np.ndarray, end: np.ndarray, lift: float) -> tupl
     uv = parameters_of(face, np.vstack([start, end]))
     uv1 = _short_way(face, uv[0], uv[1])
     feet = points_at(face, np.vstack([uv[0], uv1]))
-    length = float(np.linalg.norm(feet[1] - feet[0])) + 1e-9
+    length = float(np.linalg.norm(feet[1] - feet[0])) + COINCIDENT_POINTS
     count = max(int(math.ceil(length * (1.0 + lift / 5.0) / TRAVEL_STEP)), 1) + 1
     t = np.linspace(0.0, 1.0, count)[:, None]
     line = (1 - t) * uv[0] + t * uv1

@@ -18,6 +18,7 @@ import shapely
 from shapely.geometry import Polygon
 
 from freecad_conformal.errors import GeometryError
+from freecad_conformal.tolerances import COINCIDENT_POINTS
 
 #: Flattening tolerance of curves in outlines (mm): a tenth of the finest line (0.2 mm).
 OUTLINE_TOLERANCE = 0.02
@@ -44,7 +45,7 @@ def region_from_rings(rings: list[np.ndarray], what: str = "outline"):
 def _bezier(points: np.ndarray, tolerance: float) -> np.ndarray:
     """Flatten a quadratic or cubic Bézier (control points (k, 2)) to within `tolerance`."""
     span = float(np.linalg.norm(np.diff(points, axis=0), axis=1).sum())
-    count = max(int(math.ceil(math.sqrt(span / max(tolerance, 1e-9)))), 2)
+    count = max(int(math.ceil(math.sqrt(span / max(tolerance, COINCIDENT_POINTS)))), 2)
     t = np.linspace(0.0, 1.0, count + 1)[1:, None]
     if len(points) == 3:
         p0, p1, p2 = points
@@ -117,6 +118,11 @@ def svg_path_rings(data: str, tolerance: float = OUTLINE_TOLERANCE, flip_y: bool
     return rings
 
 
+#: Outline wires whose Z spread exceeds this (mm) are not in a plane parallel to XY; a
+#: sketch's points agree in Z to rounding, so 1 µm only refuses a real tilt.
+PLANAR_OUTLINE = 1e-6
+
+
 def wire_rings(shape, tolerance: float = OUTLINE_TOLERANCE) -> list[np.ndarray]:
     """Closed wires of a FreeCAD shape (sketch, wire, face, compound) in its XY plane."""
     rings = []
@@ -124,7 +130,7 @@ def wire_rings(shape, tolerance: float = OUTLINE_TOLERANCE) -> list[np.ndarray]:
         if not wire.isClosed():
             raise GeometryError(f"outline wire with {len(wire.Edges)} edges is not closed")
         points = np.array([tuple(p) for p in wire.discretize(Deflection=tolerance)])
-        if np.ptp(points[:, 2]) > 1e-6:
+        if np.ptp(points[:, 2]) > PLANAR_OUTLINE:
             raise GeometryError("outline wires must lie in a plane parallel to XY")
         rings.append(points[:-1, :2] if np.allclose(points[0], points[-1]) else points[:, :2])
     if not rings:

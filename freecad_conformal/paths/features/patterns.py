@@ -27,6 +27,7 @@ from freecad_conformal.geometry.faces import face_kind, normals_at, parameters_o
 from freecad_conformal.paths.features.fill import contours, zigzag
 from freecad_conformal.paths.features.moves import approach, retract, travel
 from freecad_conformal.toolpath import ToolpathBuilder
+from freecad_conformal.tolerances import COINCIDENT_POINTS, ROUNDING_SLACK
 
 #: Fill lines are resampled at this step (mm) before mapping, so the mapped polyline follows
 #: the surface: on R >= 2 mm the chord of 0.2 mm deviates < 0.0025 mm.
@@ -147,11 +148,12 @@ class FaceMapping:
 def check_on_face(face, uv: np.ndarray, what: str, size: tuple[float, float]) -> None:
     """PlanError if any mapped point falls off the face (outside its trimmed domain)."""
     u0, u1, v0, v1 = face.ParameterRange
-    periodic = face.Surface.isUPeriodic() and (u1 - u0) >= 2 * math.pi - 1e-9
+    periodic = face.Surface.isUPeriodic() and (u1 - u0) >= 2 * math.pi - ROUNDING_SLACK
     for u, v in uv:
         if periodic:
             u = u0 + (u - u0) % (2 * math.pi)
-        if not (u0 - 1e-9 <= u <= u1 + 1e-9 and v0 - 1e-9 <= v <= v1 + 1e-9) or \
+        if not (u0 - ROUNDING_SLACK <= u <= u1 + ROUNDING_SLACK
+                and v0 - ROUNDING_SLACK <= v <= v1 + ROUNDING_SLACK) or \
                 not face.isPartOfDomain(float(u), float(v)):
             raise PlanError(f"{what}: the pattern ({size[0]:.3g} x {size[1]:.3g} mm) is larger "
                             "than its face: it runs off the face's edge")
@@ -165,7 +167,7 @@ def distortion(face, mapping: FaceMapping, lines: list[np.ndarray]) -> float:
         xyz = points_at(face, mapping.to_uv(fine))
         planar = np.linalg.norm(np.diff(fine, axis=0), axis=1)
         mapped = np.linalg.norm(np.diff(xyz, axis=0), axis=1)
-        keep = planar > 1e-9
+        keep = planar > COINCIDENT_POINTS
         worst = max(worst, float(np.max(np.abs(mapped[keep] / planar[keep] - 1.0))))
     return worst
 
@@ -203,7 +205,7 @@ def pattern_paths(face, region, width: float, height: float, layer: float,
         lines = zigzag(region, width, angle, what=what)
     else:
         raise PlanError(f"{what}: fill must be 'contours' or 'zigzag', got {fill!r}")
-    count = max(int(math.ceil(height / layer - 1e-9)), 1)
+    count = max(int(math.ceil(height / layer - ROUNDING_SLACK)), 1)
     out = []
     for line in lines:
         uv = mapping.to_uv(densify(line))

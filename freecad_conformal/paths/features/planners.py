@@ -23,6 +23,7 @@ from freecad_conformal.paths.features.program import FeatureProgram
 from freecad_conformal.process.library import ToolLibrary
 from freecad_conformal.process.tools import Tool
 from freecad_conformal.toolpath import Toolpath
+from freecad_conformal.tolerances import LIMIT_SLACK
 
 #: Tools used when none is given and no choice by curvature applies.
 DEFAULT_TOOLS = {"rods": "uv_small", "cup": "uv_large"}
@@ -114,7 +115,7 @@ def _subset(layout: rods.RodLayout, keep: np.ndarray) -> rods.RodLayout:
 
 def _reachable(layout, up, high, what):
     tilt = np.arccos(np.clip(layout.axes @ (up / np.linalg.norm(up)), -1, 1))
-    keep = tilt <= high + 1e-9
+    keep = tilt <= high + LIMIT_SLACK
     if not keep.any():
         raise PlanError(f"{what}: no rod normal is within the tool's W {math.degrees(high):g}° "
                         "of the build direction")

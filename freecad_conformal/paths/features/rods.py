@@ -34,6 +34,7 @@ from freecad_conformal.errors import PlanError
 from freecad_conformal.paths.features.feeds import CureSetting
 from freecad_conformal.process.tools import Tool
 from freecad_conformal.toolpath import ToolpathBuilder
+from freecad_conformal.tolerances import DIVISION_GUARD, ROUNDING_SLACK, ZERO_LENGTH
 
 #: Heights (mm) between envelope samples in the collision test: 0.05 mm is far below any
 #: rod diameter (>= 0.2 mm), so a contact cannot slip between two samples.
@@ -103,7 +104,7 @@ def sphere_layout(center, pole, radius: float, spacing: float, diameter: float, 
     if not (radius > 0 and spacing > 0 and diameter > 0 and length > 0):
         raise PlanError(f"rods: R {radius!r}, d {spacing!r}, a {diameter!r}, l {length!r} must be > 0")
     theta = spacing / radius
-    limit = int(math.floor(max_tilt / theta + 1e-9))
+    limit = int(math.floor(max_tilt / theta + ROUNDING_SLACK))
     if rings is not None and rings > limit:
         raise PlanError(f"rods: {rings} rings need a tilt of {math.degrees(rings * theta):.1f}°, "
                         f"beyond the tool's W {math.degrees(max_tilt):.1f}° (constraint (v) allows "
@@ -138,7 +139,7 @@ def cylinder_layout(origin, axis, radius: float, spacing: float, diameter: float
     u, v = _frame(axis)
     n = int(math.floor(2 * math.pi * radius / spacing))
     beta = 2 * math.pi / n
-    positions = np.arange(start, stop + 1e-9, spacing)
+    positions = np.arange(start, stop + ROUNDING_SLACK, spacing)
     if len(positions) == 0 or n < 1:
         raise PlanError(f"rods: a cylinder of radius {radius:g} mm and length {stop - start:g} mm "
                         f"holds no rod {spacing:g} mm apart")
@@ -156,7 +157,7 @@ def cylinder_layout(origin, axis, radius: float, spacing: float, diameter: float
 
 def _segment_distance(points: np.ndarray, start: np.ndarray, end: np.ndarray) -> np.ndarray:
     chord = end - start
-    t = np.clip((points - start) @ chord / max(float(chord @ chord), 1e-300), 0.0, 1.0)
+    t = np.clip((points - start) @ chord / max(float(chord @ chord), DIVISION_GUARD), 0.0, 1.0)
     return np.linalg.norm(points - (start + np.outer(t, chord)), axis=1)
 
 
@@ -199,7 +200,7 @@ def check_layout(layout: RodLayout, tool: Tool, what: str = "rods") -> None:
 
 def _slerp(n0: np.ndarray, n1: np.ndarray, t: np.ndarray) -> np.ndarray:
     angle = math.acos(float(np.clip(n0 @ n1, -1.0, 1.0)))
-    if angle < 1e-12:
+    if angle < ZERO_LENGTH:
         return np.repeat(n0[None, :], len(t), axis=0)
     return (np.outer(np.sin((1 - t) * angle), n0) + np.outer(np.sin(t * angle), n1)) / math.sin(angle)
 

@@ -25,7 +25,7 @@ from freecad_conformal.geometry.faces import face_kind, normals_at, points_at
 from freecad_conformal.paths.features.moves import approach, retract, travel
 from freecad_conformal.process.selection import TILT_TOLERANCE
 from freecad_conformal.process.tools import Tool
-from freecad_conformal.tolerances import DEFAULT_LINEAR_TOLERANCE
+from freecad_conformal.tolerances import DEFAULT_LINEAR_TOLERANCE, ROUNDING_SLACK
 from freecad_conformal.toolpath import ToolpathBuilder
 
 REVOLVED = ("sphere", "cylinder", "cone")
@@ -92,7 +92,7 @@ def base_shell(face, tool: Tool, width: float, layers: int = 1, layer: float = 1
     if not (width > 0 and layer > 0 and layers >= 1):
         raise PlanError(f"{what}: width {width!r}, layer {layer!r} must be > 0 and layers >= 1")
     u0, u1, v0, v1 = face.ParameterRange
-    if u1 - u0 < 2 * math.pi - 1e-9:
+    if u1 - u0 < 2 * math.pi - ROUNDING_SLACK:
         raise PlanError(f"{what}: the face does not go all the way round its axis "
                         f"({math.degrees(u1 - u0):.1f}°): a ring needs a full rotation")
     metric = float(np.linalg.norm(np.array(tuple(face.Surface.getDN(u0, 0.5 * (v0 + v1), 0, 1)))))
@@ -144,11 +144,11 @@ def conical_cup(face, tool: Tool, height: float, layer: float = 1.0, feed: float
     u0, u1, v0, v1 = face.ParameterRange
     # v is the slant length: a height z along the axis is v = z / cos α above v0
     heights = [first_layer] + list(first_layer + layer * np.arange(1, int(
-        math.floor((height - first_layer) / layer + 1e-9)) + 1))
+        math.floor((height - first_layer) / layer + ROUNDING_SLACK)) + 1))
     rings: list[RingPath] = []
     for k, z in enumerate(heights):
         v = v0 + (z - (first_layer if k == 0 else layer) / 2.0) / math.cos(alpha)
-        if v > v1 + 1e-9:
+        if v > v1 + ROUNDING_SLACK:
             raise PlanError(f"{what}: layer {k + 1} at {z:g} mm is above the cone face "
                             f"({(v1 - v0) * math.cos(alpha):.3g} mm tall)")
         uv = np.column_stack((np.linspace(u0, u0 + 2 * math.pi, ring_samples(_ring_radius(face, v))),

@@ -23,6 +23,7 @@ from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry.faces import normals_at, points_at
 from freecad_conformal.paths.features.patterns import FaceMapping
 from freecad_conformal.process.tools import Mask, Tool
+from freecad_conformal.tolerances import ROUNDING_SLACK
 
 #: mJ/cm² → J/mm² (1 mJ = 1e-3 J, 1 cm² = 100 mm²).
 _MJ_PER_CM2_TO_J_PER_MM2 = 1e-5
@@ -70,7 +71,7 @@ def stamp_plane_points(layout: str, pitch: float, extent: float) -> np.ndarray:
         raise PlanError(f"texture: layout must be one of {', '.join(LAYOUTS)}, got {layout!r}")
     if not (pitch > 0 and extent > 0):
         raise PlanError(f"texture: pitch and extent must be > 0 mm (got {pitch!r}, {extent!r})")
-    count = int(math.floor(extent / pitch + 1e-9)) + 1
+    count = int(math.floor(extent / pitch + ROUNDING_SLACK)) + 1
     line = (np.arange(count) - (count - 1) / 2.0) * pitch
     if layout == "curve":
         return np.column_stack((line, np.zeros(count)))
