@@ -12,7 +12,8 @@ import FreeCAD
 from freecad_conformal import tolerances
 from freecad_conformal.gui.qt import QtWidgets, translate
 from freecad_conformal.gui.widgets import quantity_field, quantity_value, set_quantity
-from freecad_conformal.settings.plan import DEFAULT_MACHINE
+from freecad_conformal.settings.plan import DEFAULT_MACHINE, PLAN_SETTINGS
+from freecad_conformal.settings.sections import SECTIONS_SETTINGS
 
 PARAM_PATH = "User parameter:BaseApp/Preferences/Mod/Conformal"
 
@@ -45,23 +46,17 @@ def chord_tolerance() -> float:
 
 def section_spacing() -> float:
     """Default spacing (mm) of new Sections objects."""
-    return _params().GetFloat("SectionSpacing", DEFAULT_SECTION_SPACING)
+    return _params().GetFloat("SectionSpacing", _default(SECTIONS_SETTINGS, "layer"))
 
 
 def layer_height() -> float:
     """Default layer height (mm) of new Jobs (the plan setting's default unless set here)."""
-    return _params().GetFloat("LayerHeight", _plan_default("layer_height"))
+    return _params().GetFloat("LayerHeight", _default(PLAN_SETTINGS, "layer_height"))
 
 
-def _plan_default(key: str):
-    from freecad_conformal.settings.plan import PLAN_SETTINGS
-
-    return next(s.default for s in PLAN_SETTINGS if s.key == key)
-
-
-#: New Sections objects start 1 mm apart (the sections command's usual spacing): sections
-#: are for looking at a part, layers for building it.
-DEFAULT_SECTION_SPACING = 1.0
+def _default(settings, key: str):
+    """The schema's default: a preference left unset means what the command line does."""
+    return next(s.default for s in settings if s.key == key)
 
 
 class PreferencesPage:
@@ -77,8 +72,8 @@ class PreferencesPage:
         self.library_dir.setPlaceholderText(translate(
             "Conformal", "default: <FreeCAD user data>/Conformal/tools"))
         self.chord = quantity_field("mm", tolerances.DEFAULT_CHORD_TOLERANCE, 1e-6, 10.0)
-        self.spacing = quantity_field("mm", DEFAULT_SECTION_SPACING, 1e-3, 100.0)
-        self.layer = quantity_field("mm", _plan_default("layer_height"), 1e-3, 100.0)
+        self.spacing = quantity_field("mm", _default(SECTIONS_SETTINGS, "layer"), 1e-3, 100.0)
+        self.layer = quantity_field("mm", _default(PLAN_SETTINGS, "layer_height"), 1e-3, 100.0)
         layout.addRow(translate("Conformal", "Default machine"), self.machine)
         layout.addRow(translate("Conformal", "Tool library folder"), self.library_dir)
         layout.addRow(translate("Conformal", "Chord tolerance"), self.chord)
