@@ -195,7 +195,8 @@ class Toolpath:
         """Read a file written by `save`; raise ToolpathError if missing or malformed."""
         source = Path(path)
         if not source.is_file():
-            raise ToolpathError(f"toolpath file {source} does not exist")
+            raise ToolpathError(f"toolpath file {source} "
+                                f"{'is a folder' if source.is_dir() else 'does not exist'}")
         try:
             with np.load(source, allow_pickle=False) as data:
                 header = json.loads(str(data["header"]))

@@ -145,7 +145,7 @@ def _analyze(args: argparse.Namespace) -> int:
         try:
             design = Design.from_dict(json.loads(args.design.read_text(encoding="utf-8")),
                                       f"design {args.design.name}")
-        except (OSError, json.JSONDecodeError) as exc:
+        except (OSError, ValueError) as exc:        # ValueError: bad JSON, not UTF-8
             raise ProcessError(f"cannot read design {args.design}: {exc}") from exc
     if args.mean:
         if args.response:

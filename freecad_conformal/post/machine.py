@@ -146,7 +146,8 @@ def load_machine(name_or_path: str | Path) -> Machine:
             raise KinematicsError(f"unknown machine {str(name_or_path)!r}; shipped machines: "
                                   f"{', '.join(machine_names())} (or give a path to a .json file)")
     if not path.is_file():
-        raise KinematicsError(f"machine file {path} does not exist")
+        raise KinematicsError(f"machine file {path} "
+                              f"{'is a folder' if path.is_dir() else 'does not exist'}")
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:

@@ -186,5 +186,6 @@ def verify_program(text: str, machine: Machine, toolpath: Toolpath) -> Deviation
 def verify_file(path: str | Path, machine: Machine, toolpath: Toolpath) -> Deviation:
     source = Path(path)
     if not source.is_file():
-        raise PostError(f"program file {source} does not exist")
+        raise PostError(f"program file {source} "
+                        f"{'is a folder' if source.is_dir() else 'does not exist'}")
     return verify_program(source.read_text(encoding="utf-8", errors="replace"), machine, toolpath)

@@ -31,6 +31,11 @@ def folder(tmp_path, Part):
     (tmp_path / "garbage.step").write_text("ISO-10303-21;\nthis is not step\n")
     (tmp_path / "text.brep").write_text("hello")
     (tmp_path / "zero.npz").write_bytes(b"")
+    # files saved in another encoding than UTF-8 (Latin-1, UTF-16 from a spreadsheet)
+    (tmp_path / "latin1.csv").write_bytes("A,B,y\n1,1,2\n-1,1,3 \xb5m\n".encode("latin-1"))
+    (tmp_path / "utf16.json").write_bytes('{"factors": []}'.encode("utf-16"))
+    (tmp_path / "latin1.svg").write_bytes("M0 0 L5 0 L5 5 Z \xe9".encode("latin-1"))
+    (tmp_path / "ok.csv").write_text("A,B,y\n1,1,2\n-1,1,3\n1,-1,4\n-1,-1,5\n")
     return tmp_path
 
 
@@ -157,11 +162,76 @@ CASES += [
     (["mandrel", "box.step", "-o", "x.ngc", "--feed", "0"], ["print feed (--feed) must be > 0", "got 0"]),
     # batch, tools, demo
     (["batch", "box.step", "-o", "out", "--workers", "-1"], ["--workers", "-1"]),
+    (["batch", "box.step", "-o", "out", "--time-limit", "-5"], ["--time-limit", "-5"]),
+    # inputs in another encoding than UTF-8
+    (["doe", "analyze", "latin1.csv", "--response", "y", "--no-plot"],
+     ["latin1.csv is not UTF-8", "byte"]),
+    (["doe", "analyze", "ok.csv", "--response", "y", "--design", "utf16.json", "--no-plot"],
+     ["cannot read design utf16.json"]),
+    (["feature", "box.step", "--face", "Face6", "--kind", "pattern", "--svg", "latin1.svg",
+      "-o", "x.npz"], ["latin1.svg is not UTF-8"]),
+    (["post", "t.npz", "--machine", "utf16.json", "-o", "x.ngc"], ["utf16.json"]),
+    # design of experiments, tools, verify, decompose
+    (["doe", "design", "--factors", "1"], ["2 to 25 factors", "got 1"]),
+    (["doe", "analyze", "ok.csv", "--response", "nosuch", "--no-plot"], ["no column 'nosuch'"]),
+    (["doe", "analyze", "ok.csv", "--response", "y", "--alpha", "2", "--no-plot"],
+     ["alpha must be in (0, 1)", "got 2"]),
+    (["doe", "analyze", "ok.csv", "--response", "y", "--goal", "nominal", "--target", "nan",
+      "--no-plot"], ["target", "finite", "nan"]),
+    (["doe", "analyze", "missing.csv", "--response", "y", "--no-plot"], ["missing.csv"]),
+    (["tools", "choose", "--rs", "-1", "--cd", "1", "--theta", "10"], ["rs must be > 0", "-1"]),
+    (["tools", "choose", "--rs", "10", "--cd", "nan", "--theta", "10"], ["curing depth", "nan"]),
+    (["verify", "p.ngc", "--machine", "trunnion_ac", "--toolpath", "nosuch.npz"],
+     ["nosuch.npz does not exist"]),
+    (["verify", "p.ngc", "--machine", "trunnion_ac", "--toolpath", "t.npz", "--max-position",
+      "nan"], ["--max-position", "nan"]),
+    (["verify", "p.ngc", "--machine", "trunnion_ac", "--toolpath", "t.npz", "--max-angle",
+      "-1"], ["--max-angle", "got -1"]),
+    (["verify", "sub", "--machine", "trunnion_ac", "--toolpath", "t.npz"],
+     ["program file sub is a folder"]),
+    (["post", "sub", "--machine", "trunnion_ac", "-o", "x.ngc"], ["toolpath file sub is a folder"]),
+    (["batch", "box.step", "-o", "out", "--time-limit", "nan"], ["--time-limit", "nan"]),
     (["batch", "box.step", "-o", "out", "--suffix", "gcode"], ["suffix must start with a dot"]),
     (["batch", "box.step", "-o", "box.step"], ["output folder box.step is a file"]),
     (["tools", "show", "nosuch"], ["no tool 'nosuch'"]),
     (["demo", "--sample", "nosuch", "--out", "demo"], ["unknown sample 'nosuch'"]),
 ]
+
+
+
+
+def _schema_cases() -> list[tuple[list[str], list[str]]]:
+    """Every number setting of every command's schema, given as nan and below its minimum:
+    a setting that loses its check (or a command that stops checking) fails here."""
+    from freecad_conformal.settings.feature import FEATURE_SETTINGS
+    from freecad_conformal.settings.mandrel import MANDREL_SETTINGS
+    from freecad_conformal.settings.plan import PLAN_SETTINGS
+    from freecad_conformal.settings.sections import SECTIONS_SETTINGS
+    from freecad_conformal.settings.stream import STREAM_SETTINGS
+
+    commands = [(["plan", "box.step", "-o", "x.ngc"], PLAN_SETTINGS),
+                (["sections", "box.step"], SECTIONS_SETTINGS),
+                (["mandrel", "box.step", "-o", "x.ngc"], MANDREL_SETTINGS),
+                (["stream", "p.ngc", "--port", "/dev/ttyNOPE0"], STREAM_SETTINGS),
+                (["feature", "ball.step", "--face", "Face1", "--kind", "rods", "-o", "x.npz"],
+                 FEATURE_SETTINGS)]
+    numbers = ("length", "angle", "speed", "area", "volume", "time", "feed", "percent", "int",
+               "float")
+    cases = []
+    for command, settings in commands:
+        for setting in settings:
+            if setting.kind not in numbers or not setting.cli_flag:
+                continue
+            cases.append((command + [setting.cli_flag, "nan"], [setting.cli_flag, "nan"]))
+            if setting.minimum is not None:
+                below = setting.minimum if setting.open_minimum else setting.minimum - 1
+                text = f"{below:g}"
+                cases.append((command + [f"{setting.cli_flag}={text}"],
+                              [setting.cli_flag, f"got {text}"]))
+    return cases
+
+
+CASES += _schema_cases()
 
 
 @pytest.mark.parametrize("argv, words", CASES, ids=[" ".join(c[0][:6]) for c in CASES])

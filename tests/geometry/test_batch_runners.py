@@ -3,7 +3,10 @@ from __future__ import annotations
 
 import csv
 import os
+import signal
 import sys
+import threading
+import time
 from dataclasses import replace
 from pathlib import Path
 
@@ -105,3 +108,59 @@ def test_jobs_with_data_never_read_their_path(parts, tmp_path):
         remote = replace(job.with_data(), path=str(tmp_path / "elsewhere" / Path(job.path).name))
         assert not os.path.exists(remote.path)
         assert load_part(remote).Volume == pytest.approx(load_part(job).Volume, rel=1e-12)
+
+
+#: Environment variable naming the file the stalling part creates once it has started.
+STARTED = "CONFORMAL_TEST_STALL_STARTED"
+
+
+def stall_on_cylinder(job, options):
+    """A stand-in task: the cylinder stalls (as FreeCAD's reader does on some corrupt files),
+    every other part "plans" instantly."""
+    if job.part == "cyl.brep":
+        Path(os.environ[STARTED]).write_text("started")
+        time.sleep(120)
+    row = new_row(job.part, job.path, job.body_label)
+    row.update(status="ok", subparts=1, layers=1, material_mm3=1.0, time_s=1.0)
+    return {"row": row, "gcode": f"(part {job.part})\n"}
+
+
+@pytest.mark.slow
+def test_a_part_past_the_time_limit_is_stopped_and_the_others_finish(parts, tmp_path,
+                                                                     monkeypatch):
+    monkeypatch.setenv(STARTED, str(tmp_path / "started"))
+    inputs = [str(parts[name]) for name in ("cyl", "box", "two")]
+    began = time.monotonic()
+    result = run_batch(inputs, PlanOptions(), tmp_path / "out", workers=2,
+                       task=stall_on_cylinder, time_limit=4.0)
+    assert time.monotonic() - began < 60          # not the 120 s the part would take
+    by_part = {row["part"]: row for row in result.rows}
+    assert by_part["cyl.brep"]["status"] == "failed"
+    assert by_part["cyl.brep"]["error"] == "stopped after the per-part time limit of 4 s"
+    assert [by_part[n]["status"] for n in ("box.step", "two.FCStd#Left", "two.FCStd#Right")] \
+        == ["ok"] * 3
+
+
+@pytest.mark.slow
+def test_ctrl_c_writes_the_report_of_the_parts_finished(parts, tmp_path, monkeypatch):
+    marker = tmp_path / "started"
+    monkeypatch.setenv(STARTED, str(marker))
+    inputs = [str(parts[name]) for name in ("box", "two", "cyl")]      # the stall comes last
+
+    def interrupt_once_the_stall_runs():
+        end = time.monotonic() + 90
+        while not marker.exists() and time.monotonic() < end:
+            time.sleep(0.1)
+        os.kill(os.getpid(), signal.SIGINT)
+
+    threading.Thread(target=interrupt_once_the_stall_runs, daemon=True).start()
+    began = time.monotonic()
+    with pytest.raises(KeyboardInterrupt, match="report of the parts so far"):
+        run_batch(inputs, PlanOptions(), tmp_path / "out", workers=1, task=stall_on_cylinder)
+    assert marker.exists() and time.monotonic() - began < 60
+    with open(tmp_path / "out" / "batch-report.csv", newline="") as handle:
+        rows = {row["part"]: row for row in csv.DictReader(handle)}
+    assert [rows[n]["status"] for n in ("box.step", "two.FCStd#Left", "two.FCStd#Right")] \
+        == ["ok"] * 3
+    assert rows["cyl.brep"]["status"] == "failed"
+    assert "interrupted (Ctrl-C)" in rows["cyl.brep"]["error"]

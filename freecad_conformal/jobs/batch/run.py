@@ -9,7 +9,7 @@ from typing import Sequence
 
 from freecad_conformal.jobs.batch import runners
 from freecad_conformal.jobs.batch.jobs import expand_inputs
-from freecad_conformal.jobs.batch.report import FAILED, counts, write_report
+from freecad_conformal.jobs.batch.report import FAILED, counts, failed_row, write_report
 from freecad_conformal.jobs.batch.worker import run_part
 from freecad_conformal.errors import ConformalError, OutputError
 from freecad_conformal.fileio import guard_outputs, make_output_folder, write_text_atomic
@@ -41,17 +41,26 @@ def check_plan_options(options) -> None:
     load_machine(options.machine)
 
 
-def _outcomes(jobs, options, workers: int, dask: str | None, start_method: str, task):
+#: Default per-part time limit (s) of local workers: a part that stalls (a corrupt file in
+#: FreeCAD's reader, a runaway plan) is stopped and reported instead of holding the batch.
+PART_TIME_LIMIT = 3600.0
+#: The row of a part that had not finished when the user pressed Ctrl-C.
+INTERRUPTED = "interrupted (Ctrl-C) before this part finished"
+
+
+def _outcomes(jobs, options, workers: int, dask: str | None, start_method: str, task,
+              time_limit: float | None):
     if dask:
         return runners.run_dask(jobs, options, dask, task)
     if workers == 0:
         return runners.run_inline(jobs, options, task)
-    return runners.run_local(jobs, options, workers, start_method, task)
+    return runners.run_local(jobs, options, workers, start_method, task, time_limit)
 
 
 def run_batch(inputs: Sequence[str], options, out_dir: str | Path, *, workers: int = 1,
               dask: str | None = None, start_method: str | None = None, suffix: str = ".gcode",
-              make_progress=None, task=run_part) -> BatchResult:
+              make_progress=None, task=run_part,
+              time_limit: float | None = PART_TIME_LIMIT) -> BatchResult:
     """Plan and post every part of `inputs`; write the G-code files and the report in `out_dir`.
 
     Args:
@@ -64,10 +73,14 @@ def run_batch(inputs: Sequence[str], options, out_dir: str | Path, *, workers: i
         suffix: G-code file suffix.
         make_progress: total -> a progress.Progress (update, close), or None for none.
         task: the per-part function (tests replace it to simulate crashes).
+        time_limit: seconds a part may take on a local worker before it is stopped and
+            failed (None: no limit; parts planned in this process cannot be stopped).
     Returns:
         BatchResult; parts that failed are rows with status "failed" and the reason.
     Raises:
         ConformalError: bad options, or a Dask scheduler that cannot be reached.
+        KeyboardInterrupt: after the report of the parts finished so far is written (the
+            others are rows that say they were interrupted).
     """
     if not suffix.startswith(".") or len(suffix) < 2:
         raise ConformalError(f"G-code suffix must start with a dot, like .gcode, got {suffix!r}")
@@ -79,14 +92,26 @@ def run_batch(inputs: Sequence[str], options, out_dir: str | Path, *, workers: i
     expansion = expand_inputs(inputs, suffix)
     rows = dict(expansion.rejected)
     progress = make_progress(expansion.total) if make_progress is not None else None
+    interrupted = False
     try:
         if progress is not None:
             progress.update(len(rows))
         if expansion.jobs:
-            for job, outcome in _outcomes(expansion.jobs, options, workers, dask, start_method, task):
-                rows[job.index] = _store(outcome, out / job.output, job.path)
-                if progress is not None:
-                    progress.update(1)
+            outcomes = _outcomes(expansion.jobs, options, workers, dask, start_method, task,
+                                 time_limit)
+            try:
+                for job, outcome in outcomes:
+                    rows[job.index] = _store(outcome, out / job.output, job.path)
+                    if progress is not None:
+                        progress.update(1)
+            except KeyboardInterrupt:
+                interrupted = True
+                close = getattr(outcomes, "close", None)
+                if close is not None:
+                    close()                      # ends the running parts' processes now
+                for job in expansion.jobs:
+                    rows.setdefault(job.index, failed_row(job.part, job.path, INTERRUPTED,
+                                                          job.body_label))
     finally:
         if progress is not None:
             progress.close()
@@ -101,6 +126,8 @@ def run_batch(inputs: Sequence[str], options, out_dir: str | Path, *, workers: i
         settings["settings"] = as_json(PLAN_SETTINGS, options.settings)
     csv_path, json_path = out / f"{REPORT_STEM}.csv", out / f"{REPORT_STEM}.json"
     write_report(ordered, csv_path, json_path, settings)
+    if interrupted:
+        raise KeyboardInterrupt(f"batch interrupted; report of the parts so far: {csv_path}")
     return BatchResult(ordered, csv_path, json_path)
 
 

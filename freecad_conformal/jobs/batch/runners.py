@@ -6,11 +6,12 @@ one part: a task that raises, or a worker that dies, becomes that part's failed 
 """
 from __future__ import annotations
 
+import math
 import multiprocessing
 import os
 import sys
-from concurrent.futures import ProcessPoolExecutor, as_completed
-from concurrent.futures.process import BrokenProcessPool
+import time
+from multiprocessing.connection import wait
 from typing import Any, Callable, Iterator, Sequence
 
 from freecad_conformal.jobs.batch.jobs import PartJob
@@ -39,6 +40,8 @@ DASK_CONNECT_TIMEOUT = 10.0
 
 CRASHED = ("the worker process died while planning this part (a crash inside FreeCAD/"
            "OpenCASCADE, or out of memory)")
+#: Seconds a stopped part's process gets to exit before it is killed.
+TERMINATE_GRACE_S = 2.0
 
 
 def _failed(job: PartJob, reason: str) -> dict:
@@ -60,48 +63,95 @@ def run_inline(jobs: Sequence[PartJob], options, task: Task = run_part) -> Outco
 
 
 def run_local(jobs: Sequence[PartJob], options, workers: int, start_method: str | None = None,
-              task: Task = run_part) -> Outcomes:
-    """The parts on `workers` processes of this machine.
-
-    A worker that dies breaks the whole pool, and the pool cannot tell whose part killed
-    it, so the parts left unfinished are then run one per fresh process: the part that
-    dies again is reported as crashed, the others complete.
+              task: Task = run_part, time_limit: float | None = None) -> Outcomes:
+    """The parts on up to `workers` processes of this machine, each part in a process of its
+    own: a part that crashes its process, or runs past `time_limit` seconds (None: no limit),
+    is that part's failed row and the others go on. On Ctrl-C (or a consumer that stops
+    early) the running parts are ended at once and the queued ones are not started.
     """
     if workers < 1:
         raise ConformalError(f"--workers must be at least 1 for a process pool, got {workers}")
+    if time_limit is not None and not (time_limit > 0 and math.isfinite(time_limit)):
+        raise ConformalError(f"the per-part time limit must be a positive number of seconds, "
+                             f"got {time_limit}")
     start_method = start_method or default_start_method()
     if start_method not in START_METHODS:
         raise ConformalError(f"start method {start_method!r} is not one of {', '.join(START_METHODS)}")
     context = multiprocessing.get_context(start_method)
-    unfinished = {job.index: job for job in jobs}
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=context)
+    queued = list(jobs)
+    running: dict[Any, _Running] = {}
     try:
-        futures = {pool.submit(task, job, options): job for job in jobs}
-        for future in as_completed(futures):
-            job = futures[future]
-            try:
-                outcome = future.result()
-            except BrokenProcessPool:
-                continue
-            except Exception as exc:  # noqa: BLE001 (the task raised or its result did not pickle)
-                outcome = _failed(job, f"task error ({type(exc).__name__}): {exc}")
-            del unfinished[job.index]
-            yield job, outcome
+        while queued or running:
+            while queued and len(running) < workers:
+                started = _start(context, task, queued.pop(0), options)
+                running[started.receiver] = started
+            deadline = min((r.deadline(time_limit) for r in running.values()), default=None)
+            timeout = None if deadline is None else max(0.0, deadline - time.monotonic())
+            ready = wait(list(running), timeout)
+            for receiver in ready:
+                done = running.pop(receiver)
+                yield done.job, done.outcome()
+            for receiver, late in list(running.items()):
+                if late.deadline(time_limit) is not None and time.monotonic() >= late.deadline(time_limit):
+                    del running[receiver]
+                    late.stop()
+                    yield late.job, _failed(late.job, f"stopped after the per-part time limit of "
+                                                      f"{time_limit:g} s")
     finally:
-        # On Ctrl-C (or a consumer that stops early) the queued parts are dropped, not run.
-        pool.shutdown(wait=True, cancel_futures=True)
-    for job in unfinished.values():
-        yield job, _run_alone(job, options, context, task)
+        for late in running.values():
+            late.stop()
 
 
-def _run_alone(job: PartJob, options, context, task: Task) -> dict:
-    with ProcessPoolExecutor(max_workers=1, mp_context=context) as pool:
+class _Running:
+    """One part's process, the end of the pipe its outcome comes back on, and its start."""
+
+    def __init__(self, job: PartJob, process, receiver) -> None:
+        self.job, self.process, self.receiver = job, process, receiver
+        self.started = time.monotonic()
+
+    def deadline(self, time_limit: float | None) -> float | None:
+        return None if time_limit is None else self.started + time_limit
+
+    def outcome(self) -> dict:
+        """What the process sent, or the crash row when it ended without sending."""
         try:
-            return pool.submit(task, job, options).result()
-        except BrokenProcessPool:
-            return _failed(job, CRASHED)
-        except Exception as exc:  # noqa: BLE001
-            return _failed(job, f"task error ({type(exc).__name__}): {exc}")
+            outcome = self.receiver.recv()
+        except (EOFError, OSError):
+            outcome = None
+        self.process.join(TERMINATE_GRACE_S)
+        self.receiver.close()
+        return outcome if outcome is not None else _failed(self.job, CRASHED)
+
+    def stop(self) -> None:
+        """End the process at once (terminate, then kill) and close the pipe."""
+        if self.process.is_alive():
+            self.process.terminate()
+            self.process.join(TERMINATE_GRACE_S)
+        if self.process.is_alive():
+            self.process.kill()
+            self.process.join()
+        self.receiver.close()
+
+
+def _start(context, task: Task, job: PartJob, options) -> _Running:
+    receiver, sender = context.Pipe(duplex=False)
+    process = context.Process(target=_child, args=(task, job, options, sender), daemon=True,
+                              name=f"conformal-batch-{job.index}")
+    process.start()
+    sender.close()                # the child holds the only sending end: EOF when it dies
+    return _Running(job, process, receiver)
+
+
+def _child(task: Task, job: PartJob, options, sender) -> None:
+    """In the part's process: run the task and send its outcome (or its error) back."""
+    try:
+        outcome = _call(task, job, options)
+        try:
+            sender.send(outcome)
+        except Exception as exc:  # noqa: BLE001 (an outcome that does not pickle)
+            sender.send(_failed(job, f"task error ({type(exc).__name__}): {exc}"))
+    finally:
+        sender.close()
 
 
 def _dask():

@@ -110,6 +110,9 @@ def find_optimum(names: Sequence[str], location: Model, dispersion: Model | None
         raise ProcessError(f"goal must be one of {', '.join(GOALS)}, got {goal!r}")
     if goal == "nominal" and target is None:
         raise ProcessError("a nominal-the-better optimum needs a target value")
+    if target is not None and not math.isfinite(target):
+        raise ProcessError(f"the target of a nominal-the-better response must be a finite "
+                           f"number, got {target}")
     scale = max([abs(location.intercept)] + [abs(c) for c in location.coefficients.values()])
     best_key: tuple | None = None
     best: dict[str, float] | None = None

@@ -62,6 +62,11 @@ def _read_rows(path: str | os.PathLike) -> tuple[list[str], list[dict[str, str]]
             header = [h.strip() for h in (reader.fieldnames or [])]
     except OSError as exc:
         raise ProcessError(f"cannot read results file {path}: {exc.strerror or exc}") from exc
+    except UnicodeDecodeError as exc:
+        raise ProcessError(f"results file {path} is not UTF-8 text (byte {exc.start}: "
+                           f"{exc.reason}); save it as CSV UTF-8") from None
+    except csv.Error as exc:
+        raise ProcessError(f"results file {path} is not a readable CSV: {exc}") from None
     if not rows:
         raise ProcessError(f"results file {path} has no data rows")
     return header, [{(k or "").strip(): (v or "").strip() for k, v in row.items()} for row in rows]
