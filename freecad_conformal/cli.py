@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import logging
+import math
 import os
 import sys
 from typing import Sequence
@@ -84,6 +85,25 @@ class WarningPrinter(logging.Handler):
 
     def emit(self, record: logging.LogRecord) -> None:
         print(f"warning: {record.getMessage()}", file=sys.stderr)
+
+
+#: Environment variable: seconds a part file may spend in FreeCAD's reader (0: no limit).
+READ_LIMIT_VARIABLE = "CONFORMAL_READ_TIME_LIMIT"
+#: Default of that limit: far above any real file's read (a 200 MB STEP reads in minutes).
+DEFAULT_READ_LIMIT_S = 900.0
+
+
+def enable_reading_watchdog() -> None:
+    """For `python -m freecad_conformal` only (a process of its own): a part file that keeps
+    FreeCAD's reader busy past the limit ends the command with an error naming the file."""
+    from freecad_conformal.geometry import solids
+
+    text = os.environ.get(READ_LIMIT_VARIABLE, "")
+    try:
+        limit = float(text) if text else DEFAULT_READ_LIMIT_S
+    except ValueError:
+        limit = DEFAULT_READ_LIMIT_S
+    solids.READ_TIME_LIMIT[0] = limit if limit > 0 and math.isfinite(limit) else None
 
 
 def main(argv: Sequence[str] | None = None) -> int:

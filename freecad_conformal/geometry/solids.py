@@ -3,6 +3,9 @@ from __future__ import annotations
 
 import logging
 import os
+import sys
+import threading
+from contextlib import contextmanager
 from pathlib import Path
 
 from freecad_conformal.errors import GeometryError
@@ -12,6 +15,13 @@ from freecad_conformal.freecad_env import import_freecad, make_workbench_types_l
 SHAPE_SUFFIXES = (".step", ".stp", ".brep", ".brp", ".iges", ".igs", ".fcstd")
 #: Warnings about inputs the loader repaired or skipped (the CLI prints them as "warning: ...").
 LOG = logging.getLogger("freecad_conformal")
+#: Seconds a file may spend in FreeCAD's reader before the command gives up (None: wait).
+#: Set by the command line only: a corrupt file can keep OCC's reader busy for minutes,
+#: where Ctrl-C does not reach it, and the only way out of a C++ call is ending the process,
+#: which a FreeCAD session must never do.
+READ_TIME_LIMIT: list[float | None] = [None]
+#: Exit code of a command stopped by the reading watchdog.
+READ_TIMEOUT_EXIT = 1
 
 
 def load_shape(path: str | os.PathLike):
@@ -24,17 +34,42 @@ def load_shape(path: str | os.PathLike):
     if suffix not in SHAPE_SUFFIXES:
         raise GeometryError(
             f"cannot read {file.name}: suffix {suffix!r} is not one of {', '.join(SHAPE_SUFFIXES)}")
-    if suffix == ".fcstd":
-        return _load_fcstd(App, Part, file)
-    try:
-        shape = Part.read(str(file))
-    except Exception as exc:  # OCC reader errors are plain Exceptions with terse text
-        raise GeometryError(f"cannot read {file.name}: {exc}") from exc
+    with reading_watchdog(file):
+        if suffix == ".fcstd":
+            return _load_fcstd(App, Part, file)
+        try:
+            shape = Part.read(str(file))
+        except Exception as exc:  # OCC reader errors are plain Exceptions with terse text
+            raise GeometryError(f"cannot read {file.name}: {exc}") from exc
     if shape.isNull():
         raise GeometryError(f"{file.name} holds no shape")
     if not shape.Solids and shape.Faces:
         shape = _sewn_solids(Part, shape, file.name)
     return shape
+
+
+@contextmanager
+def reading_watchdog(file: Path):
+    """Within READ_TIME_LIMIT seconds the block ends, or the process does, with an error
+    line naming the file (nothing has been written yet while a part is being read)."""
+    limit = READ_TIME_LIMIT[0]
+    if limit is None:
+        yield
+        return
+
+    def give_up() -> None:
+        sys.stderr.write(f"error: reading {file.name} took longer than {limit:g} s; the file "
+                         "may be damaged (repair or re-export it)\n")
+        sys.stderr.flush()
+        os._exit(READ_TIMEOUT_EXIT)
+
+    timer = threading.Timer(limit, give_up)
+    timer.daemon = True
+    timer.start()
+    try:
+        yield
+    finally:
+        timer.cancel()
 
 
 def _sewn_solids(Part, shape, name: str):

@@ -290,3 +290,27 @@ def test_faces_without_a_solid_are_sewn_and_the_user_is_told(tmp_path, Part, cap
     assert main(["sections", str(tmp_path / "faces.igs"), "--layer", "5"]) == 0
     assert "sewed 6 face(s) into 1 closed solid(s)" in capsys.readouterr().err
     assert load_shape(tmp_path / "faces.igs").Volume == pytest.approx(1000.0, rel=1e-9)
+
+
+def test_a_part_that_keeps_the_reader_busy_ends_the_command(folder):
+    """A damaged file can keep OCC's reader busy for minutes, out of Ctrl-C's reach: the
+    command line gives up after CONFORMAL_READ_TIME_LIMIT seconds, naming the file."""
+    import subprocess
+    import sys
+    import time
+
+    stalling_reader = (
+        "import runpy, sys, time\n"
+        "from freecad_conformal.freecad_env import import_freecad\n"
+        "_, Part = import_freecad()\n"
+        "Part.read = lambda path: time.sleep(120)\n"
+        "sys.argv = ['freecad_conformal', 'sections', 'box.step', '--json', 'r.json']\n"
+        "runpy.run_module('freecad_conformal', run_name='__main__')\n")
+    began = time.monotonic()
+    result = subprocess.run([sys.executable, "-c", stalling_reader], cwd=folder,
+                            env={**os.environ, "CONFORMAL_READ_TIME_LIMIT": "2"},
+                            capture_output=True, text=True, timeout=100)
+    assert result.returncode == 1, result.stderr
+    assert "reading box.step took longer than 2 s" in result.stderr
+    assert time.monotonic() - began < 60
+    assert not (folder / "r.json").exists()
