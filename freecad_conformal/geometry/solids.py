@@ -133,7 +133,8 @@ def solids_of(shape, what: str = "shape") -> list:
     if not solids:
         kind = shape.ShapeType
         hint = " (a closed shell can be made a solid with Part.Solid(shell))" if kind == "Shell" else ""
-        raise GeometryError(f"{what} is not a solid: it is a {kind} with no solids{hint}")
+        article = "an" if kind[:1] in "AEIOU" else "a"
+        raise GeometryError(f"{what} is not a solid: it is {article} {kind} with no solids{hint}")
     for index, solid in enumerate(solids):
         if not solid.isValid():
             raise GeometryError(f"{what}: solid {index + 1} of {len(solids)} is invalid "

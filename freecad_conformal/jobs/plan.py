@@ -244,6 +244,9 @@ def check_options(shape, options: PlanOptions, library=None):
 
     Returns (tool, material name, bead width, path settings, machine).
     """
+    from freecad_conformal.geometry.solids import solids_of
+
+    solids_of(shape, "the part")            # a face, an edge or a vertex is not a part
     size = _part_size(shape)
     machine = load_machine(options.machine)
     check_fits(shape, machine)

@@ -31,6 +31,9 @@ def folder(tmp_path, Part):
     (tmp_path / "garbage.step").write_text("ISO-10303-21;\nthis is not step\n")
     (tmp_path / "text.brep").write_text("hello")
     (tmp_path / "zero.npz").write_bytes(b"")
+    Part.makeBox(10, 10, 10).Faces[0].exportBrep(str(tmp_path / "face.brep"))
+    (tmp_path / "ragged.csv").write_text("A,B,y\n1,1,2,9,9\n-1,1,3\n1,-1,4\n-1,-1,5\n")
+    Part.makeBox(10, 10, 10).Edges[0].exportBrep(str(tmp_path / "edge.brep"))
     # files saved in another encoding than UTF-8 (Latin-1, UTF-16 from a spreadsheet)
     (tmp_path / "latin1.csv").write_bytes("A,B,y\n1,1,2\n-1,1,3 \xb5m\n".encode("latin-1"))
     (tmp_path / "utf16.json").write_bytes('{"factors": []}'.encode("utf-16"))
@@ -163,6 +166,10 @@ CASES += [
     # batch, tools, demo
     (["batch", "box.step", "-o", "out", "--workers", "-1"], ["--workers", "-1"]),
     (["batch", "box.step", "-o", "out", "--time-limit", "-5"], ["--time-limit", "-5"]),
+    # shapes that are not solids: said so, not "layer height larger than the part"
+    (["plan", "face.brep", "-o", "x.ngc"], ["the part is not a solid: it is a Face"]),
+    (["plan", "edge.brep", "-o", "x.ngc"], ["the part is not a solid: it is an Edge"]),
+    (["decompose", "face.brep"], ["not a solid", "Face"]),
     # inputs in another encoding than UTF-8
     (["doe", "analyze", "latin1.csv", "--response", "y", "--no-plot"],
      ["latin1.csv is not UTF-8", "byte"]),
@@ -173,6 +180,8 @@ CASES += [
     (["post", "t.npz", "--machine", "utf16.json", "-o", "x.ngc"], ["utf16.json"]),
     # design of experiments, tools, verify, decompose
     (["doe", "design", "--factors", "1"], ["2 to 25 factors", "got 1"]),
+    (["doe", "analyze", "ragged.csv", "--response", "y", "--no-plot"],
+     ["ragged.csv, line 2: more values than the header's 3 columns"]),
     (["doe", "analyze", "ok.csv", "--response", "nosuch", "--no-plot"], ["no column 'nosuch'"]),
     (["doe", "analyze", "ok.csv", "--response", "y", "--alpha", "2", "--no-plot"],
      ["alpha must be in (0, 1)", "got 2"]),

@@ -58,7 +58,14 @@ def _read_rows(path: str | os.PathLike) -> tuple[list[str], list[dict[str, str]]
     try:
         with open(path, newline="", encoding="utf-8-sig") as handle:
             reader = csv.DictReader(handle)
-            rows = [row for row in reader if any((v or "").strip() for v in row.values())]
+            rows = []
+            for row in reader:
+                if None in row:                  # DictReader files surplus values under None
+                    raise ProcessError(f"results file {path}, line {reader.line_num}: more "
+                                       f"values than the header's {len(reader.fieldnames or [])} "
+                                       "columns")
+                if any((v or "").strip() for v in row.values()):
+                    rows.append(row)
             header = [h.strip() for h in (reader.fieldnames or [])]
     except OSError as exc:
         raise ProcessError(f"cannot read results file {path}: {exc.strerror or exc}") from exc
