@@ -32,6 +32,7 @@ def folder(tmp_path, Part):
     (tmp_path / "text.brep").write_text("hello")
     (tmp_path / "zero.npz").write_bytes(b"")
     Part.makeBox(10, 10, 10).Faces[0].exportBrep(str(tmp_path / "face.brep"))
+    (tmp_path / "twice.csv").write_text("A,B,A,y\n1,1,1,2\n-1,1,-1,3\n1,-1,1,4\n-1,-1,-1,5\n")
     (tmp_path / "ragged.csv").write_text("A,B,y\n1,1,2,9,9\n-1,1,3\n1,-1,4\n-1,-1,5\n")
     Part.makeBox(10, 10, 10).Edges[0].exportBrep(str(tmp_path / "edge.brep"))
     # files saved in another encoding than UTF-8 (Latin-1, UTF-16 from a spreadsheet)
@@ -180,6 +181,8 @@ CASES += [
     (["post", "t.npz", "--machine", "utf16.json", "-o", "x.ngc"], ["utf16.json"]),
     # design of experiments, tools, verify, decompose
     (["doe", "design", "--factors", "1"], ["2 to 25 factors", "got 1"]),
+    (["doe", "analyze", "twice.csv", "--response", "y", "--no-plot"],
+     ["column(s) A appear more than once"]),
     (["doe", "analyze", "ragged.csv", "--response", "y", "--no-plot"],
      ["ragged.csv, line 2: more values than the header's 3 columns"]),
     (["doe", "analyze", "ok.csv", "--response", "nosuch", "--no-plot"], ["no column 'nosuch'"]),
@@ -212,9 +215,11 @@ CASES += [
 def _schema_cases() -> list[tuple[list[str], list[str]]]:
     """Every number setting of every command's schema, given as nan and below its minimum:
     a setting that loses its check (or a command that stops checking) fails here."""
+    from freecad_conformal.settings.decompose import DECOMPOSE_SETTINGS
     from freecad_conformal.settings.feature import FEATURE_SETTINGS
     from freecad_conformal.settings.mandrel import MANDREL_SETTINGS
     from freecad_conformal.settings.plan import PLAN_SETTINGS
+    from freecad_conformal.settings.post import POST_SETTINGS, VERIFY_SETTINGS
     from freecad_conformal.settings.sections import SECTIONS_SETTINGS
     from freecad_conformal.settings.stream import STREAM_SETTINGS
 
@@ -223,7 +228,11 @@ def _schema_cases() -> list[tuple[list[str], list[str]]]:
                 (["mandrel", "box.step", "-o", "x.ngc"], MANDREL_SETTINGS),
                 (["stream", "p.ngc", "--port", "/dev/ttyNOPE0"], STREAM_SETTINGS),
                 (["feature", "ball.step", "--face", "Face1", "--kind", "rods", "-o", "x.npz"],
-                 FEATURE_SETTINGS)]
+                 FEATURE_SETTINGS),
+                (["decompose", "box.step"], DECOMPOSE_SETTINGS),
+                (["post", "t.npz", "--machine", "trunnion_ac", "-o", "x.ngc"], POST_SETTINGS),
+                (["verify", "p.ngc", "--machine", "trunnion_ac", "--toolpath", "t.npz"],
+                 VERIFY_SETTINGS)]
     numbers = ("length", "angle", "speed", "area", "volume", "time", "feed", "percent", "int",
                "float")
     cases = []

@@ -74,6 +74,10 @@ def _read_rows(path: str | os.PathLike) -> tuple[list[str], list[dict[str, str]]
                            f"{exc.reason}); save it as CSV UTF-8") from None
     except csv.Error as exc:
         raise ProcessError(f"results file {path} is not a readable CSV: {exc}") from None
+    repeated = sorted({h for h in header if h and header.count(h) > 1})
+    if repeated:
+        raise ProcessError(f"results file {path}: column(s) {', '.join(repeated)} appear more "
+                           "than once in the header (which one holds the values?)")
     if not rows:
         raise ProcessError(f"results file {path} has no data rows")
     return header, [{(k or "").strip(): (v or "").strip() for k, v in row.items()} for row in rows]
