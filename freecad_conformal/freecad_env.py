@@ -70,3 +70,34 @@ def _add_mod_folders(App) -> None:
         for path in [folder] + sorted(os.path.join(folder, name) for name in os.listdir(folder)):
             if os.path.isdir(path) and path not in sys.path:
                 sys.path.append(path)
+
+
+#: Environment variable naming the Python that worker processes run on (default: see
+#: worker_python).
+WORKER_PYTHON_VARIABLE = "CONFORMAL_WORKER_PYTHON"
+
+
+def inside_freecad() -> bool:
+    """Whether this interpreter is FreeCAD's own (FreeCAD, FreeCADCmd), whose executable
+    cannot be started as a Python for worker processes."""
+    return not os.path.basename(sys.executable or "").lower().startswith("python")
+
+
+def worker_python() -> str:
+    """The Python for workers: $CONFORMAL_WORKER_PYTHON, this interpreter when it is a
+    Python (a venv, a plain python3), else the system's python of FreeCAD's version."""
+    import shutil
+
+    chosen = os.environ.get(WORKER_PYTHON_VARIABLE)
+    if chosen:
+        return chosen
+    if not inside_freecad():
+        return sys.executable
+    # FreeCAD's own Python first (its prefix): one found on PATH (pyenv, conda) may be the
+    # same version with another standard library, whose compiled modules do not load here
+    version = f"python{sys.version_info.major}.{sys.version_info.minor}"
+    for name in (version, "python3"):
+        candidate = os.path.join(sys.base_exec_prefix, "bin", name)
+        if os.access(candidate, os.X_OK):
+            return candidate
+    return shutil.which(version) or shutil.which("python3") or "/usr/bin/python3"

@@ -25,7 +25,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     run.add_argument("--dask", metavar="ADDRESS",
                      help="send the parts to this Dask scheduler (e.g. tcp://host:8786) instead")
     run.add_argument("--start-method", choices=("spawn", "fork", "forkserver"),
-                     help="how local workers start (default spawn; fork inside FreeCAD)")
+                     help="how local workers start (default spawn; fork inside FreeCAD 0.20)")
     run.add_argument("--time-limit", type=float, default=None, metavar="S",
                      help="seconds one part may take on a local worker before it is stopped "
                           "and reported as failed (default 3600; 0: no limit)")

@@ -19,24 +19,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from freecad_conformal import ADDON_ROOT
+from freecad_conformal.freecad_env import worker_python
 from freecad_conformal.objects.work import parse_progress
 
-#: Environment variable naming the Python the worker runs on (default: see worker_python).
-PYTHON_VARIABLE = "CONFORMAL_WORKER_PYTHON"
 #: Seconds a terminated worker gets to exit before it is killed.
 TERMINATE_GRACE_S = 2.0
-
-
-def worker_python() -> str:
-    """The Python for workers: $CONFORMAL_WORKER_PYTHON, this interpreter when it is a
-    Python (a venv, freecadcmd's scripts), else the system's python of FreeCAD's version."""
-    chosen = os.environ.get(PYTHON_VARIABLE)
-    if chosen:
-        return chosen
-    if Path(sys.executable).name.startswith("python"):
-        return sys.executable
-    version = f"python{sys.version_info.major}.{sys.version_info.minor}"
-    return shutil.which(version) or shutil.which("python3") or "/usr/bin/python3"
 
 
 def worker_environment() -> dict[str, str]:

@@ -51,6 +51,18 @@ def test_macro_plans_the_parts_and_exits_with_the_batch_code(tmp_path):
     assert "Exception while processing file" not in log
 
 
+@pytest.mark.slow
+def test_spawned_workers_inside_freecadcmd_run_a_real_python(tmp_path):
+    """FreeCAD 1.x cannot fork safely (OCCT 7.8's thread pool), so inside FreeCADCmd spawned
+    workers must start a Python of FreeCAD's own, not the FreeCADCmd binary."""
+    make_parts(tmp_path / "parts")
+    run = _freecadcmd(["--", "parts/box.step", "parts/two.FCStd", "--layer", "1", "-o", "out",
+                       "--workers", "2", "--start-method", "spawn"], tmp_path)
+    log = run.stdout + run.stderr
+    assert run.returncode == 0, log
+    assert "3 ok, 0 failed" in run.stdout, log
+
+
 def test_macro_without_arguments_prints_how_to_call_it(tmp_path):
     run = _freecadcmd([], tmp_path)
     assert run.returncode == 0

@@ -8,8 +8,6 @@ from __future__ import annotations
 
 import math
 import multiprocessing
-import os
-import sys
 import time
 from multiprocessing.connection import wait
 from typing import Any, Callable, Iterator, Sequence
@@ -23,16 +21,34 @@ Task = Callable[[PartJob, Any], dict]
 Outcomes = Iterator[tuple[PartJob, dict]]
 
 #: Process start methods. "spawn" starts clean interpreters (no OCC state or threads
-#: inherited; the only choice on Windows and the default on macOS); "fork" starts at once
-#: and is the one that works inside FreeCADCmd, whose executable cannot be re-run as Python.
+#: inherited; the only choice on Windows and the default on macOS); "fork" starts at once but
+#: copies the parent as it is, which is unsafe once OCCT 7.8's Boolean thread pool has run
+#: there (FreeCAD 1.x: the threads are not copied and their locks stay held).
 START_METHODS = ("spawn", "fork", "forkserver")
 
+
 def default_start_method() -> str:
-    """"spawn", except inside FreeCAD (FreeCADCmd, the GUI's console), whose executable
-    cannot be started as a Python worker: there "fork" where the system has it."""
-    name = os.path.basename(sys.executable or "").lower()
-    inside_freecad = not name.startswith("python")
-    return "fork" if inside_freecad and "fork" in multiprocessing.get_all_start_methods() else "spawn"
+    """"spawn", except inside FreeCAD with an OCCT whose Booleans are single-threaded
+    (FreeCAD 0.20), where "fork" starts workers at once from the session's own state."""
+    from freecad_conformal.freecad_env import inside_freecad
+    from freecad_conformal.geometry.section_pool import THREAD_POOL_OCC, occ_version
+
+    if inside_freecad() and "fork" in multiprocessing.get_all_start_methods() \
+            and occ_version() < THREAD_POOL_OCC:
+        return "fork"
+    return "spawn"
+
+
+def worker_context(start_method: str):
+    """The multiprocessing context; inside FreeCAD, spawned workers run a real Python (the
+    FreeCAD executable cannot be started as one) and get FreeCAD's sys.path from spawn's
+    own preparation data."""
+    from freecad_conformal.freecad_env import inside_freecad, worker_python
+
+    context = multiprocessing.get_context(start_method)
+    if start_method != "fork" and inside_freecad():
+        context.set_executable(worker_python())
+    return context
 
 
 #: Seconds to wait for a Dask scheduler before saying it cannot be reached.
@@ -77,7 +93,7 @@ def run_local(jobs: Sequence[PartJob], options, workers: int, start_method: str 
     start_method = start_method or default_start_method()
     if start_method not in START_METHODS:
         raise ConformalError(f"start method {start_method!r} is not one of {', '.join(START_METHODS)}")
-    context = multiprocessing.get_context(start_method)
+    context = worker_context(start_method)
     queued = list(jobs)
     running: dict[Any, _Running] = {}
     try:
