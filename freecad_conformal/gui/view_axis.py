@@ -3,6 +3,7 @@ polyline over the shape with its C1 break links marked, splitting faces highligh
 sub-parts coloured. The overlay is one small Coin group under the object's root node."""
 from __future__ import annotations
 
+from freecad_conformal.gui.colours import set_face_colours, set_shape_colour
 from freecad_conformal.gui.icons import icon
 from freecad_conformal.gui.path_display import PALETTE
 from freecad_conformal.objects.properties import StoredState, add_properties
@@ -108,7 +109,7 @@ class ViewProviderAnalysis(_AxisViewProvider):
 
     def __init__(self, vobj) -> None:
         super().__init__(vobj)
-        vobj.ShapeColor = SPLIT_FACE_COLOUR
+        set_shape_colour(vobj, SPLIT_FACE_COLOUR)
         vobj.Transparency = SPLIT_FACE_TRANSPARENCY
 
 
@@ -137,6 +138,6 @@ class ViewProviderDecomposition(_AxisViewProvider):
             owner = next((k for k, solid in enumerate(solids)
                           if any(face.isSame(other) for other in solid.Faces)), 0)
             r, g, b = PALETTE[owner % len(PALETTE)]
-            colours.append((float(r), float(g), float(b), 0.0))
+            colours.append((float(r), float(g), float(b)))
         if colours:
-            obj.ViewObject.DiffuseColor = colours
+            set_face_colours(obj.ViewObject, colours)

@@ -8,6 +8,7 @@ import FreeCADGui
 import Part
 
 import gui_support
+from freecad_conformal.gui.colours import face_colours
 
 
 def run_command(name: str, obj=None, sub: str = ""):
@@ -63,7 +64,7 @@ def main(params: dict) -> dict:
     gui_support.settle()
     out["decomposition"] = {"ok": ok, "message": message, "subparts": decomposition.SubPartCount,
                             "order": list(decomposition.BuildOrder),
-                            "colours": len(set(decomposition.ViewObject.DiffuseColor))}
+                            "colours": len(set(face_colours(decomposition.ViewObject)))}
     show_only(doc, decomposition)
     out["decomposition"]["shot"] = gui_support.artifact(params, "decomposition.png")
     gui_support.save_3d_view(out["decomposition"]["shot"])
