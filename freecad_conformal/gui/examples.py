@@ -73,6 +73,10 @@ class BackgroundRecompute:
     def poll(self) -> None:
         if self.worker is None:
             return
+        if not _alive(self.current):
+            FreeCAD.Console.PrintMessage("Conformal examples stopped: the document was closed\n")
+            self.cancel()
+            return
         outcome = self.worker.poll()
         if outcome is None:
             return
@@ -115,6 +119,14 @@ class BackgroundRecompute:
             QtWidgets.QApplication.processEvents()
             time.sleep(0.02)
         return self.done and all(self.results.values()) and len(self.results) == self.total
+
+
+def _alive(obj) -> bool:
+    try:
+        return obj.Document.getObject(obj.Name) is not None \
+            and obj.Document.Name in FreeCAD.listDocuments()
+    except (RuntimeError, ReferenceError):      # the object's C++ side is gone
+        return False
 
 
 def open_examples() -> BackgroundRecompute:

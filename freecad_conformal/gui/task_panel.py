@@ -80,6 +80,8 @@ class ObjectTaskPanel:
             self.boxes.append((box, [s.prop for s in specs]))
             outer.addWidget(box)
         outer.addStretch(1)
+        # names, not the object: they can be asked after the document is closed
+        self.document_name, self.object_name = obj.Document.Name, obj.Name
         self.status = ""     # the last message, kept after the dialog (and its widgets) close
         self.worker = None
         self.inputs: dict = {}
@@ -182,6 +184,9 @@ class ObjectTaskPanel:
         """Timer tick: show the worker's progress; apply its outcome once it ends."""
         if self.worker is None:
             return
+        if not self.object_alive():
+            self._orphaned()
+            return
         fraction, text = self.worker.progress()
         elapsed = time.monotonic() - self.started
         self.progress_line.setText(f"{text or _tr('starting')} ({elapsed:.0f} s)")
@@ -194,6 +199,22 @@ class ObjectTaskPanel:
         outcome = self.worker.poll()
         if outcome is not None:
             self._finish(outcome)
+
+    def object_alive(self) -> bool:
+        """Whether the object (and its document) still exist: the user may close the
+        document, or delete the object, while the worker runs."""
+        document = FreeCAD.listDocuments().get(self.document_name)
+        return document is not None and document.getObject(self.object_name) is not None
+
+    def _orphaned(self) -> None:
+        """The object went away under a running worker: stop it and close the panel."""
+        self.timer.stop()
+        self.worker.cancel()
+        self.worker = None
+        self.status = _tr("stopped: the document was closed")
+        FreeCAD.Console.PrintMessage(
+            f"Conformal: {self.form.windowTitle()} stopped: {self.document_name} was closed\n")
+        FreeCADGui.Control.closeDialog()
 
     def _finish(self, outcome) -> None:
         from freecad_conformal.objects.computed import precompute
