@@ -137,3 +137,27 @@ def platform_corners(points: np.ndarray, margin: float = PLATFORM_MARGIN) -> np.
     (x0, y0, z0), (x1, y1, _) = points.min(axis=0), points.max(axis=0)
     x0, y0, x1, y1 = x0 - margin, y0 - margin, x1 + margin, y1 + margin
     return np.array([(x0, y0, z0), (x1, y0, z0), (x1, y1, z0), (x0, y1, z0)])
+
+
+def platform_plates(points: np.ndarray, segment_index: np.ndarray,
+                    segment_subparts: Sequence[int], matrices: dict,
+                    margin: float = PLATFORM_MARGIN) -> list[np.ndarray]:
+    """(4, 3) platform corners under each group of sub-parts that moves as one (a solid of
+    the part: its sub-parts share one motion), carried by that motion onto the part as
+    modelled. Machine-frame points; `matrices` as from `frame_matrices` ({} draws one plate
+    under everything, in the machine frame)."""
+    points = np.asarray(points, dtype=float)
+    if not matrices:
+        return [platform_corners(points, margin)]
+    subparts = np.asarray(segment_subparts, dtype=int)
+    of_point = subparts[np.asarray(segment_index, dtype=int)]
+    groups: dict[bytes, tuple[np.ndarray, list[int]]] = {}
+    for index in np.unique(of_point).tolist():
+        matrix = matrices.get(index, np.eye(4))
+        key = np.round(matrix, 9).tobytes()          # one solid: one motion, to rounding
+        groups.setdefault(key, (matrix, []))[1].append(index)
+    plates = []
+    for matrix, members in groups.values():
+        corners = platform_corners(points[np.isin(of_point, members)], margin)
+        plates.append(corners @ matrix[:3, :3].T + matrix[:3, 3])
+    return plates

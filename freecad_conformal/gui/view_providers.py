@@ -92,9 +92,9 @@ class ViewProviderToolpath(StoredState):
         plate_binding = coin.SoMaterialBinding()
         plate_binding.value = coin.SoMaterialBinding.OVERALL
         self.platform_coords = coin.SoCoordinate3()
-        plate_face = coin.SoFaceSet()
-        plate_face.numVertices.setValue(4)
-        for node in (plate_binding, plate_colour, self.platform_coords, plate_face):
+        self.plate_faces = coin.SoFaceSet()
+        self.plate_faces.numVertices.setValue(4)
+        for node in (plate_binding, plate_colour, self.platform_coords, self.plate_faces):
             plate.addChild(node)
         self.platform_switch.addChild(plate)
         for node in (self.style, self.coords, self.material, binding, self.lines, self.axes_switch,
@@ -155,24 +155,34 @@ class ViewProviderToolpath(StoredState):
         from dataclasses import replace
 
         from freecad_conformal.gui.path_display import (
-            axis_ticks, frame_matrices, line_set, platform_corners, to_part_frame)
+            axis_ticks, frame_matrices, line_set, platform_plates, to_part_frame)
+        from freecad_conformal.toolpath import KINDS
 
         obj = vobj.Object
         subparts = list(obj.SegmentSubparts)
-        corners = platform_corners(toolpath.points)
+        matrices: dict = {}
         if vobj.Frame == "Part" and "PartFrames" in obj.PropertiesList:
-            # the part as modelled: each sub-part's paths moved back from the machine frame
             matrices = frame_matrices(obj.PartFrameSubparts, obj.PartFrames)
+        # a plate under each solid (its sub-parts share one motion onto the part), under
+        # what is built: travels between solids would stretch it
+        built = toolpath.kind[toolpath.segment_index] != KINDS.index("travel")
+        if not built.any():
+            built[:] = True
+        plates = platform_plates(toolpath.points[built], toolpath.segment_index[built], subparts,
+                                 matrices)
+        if matrices:
+            # the part as modelled: each sub-part's paths moved back from the machine frame
             toolpath = replace(
                 toolpath,
                 points=to_part_frame(toolpath.points, toolpath.segment_index, subparts, matrices),
                 axes=to_part_frame(toolpath.axes, toolpath.segment_index, subparts, matrices,
                                    directions=True))
-            root = matrices.get(min(matrices)) if matrices else None
-            if root is not None:
-                corners = corners @ root[:3, :3].T + root[:3, 3]
         shows_platform = vobj.ShowPlatform and "PartFrames" in obj.PropertiesList
-        self.platform_coords.point.setValues(0, 4, corners.tolist())
+        corners = [corner for plate in plates for corner in plate.tolist()]
+        self.platform_coords.point.setValues(0, len(corners), corners)
+        self.platform_coords.point.setNum(len(corners))
+        self.plate_faces.numVertices.setValues(0, len(plates), [4] * len(plates))
+        self.plate_faces.numVertices.setNum(len(plates))
         self.platform_switch.whichChild = coin.SO_SWITCH_ALL if shows_platform else coin.SO_SWITCH_NONE
         data = line_set(toolpath, vobj.ColourBy, subparts, vobj.ShowTravel)
         self.lines.coordIndex.setNum(0)

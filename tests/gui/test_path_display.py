@@ -75,3 +75,22 @@ def test_tool_axes_are_only_turned_into_the_part_frame():
     axes = to_part_frame(np.array([[1.0, 0, 0]]), np.array([0]), [3],
                          frame_matrices([3], turn.ravel().tolist()), directions=True)
     assert np.allclose(axes[0], [0, 1, 0])
+
+
+def test_each_solid_gets_its_own_plate_under_it_on_the_part():
+    """Two solids laid out side by side on the platform, each moved back differently: a
+    plate under each, carried by its own motion (it was one plate under the first)."""
+    from freecad_conformal.gui.path_display import frame_matrices, platform_plates
+
+    left = np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]], dtype=float)
+    right = np.array([[1, 0, 0, -100], [0, 1, 0, 0], [0, 0, 1, 7]], dtype=float)  # shifted back
+    matrices = frame_matrices([0, 1, 2], np.concatenate([left.ravel(), left.ravel(),
+                                                         right.ravel()]).tolist())
+    points = np.array([[0.0, 0, 0], [10, 10, 5], [100, 0, 0], [110, 10, 5]])
+    segment_index = np.array([0, 1, 2, 2])
+    plates = platform_plates(points, segment_index, [0, 1, 2], matrices, margin=0.0)
+    assert len(plates) == 2                      # sub-parts 0 and 1 move as one solid
+    assert np.allclose(plates[0][0], [0, 0, 0]) and np.allclose(plates[0][2], [10, 10, 0])
+    assert np.allclose(plates[1][0], [0, 0, 7]) and np.allclose(plates[1][2], [10, 10, 7])
+    machine = platform_plates(points, segment_index, [0, 1, 2], {}, margin=0.0)
+    assert len(machine) == 1 and np.allclose(machine[0][2], [110, 10, 0])
