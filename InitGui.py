@@ -32,3 +32,14 @@ class ConformalWorkbench(FreeCADGui.Workbench):
 
 
 FreeCADGui.addWorkbench(ConformalWorkbench())
+
+# Recomputes of Conformal objects the GUI did not start (property editor, Ctrl+R, a reopened
+# file) run in worker processes from the start of the session, workbench active or not.
+try:
+    from freecad_conformal.gui import background as _background
+
+    _background.install()
+except Exception as _exc:  # noqa: BLE001 - a broken install must not stop FreeCAD's start-up
+    import FreeCAD
+
+    FreeCAD.Console.PrintWarning(f"Conformal: background recompute unavailable: {_exc}\n")

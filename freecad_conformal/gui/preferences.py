@@ -44,6 +44,15 @@ def chord_tolerance() -> float:
     return _params().GetFloat("ChordTolerance", tolerances.DEFAULT_CHORD_TOLERANCE)
 
 
+def background_recompute() -> bool:
+    """Whether recomputes the GUI did not start run in worker processes (gui/background.py)."""
+    return _params().GetBool("RecomputeInBackground", True)
+
+
+def set_background_recompute(on: bool) -> None:
+    _params().SetBool("RecomputeInBackground", bool(on))
+
+
 def section_spacing() -> float:
     """Default spacing (mm) of new Sections objects."""
     return _params().GetFloat("SectionSpacing", _default(SECTIONS_SETTINGS, "layer"))
@@ -74,11 +83,14 @@ class PreferencesPage:
         self.chord = quantity_field("mm", tolerances.DEFAULT_CHORD_TOLERANCE, 1e-6, 10.0)
         self.spacing = quantity_field("mm", _default(SECTIONS_SETTINGS, "layer"), 1e-3, 100.0)
         self.layer = quantity_field("mm", _default(PLAN_SETTINGS, "layer_height"), 1e-3, 100.0)
+        self.background = QtWidgets.QCheckBox(translate(
+            "Conformal", "Recompute in the background (property editor, Ctrl+R, opened files)"))
         layout.addRow(translate("Conformal", "Default machine"), self.machine)
         layout.addRow(translate("Conformal", "Tool library folder"), self.library_dir)
         layout.addRow(translate("Conformal", "Chord tolerance"), self.chord)
         layout.addRow(translate("Conformal", "Default section spacing"), self.spacing)
         layout.addRow(translate("Conformal", "Default layer height (jobs)"), self.layer)
+        layout.addRow(self.background)
 
     def loadSettings(self) -> None:  # noqa: N802 - FreeCAD's name
         index = self.machine.findText(default_machine())
@@ -88,6 +100,7 @@ class PreferencesPage:
         set_quantity(self.chord, chord_tolerance())
         set_quantity(self.spacing, section_spacing())
         set_quantity(self.layer, layer_height())
+        self.background.setChecked(background_recompute())
 
     def saveSettings(self) -> None:  # noqa: N802 - FreeCAD's name
         params = _params()
@@ -96,3 +109,4 @@ class PreferencesPage:
         params.SetFloat("ChordTolerance", quantity_value(self.chord))
         params.SetFloat("SectionSpacing", quantity_value(self.spacing))
         params.SetFloat("LayerHeight", quantity_value(self.layer))
+        set_background_recompute(self.background.isChecked())

@@ -159,10 +159,13 @@ class ObjectTaskPanel:
         to start or, done in place, failed."""
         if self.worker is not None or not self.copy_fields():
             return False
+        from freecad_conformal.objects.computed import synchronous
+
         proxy = getattr(self.obj, "Proxy", None)
         if BACKGROUND["enabled"] and hasattr(proxy, "inputs") and self.task:
             return self._start(proxy)
-        self.obj.Document.recompute()
+        with synchronous():                      # the panel waits for this result itself
+            self.obj.Document.recompute()
         return self._settle()
 
     def _start(self, proxy) -> bool:

@@ -4,14 +4,16 @@ A proxy splits its `execute` in three: `inputs(obj)` reads the document into pla
 (BREP text for shapes, numbers and strings for settings), `compute` (objects/work.py) turns
 those into plain results without touching any document (so it can run in another process),
 and `apply(obj, result)` writes the results into the object's properties. A plain recompute
-does all three in a row (headless, macros, reopening a file). The GUI computes in a worker
-process and hands the result in with `precompute`; the recompute that follows then only
-applies it, inside the command's transaction.
+does all three in a row (headless, macros). The GUI computes in a worker process and hands
+the result in with `precompute`; the recompute that follows then only applies it, inside the
+command's transaction. A recompute the GUI did not start itself (the property editor, Ctrl+R,
+a reopened file) is handed to the GUI through DEFER, which computes it in a worker too.
 """
 from __future__ import annotations
 
 import hashlib
 import pickle
+from contextlib import contextmanager
 from typing import Any
 
 from freecad_conformal.errors import ConformalError
@@ -44,6 +46,25 @@ def take_precomputed(obj, inputs: dict) -> dict | None:
     return stored[1]
 
 
+#: Set by the GUI (gui/background.py): defer(obj, task, inputs) -> True when it has started
+#: computing the object elsewhere and will recompute it with the result; None: compute here.
+#: objects/ never imports gui/, so the GUI hands this in.
+DEFER: list = [None]
+#: Depth of `synchronous()` blocks: inside one, recomputes compute in place.
+_SYNCHRONOUS = [0]
+
+
+@contextmanager
+def synchronous():
+    """Recomputes inside this block compute in place even in the GUI (scripts that read the
+    results right after `doc.recompute()`, task panels computing without a worker)."""
+    _SYNCHRONOUS[0] += 1
+    try:
+        yield
+    finally:
+        _SYNCHRONOUS[0] -= 1
+
+
 class Computed:
     """Mixin for proxies: TASK names the compute function (objects/work.TASKS)."""
 
@@ -62,6 +83,9 @@ class Computed:
         inputs = self.inputs(obj)
         outcome = take_precomputed(obj, inputs)
         if outcome is None:
+            defer = DEFER[0]
+            if defer is not None and not _SYNCHRONOUS[0] and defer(obj, self.TASK, inputs):
+                return            # computed in the background; the last result stays meanwhile
             self.apply(obj, compute(self.TASK, inputs))
         elif "error" in outcome:
             raise WorkerFailure(outcome["error"])

@@ -22,6 +22,11 @@ def _run_check() -> None:
         sys.path.insert(0, os.environ["CONFORMAL_GUI_SUPPORT"])
         sys.path.insert(0, os.path.dirname(os.environ["CONFORMAL_GUI_CHECK"]))
         params = json.loads(os.environ.get("CONFORMAL_GUI_PARAMS") or "{}")
+        # checks read results right after doc.recompute(): computed in place unless a check
+        # is about the background recompute itself
+        import FreeCAD
+        FreeCAD.ParamGet("User parameter:BaseApp/Preferences/Mod/Conformal").SetBool(
+            "RecomputeInBackground", bool(params.get("background_recompute")))
         main = runpy.run_path(os.environ["CONFORMAL_GUI_CHECK"])["main"]
         result = main(params)
     except BaseException:  # noqa: B036 - every failure must reach the JSON, then we exit

@@ -1,0 +1,71 @@
+"""In FreeCAD: a Sections object changed as from the property editor (a new layer height,
+then Ctrl+R's doc.recompute()): the recompute returns at once, a 100 ms timer keeps ticking
+while a worker computes, and the result is applied when it ends; a change while it runs
+replaces the running computation; reopening the saved file and recomputing does the same."""
+import os
+import time
+
+import FreeCAD
+import FreeCADGui
+import Part
+
+import gui_support
+from freecad_conformal.gui.qt import QtCore
+
+
+def _ticking():
+    ticks = []
+    timer = QtCore.QTimer()
+    timer.setInterval(100)
+    timer.timeout.connect(lambda: ticks.append(time.monotonic()))
+    timer.start()
+    return timer, ticks
+
+
+def main(params: dict) -> dict:
+    gui_support.prepare_main_window()
+    FreeCADGui.activateWorkbench("ConformalWorkbench")
+    from freecad_conformal.gui import background
+    from freecad_conformal.gui.views import show
+    from freecad_conformal.objects.computed import synchronous
+    from freecad_conformal.objects.sections_feature import create_sections
+
+    doc = FreeCAD.newDocument("Background")
+    Part.insert(params["part"], doc.Name)
+    body = doc.Objects[0]
+    sections = show(create_sections(doc, body))
+    sections.LayerHeight = 5.0
+    with synchronous():
+        doc.recompute()
+    out = {"first_layers": sections.LayerCount, "hooked": background.enabled()}
+
+    timer, ticks = _ticking()
+    sections.LayerHeight = 0.1                   # as the property editor would set it
+    began = time.monotonic()
+    doc.recompute()
+    out["recompute_s"] = time.monotonic() - began
+    out["running"] = background.running()
+    out["layers_meanwhile"] = sections.LayerCount
+    time.sleep(0.3)
+    sections.LayerHeight = 0.05                  # changed again while it computes
+    doc.recompute()
+    out["finished"] = background.wait(params["timeout"])
+    out["seconds"] = time.monotonic() - began
+    timer.stop()
+    out["max_gap"] = max((b - a for a, b in zip(ticks, ticks[1:])), default=99.0)
+    out["layers_after"] = sections.LayerCount
+    out["valid"] = bool(sections.isValid())
+
+    name = sections.Name
+    path = os.path.join(params["tmp"], "background.FCStd")
+    doc.saveAs(path)
+    FreeCAD.closeDocument(doc.Name)
+    reopened = FreeCAD.openDocument(path)
+    again = reopened.getObject(name)
+    again.LayerHeight = 1.0
+    began = time.monotonic()
+    reopened.recompute()
+    out["reopened_recompute_s"] = time.monotonic() - began
+    out["reopened_finished"] = background.wait(params["timeout"])
+    out["reopened_layers"] = again.LayerCount
+    return out
