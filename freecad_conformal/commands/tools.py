@@ -6,6 +6,8 @@ import json
 import math
 from pathlib import Path
 
+from freecad_conformal.errors import ConformalError
+
 from freecad_conformal.errors import ProcessError
 
 
@@ -25,7 +27,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     imp.add_argument("file", type=Path)
     imp.add_argument("--replace", action="store_true", help="replace tools with the same id")
     exp = sub.add_parser("export", help="write tools into one file")
-    exp.add_argument("out", type=Path)
+    exp.add_argument("out", type=Path, help="file to write (.json)")
     exp.add_argument("tool_ids", nargs="*", help="tools to export (default: all)")
     choose = sub.add_parser("choose", help="tools that fit a curvature (METHODS section 1)")
     choose.add_argument("--rs", type=float, required=True,
@@ -66,6 +68,11 @@ def run(args: argparse.Namespace) -> int:
         library.save()
         print(f"imported {', '.join(added)} into {user_dir}")
     elif args.tools_command == "export":
+        if args.out.suffix.lower() != ".json":
+            # `tools export uv_small` would write every tool into a file named uv_small
+            hint = (f"; to export tool {args.out.name}: tools export FILE.json {args.out.name}"
+                    if str(args.out) in {t.id for t in library} else "")
+            raise ConformalError(f"export file {args.out} must end in .json{hint}")
         library.export(args.out, args.tool_ids or None)
         print(f"wrote {len(args.tool_ids) or len(library)} tools to {args.out}")
     elif args.tools_command == "choose":

@@ -192,6 +192,8 @@ CASES += [
       "--no-plot"], ["target", "finite", "nan"]),
     (["doe", "analyze", "missing.csv", "--response", "y", "--no-plot"], ["missing.csv"]),
     (["tools", "choose", "--rs", "-1", "--cd", "1", "--theta", "10"], ["rs must be > 0", "-1"]),
+    (["tools", "export", "uv_small"], ["export file uv_small must end in .json",
+                                       "tools export FILE.json uv_small"]),
     (["tools", "choose", "--rs", "10", "--cd", "nan", "--theta", "10"], ["curing depth", "nan"]),
     (["verify", "p.ngc", "--machine", "trunnion_ac", "--toolpath", "nosuch.npz"],
      ["nosuch.npz does not exist"]),
