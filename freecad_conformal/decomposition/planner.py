@@ -31,6 +31,11 @@ MIN_SAVING_FRACTION = 1e-4
 SAME_DIRECTION = SAME_DIRECTION_ANGLE
 #: A piece reaches its base level when its lowest point is within this (mm) of it.
 LEVEL_TOLERANCE = BASE_LEVEL_TOLERANCE
+#: A cut may not leave a sub-part thinner than this (mm) along its build direction: such a
+#: sliver (a plane a hair off a face of CrankArm's stepped end) holds a few layers at most,
+#: costs a turn of the table for them, and below the thinnest layer (0.1 mm) the layer
+#: planner cannot build it at all: its volume would be left out of the print.
+MIN_SUBPART_THICKNESS = 1.0
 
 
 @dataclass
@@ -219,6 +224,8 @@ def try_cut(piece: Piece, candidate: SplitCandidate, angle: float,
     if len(on_base) != 1:
         return None
     keeper_shape = on_base[0]
+    if _thinner_than(keeper_shape, d, MIN_SUBPART_THICKNESS):
+        return None
     keeper = Piece(keeper_shape, d, piece.base_faces, piece.solid_index, piece.rule,
                     ancestor_concave=piece.concave(), deflection=piece.deflection)
     total = overhang_of(keeper, angle)
@@ -230,6 +237,8 @@ def try_cut(piece: Piece, candidate: SplitCandidate, angle: float,
         direction = candidate.normal if side > 0 else -candidate.normal
         if not same_direction and math.acos(float(np.clip(direction @ d, -1, 1))) < SAME_DIRECTION:
             return None
+        if _thinner_than(shape, direction, MIN_SUBPART_THICKNESS):
+            return None
         base = regions if len(regions) == 1 else [r for r in regions if touch_area(shape, r) > 0]
         if not base:
             return None
@@ -238,6 +247,20 @@ def try_cut(piece: Piece, candidate: SplitCandidate, angle: float,
         total += overhang_of(child, angle)
         children.append(child)
     return total, keeper, children
+
+
+def _thinner_than(shape, direction: np.ndarray, thickness: float) -> bool:
+    """Whether `shape` spans less than `thickness` along `direction`. Its vertices answer
+    most cases (they lie on the shape, so their span never exceeds the shape's); OCC's exact
+    extent the rest. Bounding boxes cannot: a thin slice of a B-spline plate keeps the whole
+    control polygon's box (CrankArm: 7.9 mm for a 0.002 mm slice)."""
+    from freecad_conformal.geometry.sections import extent_along
+
+    heights = [float(np.array(tuple(v.Point)) @ direction) for v in shape.Vertexes]
+    if heights and max(heights) - min(heights) >= thickness:
+        return False
+    low, high = extent_along(shape, direction)
+    return high - low < thickness
 
 
 def _holds_base(shape, piece: Piece) -> bool:

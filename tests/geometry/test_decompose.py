@@ -170,3 +170,31 @@ def test_a_part_is_never_stood_on_a_corner_to_avoid_support():
     plan = decompose(samples.jack(), root_direction="auto")
     root = next(s for s in plan.subparts if s.parent is None)
     assert base_area(root.shape, root.build_direction) >= MIN_BASE_AREA
+
+
+@pytest.mark.parametrize("x, kept", [(0.0, True), (-9.5, False)])
+def test_a_cut_never_leaves_a_sliver_sub_part(App, Part, x, kept):
+    """A cap overhanging a column on the -X side, cut across the cap at `x`: flush with the
+    column the child is 10 mm thick along its direction (-X) and the cut stands; 0.5 mm from
+    the cap's end it would be a sliver (CrankArm's staircase of area-jump cuts made 16 such
+    sub-parts, 0.002-0.85 mm thick, most too thin to hold a layer) and the cut is refused."""
+    from freecad_conformal.decomposition.planner import (
+        MIN_SUBPART_THICKNESS, Piece, try_cut)
+    from freecad_conformal.geometry.splitting_faces import SplitCandidate
+
+    V = App.Vector
+    part = Part.makeBox(10, 10, 20).fuse(Part.makeBox(30, 10, 5, V(-10, 0, 20))).removeSplitter()
+    region = Part.Face(Part.makePolygon([V(x, 0, 20), V(x, 10, 20), V(x, 10, 25), V(x, 0, 25),
+                                         V(x, 0, 20)]))
+    candidate = SplitCandidate(np.array([x, 0.0, 22.5]), np.array([1.0, 0.0, 0.0]), region,
+                               "area-jump")
+    root = Piece(part.Solids[0], np.array([0.0, 0.0, 1.0]))
+    result = try_cut(root, candidate, math.radians(45))
+    assert (result is not None) == kept
+    if kept:
+        _, _, children = result
+        assert len(children) == 1
+        assert np.allclose(children[0].direction, [-1.0, 0.0, 0.0])
+        box = children[0].shape.BoundBox
+        assert box.XLength == pytest.approx(10.0)
+        assert box.XLength > MIN_SUBPART_THICKNESS
