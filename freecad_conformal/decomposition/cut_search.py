@@ -37,6 +37,8 @@ class CutSearch:
     min_fraction: float
     level_tolerance: float
     same_direction: float
+    #: the least span (mm) of a cut's pieces along their build directions
+    min_thickness: float = 0.0
 
     def needed(self, overhang: float) -> float:
         """The least saving worth a cut of a piece with this much overhang (mm²)."""
@@ -94,7 +96,7 @@ INSIDE_REGION = 1e-6
 def _mesh_trial(piece, mesh, region, angle: float, search: CutSearch):
     return mesh_trial(mesh, region, piece.direction, math.sin(angle),
                       _keeper_factor(piece, angle, search), lowest_level(piece.shape, piece.direction),
-                      search.level_tolerance, search.same_direction)
+                      search.level_tolerance, search.same_direction, search.min_thickness)
 
 
 def _keeper_factor(piece, angle: float, search: CutSearch) -> np.ndarray:

@@ -194,7 +194,7 @@ def _section(mesh: SurfaceMesh, s: np.ndarray, origin, u, v):
 
 def mesh_trial(mesh: SurfaceMesh, region: MeshRegion, direction: np.ndarray, threshold: float,
                keeper_factor: np.ndarray, low: float, level_tolerance: float,
-               same_direction: float) -> MeshTrial | None:
+               same_direction: float, min_thickness: float = 0.0) -> MeshTrial | None:
     """The overhang left by cutting the mesh along `region`, or None when the cut does not
     leave one piece on the base and children built away from it.
 
@@ -206,6 +206,8 @@ def mesh_trial(mesh: SurfaceMesh, region: MeshRegion, direction: np.ndarray, thr
         keeper_factor: per face of the piece, the share of its overhang the piece has in
             `direction` (below 1 where a planar face rests on the bed or the base).
         same_direction: children built within this angle (rad) of `direction` are no use.
+        min_thickness: a piece spanning less (mm) along its build direction is a sliver:
+            no use either (as `planner.try_cut` judges the exact cut).
     """
     p, n = region.point, region.normal
     s = (mesh.points - p) @ n
@@ -273,12 +275,23 @@ def mesh_trial(mesh: SurfaceMesh, region: MeshRegion, direction: np.ndarray, thr
     child = n if sides[other] else -n
     if math.acos(float(np.clip(child @ direction, -1.0, 1.0))) < same_direction:
         return None
+    if min_thickness > 0 and (_span(corners, tri_of[component == keeper], direction) < min_thickness
+                              or _span(corners, tri_of[component == other], child) < min_thickness):
+        return None
     keeper_area = _overhang(area, normals, component == keeper, direction, threshold,
                             keeper_factor[mesh.faces[split.source]])
     if child @ direction < -threshold:
         keeper_area += float(region.polygon.area)  # the kept piece's cut face
     children = [(child, _overhang(area, normals, component == other, child, threshold, 1.0))]
     return MeshTrial(keeper_area + sum(a for _, a in children), keeper_area, children)
+
+
+def _span(corners: np.ndarray, triangles: np.ndarray, d: np.ndarray) -> float:
+    """Extent along `d` of the corners of `triangles` (0 for none)."""
+    if len(triangles) == 0:
+        return 0.0
+    levels = corners[triangles.ravel()] @ d
+    return float(levels.max() - levels.min())
 
 
 def _piece_sides(mesh: SurfaceMesh, split: "_Split", s: np.ndarray, side: np.ndarray,

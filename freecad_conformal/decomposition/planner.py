@@ -192,7 +192,7 @@ def cut_search() -> CutSearch:
     the exact cuts)."""
     return CutSearch(try_cut=try_cut, report=report_of, min_saving=MIN_SAVING,
                      min_fraction=MIN_SAVING_FRACTION, level_tolerance=LEVEL_TOLERANCE,
-                     same_direction=SAME_DIRECTION)
+                     same_direction=SAME_DIRECTION, min_thickness=MIN_SUBPART_THICKNESS)
 
 
 def report_of(piece: Piece, angle: float):
