@@ -306,7 +306,8 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
 
     candidates = ranked(plan_candidates(solids[0], make_plan, options.layers, path_settings,
                                         Motion.of(machine, options.jerk),
-                                        DEFAULT_OVERHANG_ANGLE, progress), options.objective)
+                                        DEFAULT_OVERHANG_ANGLE, progress, options.objective),
+                        options.objective)
     best = candidates[0]
     if len(candidates) > 1:
         best.plan.notes.append(f"{best.label}: chosen among {len(candidates)} candidate plans "

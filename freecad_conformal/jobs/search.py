@@ -10,12 +10,17 @@ Candidates for a part of one solid with `root="auto"`:
   order), the solid built whole along its best single direction (splitting that does not remove the overhang only adds walls and skins).
 Each is laid out on the machine as it would be built (`jobs/plan.machine_plan`), sliced, and
 costed without planning paths (`paths/cost.py`: within 10 % of the full plan's estimate).
+Whole orientations are first costed on every `COARSE_EVERY`-th layer (`sampled_layers`),
+then only those within `COARSE_MARGIN` of the best by the objective are sliced exactly
+(with 3-D layers where the axis bends) and costed again; the others stay ranked by their
+coarse cost, behind every exactly costed candidate, so a coarse estimate never wins.
 The plan with the least residual overhang wins; among those within `OVERHANG_TIE` of it,
 the cheapest by the objective: time, material, or balanced (each candidate's time and
 material over the least of either, summed).
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import Callable
 
@@ -28,7 +33,7 @@ from freecad_conformal.geometry.overhang import (MIN_BASE_AREA, base_area, best_
                                                  orientation_candidates, overhang_area)
 from freecad_conformal.geometry.sections import extent_along
 from freecad_conformal.layers.model import Layer
-from freecad_conformal.layers.plan import plan_layers
+from freecad_conformal.layers.plan import plan_layers, sampled_layers
 from freecad_conformal.paths.assemble import PathSettings
 from freecad_conformal.paths.cost import Motion, PlanCost, plan_cost
 from freecad_conformal.settings.plan import OBJECTIVES
@@ -37,6 +42,12 @@ from freecad_conformal.settings.plan import OBJECTIVES
 OVERHANG_TIE = 1.0
 #: At most this many support-free whole orientations are costed (lowest first: fewest layers).
 MAX_WHOLE_ORIENTATIONS = 8
+#: Whole orientations are ranked on every this-many-th layer first: three, the default
+#: count of solid top and bottom layers, so that one sampled skin layer stands for them.
+COARSE_EVERY = 3
+#: Coarse candidates whose score is within this share of the best time or material (the
+#: balanced score: within this much of the best sum) are costed exactly before the choice.
+COARSE_MARGIN = 0.03
 
 
 @dataclass
@@ -50,6 +61,8 @@ class Candidate:
     cost: PlanCost
     #: made by the decomposition (False: the solid built whole)
     split: bool = False
+    #: costed on exact layers (False: on sampled ones, `layers` empty; see the docstring)
+    exact: bool = True
 
     @property
     def overhang(self) -> float:
@@ -64,6 +77,7 @@ class Candidate:
         return {"label": self.label, "sub_parts": self.sub_parts,
                 "residual_overhang_mm2": self.overhang,
                 "material_mm3": self.cost.material, "time_s": self.cost.seconds,
+                "estimate": "layers" if self.exact else f"every {COARSE_EVERY}th layer",
                 "chosen": chosen}
 
 
@@ -74,15 +88,20 @@ def ranked(candidates: list[Candidate], objective: str) -> list[Candidate]:
     if not candidates:
         return []
     least = min(c.overhang for c in candidates)
-    fastest = min(c.cost.seconds for c in candidates) or 1.0
-    leanest = min(c.cost.material for c in candidates) or 1.0
+    value = _objective(candidates, objective)
 
-    def score(c: Candidate) -> tuple[bool, float, float]:
-        value = {"time": c.cost.seconds, "material": c.cost.material,
-                 "balanced": c.cost.seconds / fastest + c.cost.material / leanest}[objective]
-        return c.overhang > least + OVERHANG_TIE, value, c.overhang
+    def score(c: Candidate) -> tuple[bool, bool, float, float]:
+        return c.overhang > least + OVERHANG_TIE, not c.exact, value(c), c.overhang
 
     return sorted(candidates, key=score)
+
+
+def _objective(candidates: list[Candidate], objective: str) -> Callable[[Candidate], float]:
+    """The objective's value of a candidate among `candidates` (lower is better)."""
+    fastest = min(c.cost.seconds for c in candidates) or 1.0
+    leanest = min(c.cost.material for c in candidates) or 1.0
+    return lambda c: {"time": c.cost.seconds, "material": c.cost.material,
+                      "balanced": c.cost.seconds / fastest + c.cost.material / leanest}[objective]
 
 
 def _whole_directions(solid, angle: float) -> list[np.ndarray]:
@@ -103,10 +122,12 @@ def _text(vector) -> str:
 
 def plan_candidates(solid, make_plan: Callable[[object, bool], tuple], layer_settings,
                     path_settings: PathSettings, motion: Motion, angle: float,
-                    progress: Callable[[str], None] | None = None) -> list[Candidate]:
+                    progress: Callable[[str], None] | None = None,
+                    objective: str = "balanced") -> list[Candidate]:
     """Every candidate for one solid (see the module docstring). `make_plan(root, split)`
     returns (placed shape, plan) as `jobs/plan.machine_plan` lays it out with that root
-    ("auto" or a direction of the part as given) and split (decompose, or build whole)."""
+    ("auto" or a direction of the part as given) and split (decompose, or build whole).
+    `objective` picks which coarsely costed candidates are costed exactly."""
     makers: list[tuple[str, object, bool]] = [
         (f"whole along {_text(d)}", tuple(float(c) for c in d), False)
         for d in _whole_directions(solid, angle)]
@@ -135,13 +156,15 @@ def plan_candidates(solid, make_plan: Callable[[object, bool], tuple], layer_set
                 notes.append(f"no decomposition could be built ({exc}); built whole instead")
                 whole_along_best()
             continue
-        layers = {sub.index: plan_layers(sub, layer_settings) for sub in plan.ordered()}
-        if not any(layers.values()):
+        if split or len(makers) == 1:
+            made = _exact(label, placed, plan, split, layer_settings, path_settings, motion)
+        else:
+            made = _coarse(label, placed, plan, layer_settings, path_settings, motion)
+        if made is None:
             failures.append((label, PlanError("the part is thinner than one layer")))
             continue
         plan.notes.extend(notes)
-        cost = plan_cost(plan, layers, path_settings, motion)
-        candidates.append(Candidate(label, placed, plan, layers, cost, split))
+        candidates.append(made)
         if split and plan.support_area > MIN_SAVING:
             # The decomposition did not remove all overhang (the table's splayed legs), or
             # kept more than turning the solid whole (a split OCC could not make): the solid
@@ -153,4 +176,60 @@ def plan_candidates(solid, make_plan: Callable[[object, bool], tuple], layer_set
             raise failures[0][1]
         raise PlanError("no candidate plan could be made for the part: "
                         + "; ".join(f"{label}: {exc}" for label, exc in failures))
-    return candidates
+    return _refined(candidates, layer_settings, path_settings, motion, objective)
+
+
+def _exact(label: str, placed, plan: BuildPlan, split: bool, layer_settings,
+           path_settings: PathSettings, motion: Motion) -> Candidate | None:
+    """The candidate sliced and costed exactly; None if no sub-part holds a layer."""
+    layers = {sub.index: plan_layers(sub, layer_settings) for sub in plan.ordered()}
+    if not any(layers.values()):
+        return None
+    return Candidate(label, placed, plan, layers, plan_cost(plan, layers, path_settings, motion),
+                     split)
+
+
+def _coarse(label: str, placed, plan: BuildPlan, layer_settings, path_settings: PathSettings,
+            motion: Motion) -> Candidate | None:
+    """The candidate costed on sampled layers (`sampled_layers`), each standing for the
+    layers around it; None if no sub-part holds a layer."""
+    sampled = {sub.index: sampled_layers(sub, layer_settings, COARSE_EVERY)
+               for sub in plan.ordered()}
+    layers = {index: found for index, (found, _) in sampled.items()}
+    if not any(layers.values()):
+        return None
+    skins = dataclasses.replace(
+        path_settings, top_layers=-(-path_settings.top_layers // COARSE_EVERY),
+        bottom_layers=-(-path_settings.bottom_layers // COARSE_EVERY))
+    cost = plan_cost(plan, layers, skins, motion)
+    # Each sampled layer stands for `weight` layers, in time (cooling slowdown included:
+    # it is per layer) and material; the moves between sub-parts happen once.
+    sampled_count = sum(len(found) for found in layers.values())
+    weight = sum(w * len(layers[index]) for index, (_, w) in sampled.items()) / sampled_count
+    seconds = cost.transition_seconds + weight * (cost.seconds - cost.transition_seconds)
+    estimate = PlanCost(seconds, weight * cost.material, cost.subparts, cost.transition_seconds)
+    return Candidate(label, placed, plan, {}, estimate, False, exact=False)
+
+
+def _refined(candidates: list[Candidate], layer_settings, path_settings: PathSettings,
+             motion: Motion, objective: str) -> list[Candidate]:
+    """`candidates` with the coarse ones that might win costed exactly: the best coarse
+    score and those within COARSE_MARGIN of it (ties of residual overhang only)."""
+    coarse = [c for c in candidates if not c.exact]
+    if not coarse:
+        return candidates
+    least = min(c.overhang for c in candidates)
+    contenders = [c for c in coarse if c.overhang <= least + OVERHANG_TIE] or coarse
+    value = _objective(contenders, objective)
+    best = min(value(c) for c in contenders)
+    # In shares of the best time or material, as the balanced score counts them.
+    unit = 1.0 if objective == "balanced" else (best or 1.0)
+    result = []
+    for c in candidates:
+        if not c.exact and c in contenders and value(c) <= best + max(COARSE_MARGIN, 0.0) * unit:
+            exact = _exact(c.label, c.placed, c.plan, False, layer_settings, path_settings,
+                           motion)
+            result.append(exact if exact is not None else c)
+        else:
+            result.append(c)
+    return result

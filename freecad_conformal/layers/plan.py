@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from freecad_conformal.decomposition.subparts import SubPart
+from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry.frames import unit
 from freecad_conformal.geometry.sections import PlanarSlicer, extent_along
 from freecad_conformal.layers.model import Layer, LayerSettings
@@ -28,3 +29,26 @@ def plan_layers(subpart: SubPart, settings: LayerSettings) -> list[Layer]:
         if axis_bends(layers, settings.bounds):
             layers = tilted_layers(subpart, slicer, low, high, settings)
     return layers
+
+
+def sampled_layers(subpart: SubPart, settings: LayerSettings,
+                   every: int) -> tuple[list[Layer], float]:
+    """Every `every`-th planar layer of a uniform stack (the middle one of each run of
+    `every`) and how many layers each stands for: a coarse stack for ranking orientations
+    by cost, sliced at a fraction of the exact stack's sections. ([], 0) for a sliver.
+
+    Raises:
+        PlanError: bad settings, or `every` below 1.
+    """
+    settings.validate()
+    if every < 1:
+        raise PlanError(f"layers sampled every {every!r}: must be at least 1")
+    direction = unit(subpart.build_direction, f"build direction of sub-part {subpart.index}")
+    slicer = PlanarSlicer(subpart.shape, direction)
+    low, high = extent_along(subpart.shape, slicer.frame.n)
+    if high - low < settings.bounds[0]:
+        return [], 0.0
+    bounds = planar_bounds(subpart.shape, slicer, low, high,
+                           LayerSettings(mode="uniform", thickness=settings.thickness))
+    picked = bounds[every // 2::every] or [bounds[len(bounds) // 2]]
+    return planar_layers(subpart.index, slicer, picked), len(bounds) / len(picked)

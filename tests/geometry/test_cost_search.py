@@ -29,8 +29,9 @@ SHARED_PARTS = ("CrankArm.brep", "MODERN_Table_1.brep", "Pump_Nut.brep", "bottle
                 "revolved_sphere.step", "screw.step", "sliced_cylinder.step", "wedge_ok.brep")
 
 
-def _option(name: str, seconds: float, material: float, overhang: float = 0.0):
-    return SimpleNamespace(label=name, overhang=overhang,
+def _option(name: str, seconds: float, material: float, overhang: float = 0.0,
+            exact: bool = True):
+    return SimpleNamespace(label=name, overhang=overhang, exact=exact,
                            cost=SimpleNamespace(seconds=seconds, material=material))
 
 
@@ -47,6 +48,10 @@ def test_ranking_puts_least_overhang_first_then_the_objective():
     # `nearly` (1.05 + 1.1 = 2.15) is within the overhang tie, so it wins.
     assert [c.label for c in ranked(options, "balanced")][:3] == ["nearly", "even", "lean"]
     assert ranked(options, "time")[-1] is supported
+    # A coarse estimate (sampled layers) never outranks an exact cost, however cheap it looks.
+    sampled = _option("sampled", 50.0, 5.0, exact=False)
+    assert [c.label for c in ranked(options + [sampled], "time")] == [
+        "fast", "nearly", "even", "lean", "sampled", "supported"]
     with pytest.raises(PlanError, match="objective must be one of .*'fastest'"):
         ranked(options, "fastest")
 

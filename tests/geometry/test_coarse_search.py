@@ -1,0 +1,77 @@
+"""Whole orientations ranked on sampled layers first: the sample stands for the stack, its
+cost is close to the exact one, and the choice is the one exact costing would make."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from freecad_conformal.decomposition.subparts import SubPart
+from freecad_conformal.errors import PlanError
+from freecad_conformal.geometry import samples
+from freecad_conformal.jobs import search
+from freecad_conformal.jobs.plan import PlanOptions, check_options, choose_plan
+from freecad_conformal.layers.model import LayerSettings
+from freecad_conformal.layers.plan import plan_layers, sampled_layers
+
+
+def _whole(shape, direction) -> SubPart:
+    return SubPart(index=0, shape=shape, build_direction=np.asarray(direction, dtype=float),
+                   volume=float(shape.Volume))
+
+
+@pytest.mark.parametrize("every", [1, 3, 4])
+def test_sampled_layers_are_layers_of_the_stack_standing_for_it(every):
+    sub = _whole(samples.t_block(), (0.0, 0.0, 1.0))
+    settings = LayerSettings(tilt=False)
+    stack = plan_layers(sub, settings)
+    picked, weight = sampled_layers(sub, settings, every)
+    assert weight * len(picked) == pytest.approx(len(stack))
+    by_height = {round(layer.section_height, 9): layer for layer in stack}
+    for layer in picked:
+        same = by_height[round(layer.section_height, 9)]
+        assert layer.thickness == pytest.approx(same.thickness)
+        assert layer.region.symmetric_difference(same.region).area < 1e-9
+    # The middle of each run of `every` layers: the T's bar and stem are both sampled.
+    assert len({round(layer.region.area, 6) for layer in picked}) >= 2
+
+
+def test_sampling_refuses_a_step_below_one():
+    with pytest.raises(PlanError, match="every 0"):
+        sampled_layers(_whole(samples.t_block(), (0.0, 0.0, 1.0)), LayerSettings(), 0)
+
+
+#: The shipped margin (the tests below set others).
+MARGIN = search.COARSE_MARGIN
+
+
+def _choice(name: str, margin: float, monkeypatch):
+    monkeypatch.setattr(search, "COARSE_MARGIN", margin)
+    shape = samples.SAMPLES[name]()
+    options = PlanOptions()
+    return choose_plan(shape, options, check_options(shape, options))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["t_block", "l_block"])
+def test_the_coarse_ranking_chooses_what_exact_costing_chooses(name, monkeypatch):
+    exact = _choice(name, float("inf"), monkeypatch)      # every candidate costed exactly
+    coarse_only = _choice(name, 0.0, monkeypatch)         # only the coarse best
+    quick = _choice(name, MARGIN, monkeypatch)
+    assert all(c.exact for c in exact.candidates)
+    assert sum(c.exact for c in coarse_only.candidates) == 1
+    # The T's two best orientations are within 0.2 % of each other by the balanced score:
+    # the sampled estimate alone may swap them; the margin sends both to exact costing.
+    assert quick.candidates[0].label == exact.candidates[0].label
+    assert quick.candidates[0].exact
+    assert quick.candidates[0].cost.seconds == pytest.approx(exact.candidates[0].cost.seconds,
+                                                             rel=1e-9)
+    exact_cost = {c.label: c.cost for c in exact.candidates}
+    for c in coarse_only.candidates:
+        # The sample's estimate: within 5 % of the exact cost (3.3 % at worst on the wedge).
+        assert c.cost.seconds == pytest.approx(exact_cost[c.label].seconds, rel=0.05)
+        assert c.cost.material == pytest.approx(exact_cost[c.label].material, rel=0.05)
+    # Coarse estimates never outrank an exact cost, and say what they are.
+    flags = [c.exact for c in quick.candidates]
+    assert flags == sorted(flags, reverse=True)
+    assert {row["estimate"] for row in (c.row() for c in quick.candidates)} <= {
+        "layers", f"every {search.COARSE_EVERY}th layer"}
