@@ -46,19 +46,16 @@ sys.path.insert(0, str(ROOT))
 from freecad_conformal.errors import ConformalError  # noqa: E402
 from freecad_conformal.geometry import samples  # noqa: E402
 from freecad_conformal.geometry.solids import load_shape  # noqa: E402
-from freecad_conformal.paths.assemble import Feeds, PathSettings  # noqa: E402
-from freecad_conformal.paths.fill2d import FillSettings  # noqa: E402
 from freecad_conformal.paths.timing import (estimate_time, junction_speeds, move_seconds,  # noqa: E402
                                             move_times)
 from freecad_conformal.jobs.plan import PlanOptions, plan_job  # noqa: E402
-from freecad_conformal.layers.model import LayerSettings  # noqa: E402
 from freecad_conformal.toolpath import KINDS  # noqa: E402
 
 PARTS_DIR = ROOT.parent / "shared" / "parts"
 LAYER, NOZZLE, PERIMETERS, INFILL, BEAD = 0.2, 0.4, 2, 0.20, 0.45
 #: PrusaSlicer 2.5 defaults (mm/s) and its time-estimate machine limits.
 SPEEDS = {"external_perimeter": 30.0, "perimeter": 60.0, "infill": 80.0, "solid_infill": 20.0,
-          "travel": 130.0, "small_perimeter": 15.0}
+          "travel": 130.0, "small_perimeter": 15.0, "bridge_infill": 60.0}
 ACCELERATION, JERK = 1500.0, 10.0
 INFILL_OVERLAP, SOLID_BELOW_AREA, SOLID_LAYERS, MIN_LAYER_TIME, MIN_SPEED = 0.25, 70.0, 3, 5.0, 10.0
 #: Every PrusaSlicer setting that the comparison depends on, stated rather than defaulted.
@@ -76,6 +73,7 @@ PRUSA_SETTINGS = [
     "--small-perimeter-speed", f"{SPEEDS['small_perimeter']:g}", "--infill-speed", f"{SPEEDS['infill']:g}",
     "--solid-infill-speed", f"{SPEEDS['solid_infill']:g}",
     "--top-solid-infill-speed", f"{SPEEDS['solid_infill']:g}", "--travel-speed", f"{SPEEDS['travel']:g}",
+    "--bridge-speed", f"{SPEEDS['bridge_infill']:g}",
     "--first-layer-speed", "100%", "--slowdown-below-layer-time", f"{MIN_LAYER_TIME:g}",
     "--min-print-speed", f"{MIN_SPEED:g}", "--use-relative-e-distances"]
 ORIENTATIONS = {"as modelled": [], "rotate-x 90": ["--rotate-x", "90"],
@@ -221,13 +219,17 @@ def print_roles(name: str, theirs: dict, mine: dict) -> None:
 
 
 def plan_options() -> PlanOptions:
-    """The planner's side of PRUSA_SETTINGS."""
-    feeds = Feeds(**{k: v * 60.0 for k, v in SPEEDS.items()})
-    fill = FillSettings(bead_width=BEAD, perimeters=PERIMETERS, density=INFILL, bead_model="rounded",
-                        infill_overlap=INFILL_OVERLAP, solid_below_area=SOLID_BELOW_AREA)
-    paths = PathSettings(fill=fill, feeds=feeds, top_layers=SOLID_LAYERS, bottom_layers=SOLID_LAYERS,
-                         min_layer_time=MIN_LAYER_TIME, min_speed=MIN_SPEED * 60.0)
-    return PlanOptions(layers=LayerSettings(thickness=LAYER), bead_width=BEAD, paths=paths)
+    """The planner's side of PRUSA_SETTINGS, as a user gives it: plan settings
+    (settings/plan.py), each also a `plan` flag and a Job property."""
+    from freecad_conformal.jobs.options import plan_options as from_settings
+
+    values = {"layer_height": LAYER, "bead_width": BEAD, "perimeters": PERIMETERS,
+              "infill": INFILL * 100.0, "bead_model": "rounded",
+              "infill_overlap": INFILL_OVERLAP * 100.0, "solid_below_area": SOLID_BELOW_AREA,
+              "solid_layers": SOLID_LAYERS, "min_layer_time": MIN_LAYER_TIME,
+              "min_speed": MIN_SPEED, "jerk": JERK,
+              **{f"{role}_speed": speed for role, speed in SPEEDS.items()}}
+    return from_settings(values)
 
 
 def ours(shape, name: str):

@@ -7,7 +7,7 @@ from typing import Any, Mapping
 
 from freecad_conformal.jobs.plan import PlanOptions
 from freecad_conformal.layers.model import LayerSettings
-from freecad_conformal.paths.assemble import PathSettings
+from freecad_conformal.paths.assemble import Feeds, PathSettings
 from freecad_conformal.paths.fill2d import FillSettings
 from freecad_conformal.settings.plan import PLAN_SETTINGS
 from freecad_conformal.settings.schema import validate
@@ -16,6 +16,9 @@ SECONDS_PER_MINUTE = 60.0
 #: The bead width fill settings start from when the material's is used (replaced in
 #: jobs/plan.py once the tool and material are known).
 PLACEHOLDER_WIDTH = 0.4
+#: Feeds (paths/assemble.Feeds) each with a `<role>_speed` setting.
+SPEED_ROLES = ("external_perimeter", "perimeter", "small_perimeter", "infill", "solid_infill",
+               "bridge_infill", "travel")
 
 
 def plan_options(values: Mapping[str, Any]) -> PlanOptions:
@@ -31,11 +34,15 @@ def plan_options(values: Mapping[str, Any]) -> PlanOptions:
                            min_thickness=v["layer_min"], max_thickness=v["layer_max"],
                            max_volume_difference=v["max_volume_difference"],
                            max_cusp=v["max_cusp"], tilt=v["tilt"])
-    paths = PathSettings(fill=fill, top_layers=v["solid_layers"], bottom_layers=v["solid_layers"],
-                         min_layer_time=v["min_layer_time"],
+    # Speeds given are in mm/s; a derived one keeps the built-in feed, which jobs/plan.py
+    # replaces with the material's where the material has one.
+    given = {role: v[f"{role}_speed"] * SECONDS_PER_MINUTE for role in SPEED_ROLES
+             if v[f"{role}_speed"] is not None}
+    paths = PathSettings(fill=fill, feeds=Feeds(**given), top_layers=v["solid_layers"],
+                         bottom_layers=v["solid_layers"], min_layer_time=v["min_layer_time"],
                          min_speed=v["min_speed"] * SECONDS_PER_MINUTE)
     return PlanOptions(machine=v["machine"], tool=v["tool"], material=v["material"],
                        layers=layers, paths=paths, bead_width=v["bead_width"],
                        dialect=v["dialect"], root=v["root"], decompose=v["decompose"],
-                       objective=v["objective"],
+                       objective=v["objective"], jerk=v["jerk"],
                        settings=v)

@@ -231,10 +231,20 @@ def _settings(options: PlanOptions, tool, material) -> tuple[float, PathSettings
     if width is None:
         width = material.width if material is not None and material.width else tool.diameter
     paths.fill.bead_width = width
-    if material is not None and material.feed and options.paths.feeds.perimeter == PathSettings().feeds.perimeter:
-        paths.feeds.perimeter = paths.feeds.external_perimeter = float(material.feed)
+    built_in = PathSettings().feeds
+
+    def derived(role: str) -> bool:
+        # From settings: the user gave no speed; from Python: the feed is the built-in one.
+        if options.settings:
+            return options.settings.get(f"{role}_speed") is None
+        return getattr(options.paths.feeds, role) == getattr(built_in, role)
+
+    if material is not None and material.feed:
+        for role in ("perimeter", "external_perimeter"):
+            if derived(role):
+                setattr(paths.feeds, role, float(material.feed))
     travel = material.parameters.get("travel_mm_min") if material is not None else None
-    if isinstance(travel, (int, float)) and options.paths.feeds.travel == PathSettings().feeds.travel:
+    if isinstance(travel, (int, float)) and derived("travel"):
         paths.feeds.travel = float(travel)
     return float(width), paths
 

@@ -25,7 +25,7 @@ from freecad_conformal.paths.bead import bead_area
 from freecad_conformal.paths.approach import (SAFE_MARGIN, bounding_sphere, check_clearance,
                                               exit_distance, transition)
 from freecad_conformal.paths.fill2d import FillSettings, fill_layer
-from freecad_conformal.paths.map3d import Path3D, map_paths, skin_regions
+from freecad_conformal.paths.map3d import Path3D, bridge_regions, map_paths, skin_regions
 from freecad_conformal.layers.model import Layer
 from freecad_conformal.decomposition.subparts import BuildPlan
 from freecad_conformal.toolpath import Toolpath, ToolpathBuilder
@@ -53,9 +53,19 @@ class Feeds:
     travel: float = 150.0 * 60
     #: perimeter loops no longer than SMALL_PERIMETER_LENGTH (PrusaSlicer's small_perimeter_speed)
     small_perimeter: float = 15.0 * 60
+    #: solid infill over sparse infill (an internal bridge); None: the solid infill feed
+    bridge_infill: float | None = None
 
     def for_role(self, role: str) -> float:
+        if role == "bridge_infill" and self.bridge_infill is None:
+            return float(self.solid_infill)
         return float(getattr(self, role))
+
+    @property
+    def bridges_apart(self) -> bool:
+        """Whether bridge infill is filled apart from the other solid infill: only when it
+        is printed at another speed (the same speed gains nothing from a second zigzag)."""
+        return self.for_role("bridge_infill") != self.for_role("solid_infill")
 
     def for_path(self, path: Path3D) -> float:
         """The role's feed; small perimeter loops slower, so a small layer's walls can set."""
@@ -66,8 +76,8 @@ class Feeds:
 
     def validate(self) -> None:
         for name in ("external_perimeter", "perimeter", "infill", "solid_infill", "travel",
-                     "small_perimeter"):
-            value = getattr(self, name)
+                     "small_perimeter", "bridge_infill"):
+            value = self.for_role(name)
             if not (np.isfinite(value) and value > 0):
                 raise PlanError(f"{name} feed must be > 0 mm/min, got {value!r}")
 
@@ -100,12 +110,14 @@ def plan_paths(layers: Sequence[Layer], settings: PathSettings, rests_on_parent:
     """Ordered 3D paths per layer of one sub-part, starting near `position`."""
     tolerance = settings.fill.bead_width * SIMPLIFY_FRACTION
     skins = skin_regions(layers, settings.top_layers, settings.bottom_layers, rests_on_parent)
+    bridges = (bridge_regions(layers, skins, settings.fill.solid_below_area)
+               if settings.feeds.bridges_apart else [None] * len(layers))
     result = []
-    for layer, skin in zip(layers, skins):
+    for layer, skin, bridge in zip(layers, skins, bridges):
         here = layer.frame.to_2d(position[None])[0] if position is not None else None
         region = layer.region.simplify(tolerance)
         paths = map_paths(layer, fill_layer(region, settings.fill, layer.index, skin, here,
-                                            height=layer.thickness))
+                                            height=layer.thickness, bridge=bridge))
         if paths:
             position = paths[-1].points[-1]
         result.append(paths)

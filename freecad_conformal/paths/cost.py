@@ -23,7 +23,7 @@ from typing import Sequence
 
 import numpy as np
 import shapely
-from shapely.geometry import MultiPolygon, Polygon
+from shapely.geometry import Polygon
 
 from freecad_conformal.decomposition.subparts import BuildPlan
 from freecad_conformal.layers.model import Layer
@@ -31,10 +31,10 @@ from freecad_conformal.paths.approach import SAFE_MARGIN, bounding_sphere, trans
 from freecad_conformal.paths.assemble import (PERIMETER_ROLES, SIMPLIFY_FRACTION,
                                               SMALL_PERIMETER_LENGTH, PathSettings, together)
 from freecad_conformal.paths.bead import bead_area, bead_spacing
-from freecad_conformal.paths.fill2d import (LINE_END_INSET, MITRE_LIMIT, scan_pieces,
-                                            fewest_turns_angle, perimeter_rings, polygons_of,
-                                            valid_region)
-from freecad_conformal.paths.map3d import skin_regions
+from freecad_conformal.paths.fill2d import (LINE_END_INSET, MITRE_LIMIT, fewest_turns_angle,
+                                            infill_areas, perimeter_rings, polygons_of,
+                                            scan_pieces, valid_region)
+from freecad_conformal.paths.map3d import bridge_regions, skin_regions
 from freecad_conformal.paths.timing import DEFAULT_JERK, junction_speeds, move_times
 
 #: The estimate's promise: within 10 % of the full plan's time and material (issue 16).
@@ -184,7 +184,7 @@ def _rows(area, pitch: float, angle: float, speed: float, motion: Motion,
 
 
 def _infill(island: Polygon, depth_count: int, solid, settings: PathSettings, spacing: float,
-            layer_index: int, motion: Motion, tally: _Tally) -> None:
+            layer_index: int, motion: Motion, tally: _Tally, bridge=None) -> None:
     fill = settings.fill
     width = fill.bead_width
     inset = 0.5 * width + (depth_count - 0.5 - fill.infill_overlap + LINE_END_INSET) * spacing
@@ -192,15 +192,7 @@ def _infill(island: Polygon, depth_count: int, solid, settings: PathSettings, sp
              if depth_count else island)
     if inner.is_empty:
         return
-    dense = inner.intersection(solid) if solid is not None and not solid.is_empty else Polygon()
-    sparse = inner.difference(dense) if not dense.is_empty else inner
-    small = [p for p in polygons_of(sparse) if p.area < fill.solid_below_area]
-    if small and fill.density < 1.0:
-        dense = dense.union(MultiPolygon(small))
-        sparse = sparse.difference(MultiPolygon(small))
-    for area, pitch, role in ((dense, spacing, "solid_infill"),
-                              (sparse, spacing / fill.density if fill.density > 0 else 0.0,
-                               "infill")):
+    for area, pitch, role in infill_areas(inner, solid, bridge, fill, spacing):
         if area.is_empty or pitch <= 0 or area.area < width * width:
             continue
         angle = fill.angle if fill.angle is not None else fewest_turns_angle(area, pitch)
@@ -215,9 +207,11 @@ def _travel_seconds(length: float, motion: Motion, feed: float) -> float:
     return float(_segments_time(np.array([length]), motion.travel_speed(feed), 0.0, motion)[0])
 
 
-def layer_cost(layer: Layer, skin, settings: PathSettings, motion: Motion) -> LayerCost:
+def layer_cost(layer: Layer, skin, settings: PathSettings, motion: Motion,
+               bridge=None) -> LayerCost:
     """Time and material of one layer filled as `paths.fill2d` fills it (`skin`: its solid
-    area, from `paths.map3d.skin_regions`)."""
+    area, from `paths.map3d.skin_regions`; `bridge`: the part over sparse infill, from
+    `paths.map3d.bridge_regions`)."""
     width = settings.fill.bead_width
     spacing = bead_spacing(width, layer.thickness, settings.fill.bead_model)
     region = valid_region(layer.region.simplify(width * SIMPLIFY_FRACTION))
@@ -227,7 +221,8 @@ def layer_cost(layer: Layer, skin, settings: PathSettings, motion: Motion) -> La
     for island in islands:
         try:
             depths = _perimeters(island, settings, spacing, motion, tally)
-            _infill(island, depths, solid, settings, spacing, layer.index, motion, tally)
+            _infill(island, depths, solid, settings, spacing, layer.index, motion, tally,
+                    bridge)
         except shapely.errors.GEOSException:
             continue   # the fill raises a named error for this island; the estimate skips it
     level = float(layer.top_point @ layer.top_normal)
@@ -255,8 +250,10 @@ def subpart_cost(index: int, layers: Sequence[Layer], settings: PathSettings, mo
                  rests_on_parent: bool) -> SubPartCost:
     """Every layer's cost of one sub-part (skins as the fill sees them)."""
     skins = skin_regions(layers, settings.top_layers, settings.bottom_layers, rests_on_parent)
-    return SubPartCost(index, [layer_cost(layer, skin, settings, motion)
-                               for layer, skin in zip(layers, skins)])
+    bridges = (bridge_regions(layers, skins, settings.fill.solid_below_area)
+               if settings.feeds.bridges_apart else [None] * len(layers))
+    return SubPartCost(index, [layer_cost(layer, skin, settings, motion, bridge)
+                               for layer, skin, bridge in zip(layers, skins, bridges)])
 
 
 #: Layer tops of concurrent sub-parts closer than this (mm) are one level (paths.assemble).

@@ -354,7 +354,8 @@ def _snapped(geometry):
 
 
 def fill_layer(region, settings: FillSettings, layer_index: int = 0, solid=None,
-               position: np.ndarray | None = None, height: float | None = None) -> list[Path2D]:
+               position: np.ndarray | None = None, height: float | None = None,
+               bridge=None) -> list[Path2D]:
     """Ordered paths of one layer: per island, perimeters (innermost first) then infill.
 
     Args:
@@ -364,6 +365,8 @@ def fill_layer(region, settings: FillSettings, layer_index: int = 0, solid=None,
         solid: area printed at 100 % (skins); None for none.
         position: the nozzle's position before the layer (seams "nearest", ordering).
         height: the layer's (mean) thickness, for the bead spacing; None: beads a width apart.
+        bridge: part of `solid` over sparse infill, filled apart as "bridge_infill"
+            (`paths.map3d.bridge_regions`); None for none.
     """
     settings.validate()
     spacing = bead_spacing(settings.bead_width, height, settings.bead_model)
@@ -372,18 +375,19 @@ def fill_layer(region, settings: FillSettings, layer_index: int = 0, solid=None,
     # GEOS topology errors: repair first, so only what cannot be repaired is an error.
     islands = polygons_of(valid_region(region))
     solid = None if solid is None else valid_region(solid)
+    bridge = None if bridge is None or bridge.is_empty else valid_region(bridge)
     ordered: list[Path2D] = []
     while islands:
         k = int(np.argmin([island.exterior.distance(shapely.Point(here)) for island in islands]))
         island = islands.pop(k)
         try:
-            paths = _island_paths(island, settings, spacing, layer_index, solid, here)
+            paths = _island_paths(island, settings, spacing, layer_index, solid, here, bridge)
         except shapely.errors.GEOSException:
             try:
                 # Nearly coincident edges of the island and its skin (non-noded
                 # intersections): the same on a fixed grid, where GEOS's overlay is robust.
                 paths = _island_paths(_snapped(island), settings, spacing, layer_index,
-                                      _snapped(solid), here)
+                                      _snapped(solid), here, _snapped(bridge))
             except shapely.errors.GEOSException as exc:
                 raise PlanError(f"layer {layer_index}: the island at "
                                 f"{island.representative_point().wkt} ({island.area:.3f} mm²) "
@@ -394,8 +398,30 @@ def fill_layer(region, settings: FillSettings, layer_index: int = 0, solid=None,
     return ordered
 
 
+def infill_areas(inner, solid, bridge, settings: FillSettings,
+                 spacing: float) -> list[tuple[object, float, str]]:
+    """(area, row pitch, role) of an island's infill inside its perimeters (`inner`): solid
+    where `solid` says and in sparse pieces under `solid_below_area`, the part of the solid
+    over sparse infill (`bridge`) apart, the rest sparse. The fill and the cost estimate
+    (paths/cost.py) both split it here."""
+    dense = inner.intersection(solid) if solid is not None and not solid.is_empty else Polygon()
+    sparse = inner.difference(dense) if not dense.is_empty else inner
+    small = [p for p in polygons_of(sparse) if p.area < settings.solid_below_area]
+    if small and settings.density < 1.0:
+        dense = dense.union(MultiPolygon(small))
+        sparse = sparse.difference(MultiPolygon(small))
+    over = Polygon()
+    if bridge is not None and not bridge.is_empty and not dense.is_empty:
+        over = dense.intersection(bridge)
+        if not over.is_empty:
+            dense = dense.difference(over)
+    sparse_pitch = spacing / settings.density if settings.density > 0 else 0.0
+    return [(dense, spacing, "solid_infill"), (over, spacing, "bridge_infill"),
+            (sparse, sparse_pitch, "infill")]
+
+
 def _island_paths(island: Polygon, settings: FillSettings, spacing: float, layer_index: int,
-                  solid, here: np.ndarray) -> list[Path2D]:
+                  solid, here: np.ndarray, bridge=None) -> list[Path2D]:
     width = settings.bead_width
     paths: list[Path2D] = []
     depths = perimeter_rings(island, width, settings.perimeters, spacing)
@@ -412,16 +438,8 @@ def _island_paths(island: Polygon, settings: FillSettings, spacing: float, layer
     inner = island.buffer(-inset, join_style="mitre", mitre_limit=MITRE_LIMIT) if depths else island
     if inner.is_empty:
         return paths
-    dense = inner.intersection(solid) if solid is not None and not solid.is_empty else Polygon()
-    sparse = inner.difference(dense) if not dense.is_empty else inner
-    small = [p for p in polygons_of(sparse) if p.area < settings.solid_below_area]
-    if small and settings.density < 1.0:
-        dense = dense.union(MultiPolygon(small))
-        sparse = sparse.difference(MultiPolygon(small))
     infill: list[Path2D] = []
-    for area, pitch, role in ((dense, spacing, "solid_infill"),
-                              (sparse, spacing / settings.density if settings.density > 0 else 0.0,
-                               "infill")):
+    for area, pitch, role in infill_areas(inner, solid, bridge, settings, spacing):
         if area.is_empty or pitch <= 0 or area.area < width * width:
             continue
         angle = settings.angle if settings.angle is not None else fewest_turns_angle(area, pitch)

@@ -14,7 +14,7 @@ import numpy as np
 import shapely
 from shapely.geometry import MultiPolygon
 
-from freecad_conformal.paths.fill2d import Path2D, valid_region
+from freecad_conformal.paths.fill2d import Path2D, polygons_of, valid_region
 from freecad_conformal.layers.model import Layer, as_multipolygon
 
 #: Two layer regions whose vertices agree this closely (mm) are the same region: sections of
@@ -49,16 +49,18 @@ def map_paths(layer: Layer, paths: Sequence[Path2D]) -> list[Path3D]:
             for path in paths]
 
 
-def region_in(target: Layer, source: Layer) -> MultiPolygon:
-    """`source`'s region expressed in `target`'s layer frame (projected along target's normal)."""
+def region_in(target: Layer, source: Layer, geometry=None) -> MultiPolygon:
+    """`source`'s region (or `geometry`, in source's frame) expressed in `target`'s layer
+    frame (projected along target's normal)."""
+    geometry = source.region if geometry is None else geometry
     if source.frame is target.frame or (np.allclose(source.frame.u, target.frame.u)
                                         and np.allclose(source.frame.v, target.frame.v)):
-        return source.region
+        return geometry
 
     def move(uv: np.ndarray) -> np.ndarray:
         return target.frame.to_2d(source.frame.to_3d(uv, source.section_height))
 
-    return as_multipolygon(shapely.transform(source.region, move).buffer(0))
+    return as_multipolygon(shapely.transform(geometry, move).buffer(0))
 
 
 def _boolean(a, b, operation: str):
@@ -94,3 +96,25 @@ def skin_regions(layers: Sequence[Layer], top_layers: int, bottom_layers: int,
         skins.append(MultiPolygon() if covered is layer.region
                      else as_multipolygon(_boolean(layer.region, covered, "difference")))
     return skins
+
+
+def bridge_regions(layers: Sequence[Layer], skins: Sequence[MultiPolygon],
+                   solid_below_area: float) -> list[MultiPolygon]:
+    """Per layer, the part of its solid area (`skins`) lying over the layer below's sparse
+    infill: its rows span the sparse grid's gaps, an internal bridge (PrusaSlicer prints it
+    at bridge speed). Sparse pieces under `solid_below_area` print solid, so they carry no
+    bridge; the first layer has none below."""
+    bridges = [MultiPolygon()]
+    for below, layer, skin, below_skin in zip(layers, layers[1:], skins[1:], skins):
+        if skin.is_empty:
+            bridges.append(MultiPolygon())
+            continue
+        sparse = (below.region if below_skin.is_empty
+                  else _boolean(below.region, below_skin, "difference"))
+        pieces = [p for p in polygons_of(sparse) if p.area >= solid_below_area]
+        if not pieces:
+            bridges.append(MultiPolygon())
+            continue
+        over = region_in(layer, below, MultiPolygon(pieces))
+        bridges.append(as_multipolygon(_boolean(skin, over, "intersection")))
+    return bridges[:len(layers)]

@@ -84,6 +84,27 @@ PLAN_SETTINGS: tuple[Setting, ...] = (
     Setting("solid_below_area", "area", 70.0, "solid below area",
             "sparse infill pieces smaller than this are printed solid", group="paths",
             minimum=0.0),
+    *(Setting(f"{role}_speed", "speed", default, f"{label} speed", what, group="speeds",
+              minimum=0.0, open_minimum=True, derived=derived)
+      for role, default, label, what, derived in (
+          ("external_perimeter", None, "external perimeter", "outermost perimeter loop",
+           "the material's feed (40 mm/s without one)"),
+          ("perimeter", None, "perimeter", "inner perimeter loops",
+           "the material's feed (40 mm/s without one)"),
+          ("small_perimeter", 15.0, "small perimeter",
+           "perimeter loops up to 2π·6.5 mm long (PrusaSlicer's rule: small walls need time "
+           "to set)", ""),
+          ("infill", 60.0, "infill", "sparse infill", ""),
+          ("solid_infill", 60.0, "solid infill", "solid infill (skins, small pieces)", ""),
+          ("bridge_infill", None, "bridge infill",
+           "solid infill laid directly over sparse infill (an internal bridge across its "
+           "rows), filled apart when its speed differs", "the solid infill speed"),
+          ("travel", None, "travel", "moves without deposition",
+           "the material's travel feed (150 mm/s without one)"))),
+    Setting("jerk", "speed", 10.0, "jerk",
+            "largest instant speed change at a corner, for the time estimate and the choice "
+            "of plan (the machine file gives the acceleration)", group="speeds",
+            minimum=0.0, open_minimum=True),
     Setting("min_layer_time", "time", 5.0, "minimum layer time",
             "layers faster than this are slowed down so they can cool", group="cooling",
             minimum=0.0),

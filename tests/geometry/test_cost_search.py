@@ -195,3 +195,48 @@ def test_a_decomposition_that_cannot_be_built_gives_way_to_the_whole_part():
     assert found[0].overhang > 100.0 and found[0].sub_parts == 1
     assert any("no decomposition could be built (no collision-free build order" in note
                for note in found[0].plan.notes)
+
+
+def test_bridges_are_the_first_solid_layer_over_sparse_infill():
+    """Eight 20 mm squares, the top three solid: only the first of those (over the sparse
+    fourth layer) is a bridge; a sparse piece under `solid_below_area` carries none."""
+    from freecad_conformal.paths.map3d import bridge_regions
+
+    square = MultiPolygon([Polygon([(0, 0), (20, 0), (20, 20), (0, 20)])])
+    layers = [_flat_layer(k, square) for k in range(8)]
+    skins = skin_regions(layers, 3, 0, rests_on_parent=True)
+    assert [round(s.area) for s in skins] == [0, 0, 0, 0, 0, 400, 400, 400]
+    bridges = bridge_regions(layers, skins, solid_below_area=70.0)
+    assert [round(b.area) for b in bridges] == [0, 0, 0, 0, 0, 400, 0, 0]
+    assert all(b.area == 0 for b in bridge_regions(layers, skins, solid_below_area=500.0))
+
+
+def test_speeds_are_plan_settings_and_bridges_fill_apart_only_at_their_own_speed():
+    default = plan_options({})
+    assert default.paths.feeds.for_role("bridge_infill") == default.paths.feeds.solid_infill
+    assert not default.paths.feeds.bridges_apart
+    given = plan_options({"bridge_infill_speed": 60.0, "solid_infill_speed": 20.0,
+                          "infill_speed": 80.0, "external_perimeter_speed": 30.0, "jerk": 8.0})
+    assert given.paths.feeds.bridge_infill == 3600.0 and given.paths.feeds.solid_infill == 1200.0
+    assert given.paths.feeds.infill == 4800.0 and given.paths.feeds.external_perimeter == 1800.0
+    assert given.paths.feeds.bridges_apart and given.jerk == 8.0
+    with pytest.raises(Exception, match="bridge infill speed"):
+        plan_options({"bridge_infill_speed": 0.0})
+
+
+@pytest.mark.slow
+def test_bridge_infill_at_its_speed_shortens_the_t_and_the_cost_sees_it():
+    """The T upside down has solid skins over its sparse bar: at 60 mm/s instead of the
+    solid 20 the bridges save time; the cost estimate follows the plan within its goal."""
+    values = {"root": (0.0, 0.0, -1.0), "solid_infill_speed": 20.0}
+    slow = plan_job(samples.t_block(), plan_options(values), part="t")
+    fast = plan_job(samples.t_block(), plan_options({**values, "bridge_infill_speed": 60.0}),
+                    part="t")
+    roles = {p.role for p in fast.assembly.paths}
+    assert "bridge_infill" in roles and "bridge_infill" not in {p.role for p in slow.assembly.paths}
+    assert fast.time_s < slow.time_s - 30.0
+    assert fast.material_volume == pytest.approx(slow.material_volume, rel=0.01)
+    options = plan_options({**values, "bridge_infill_speed": 60.0})
+    checked = check_options(samples.t_block(), options)
+    cost = plan_cost(fast.plan, fast.layers, checked[3], Motion.of(checked[4], options.jerk))
+    assert cost.seconds == pytest.approx(fast.time_s, rel=CALIBRATION_GOAL)

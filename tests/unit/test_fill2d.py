@@ -158,3 +158,26 @@ def test_fewest_turns_from_the_boundary_matches_counting_the_scan_pieces():
                       for a in CANDIDATE_ANGLES]
             chosen = CANDIDATE_ANGLES.index(fewest_turns_angle(area, spacing))
             assert pieces[chosen] == min(pieces), (pieces, chosen)
+
+
+def test_bridge_infill_fills_the_solid_over_sparse_apart():
+    """A 30 x 20 mm solid layer whose left half lies over sparse infill: that half is laid as
+    bridge infill, the rest as solid infill, each only inside its own area; without a bridge
+    area the whole is solid infill as before."""
+    region = box(0, 0, 30, 20)
+    settings = FillSettings(bead_width=WIDTH, perimeters=2)
+    bridge = box(0, 0, 15, 20)
+    paths = fill_layer(region, settings, solid=region, bridge=bridge)
+    roles = {p.role for p in paths}
+    assert {"bridge_infill", "solid_infill"} <= roles and "infill" not in roles
+    for path in paths:
+        if path.role in ("bridge_infill", "solid_infill"):
+            line = LineString(path.points)
+            inside = bridge if path.role == "bridge_infill" else box(15, 0, 30, 20)
+            assert inside.buffer(WIDTH).contains(line), path.role
+    length = {role: sum(p.length for p in paths if p.role == role) for role in roles}
+    assert length["bridge_infill"] == pytest.approx(length["solid_infill"], rel=0.1)
+    plain = fill_layer(region, settings, solid=region)
+    assert {p.role for p in plain} == {"external_perimeter", "perimeter", "solid_infill"}
+    total = sum(p.length for p in plain if p.role == "solid_infill")
+    assert length["bridge_infill"] + length["solid_infill"] == pytest.approx(total, rel=0.05)
