@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from typing import Any, Mapping
 
-from freecad_conformal.jobs.plan import PlanOptions
+from freecad_conformal.jobs.plan import SPEED_ROLES, PlanOptions
 from freecad_conformal.layers.model import LayerSettings
 from freecad_conformal.paths.assemble import Feeds, PathSettings
 from freecad_conformal.paths.fill2d import FillSettings
@@ -16,9 +16,6 @@ SECONDS_PER_MINUTE = 60.0
 #: The bead width fill settings start from when the material's is used (replaced in
 #: jobs/plan.py once the tool and material are known).
 PLACEHOLDER_WIDTH = 0.4
-#: Feeds (paths/assemble.Feeds) each with a `<role>_speed` setting.
-SPEED_ROLES = ("external_perimeter", "perimeter", "small_perimeter", "infill", "solid_infill",
-               "bridge_infill", "travel")
 
 
 def plan_options(values: Mapping[str, Any]) -> PlanOptions:

@@ -93,6 +93,10 @@ class JobResult:
     candidates: list[dict] = field(default_factory=list)
     #: what the choice among the candidates minimised (PlanOptions.objective)
     objective: str = "balanced"
+    #: the speed (mm/s) each role was printed at, derived ones resolved (settings/plan.py)
+    speeds: dict = field(default_factory=dict)
+    #: the time model's corner speed change (mm/s)
+    jerk: float = 0.0
 
     @property
     def material_volume(self) -> float:
@@ -223,6 +227,11 @@ def centred_if_off_platform(shape, machine: Machine):
 def _part_size(shape) -> float:
     box = shape.BoundBox
     return float(min(box.XLength, box.YLength, box.ZLength))
+
+
+#: Feeds (paths/assemble.Feeds) each with a `<role>_speed` plan setting.
+SPEED_ROLES = ("external_perimeter", "perimeter", "small_perimeter", "infill", "solid_infill",
+               "bridge_infill", "travel")
 
 
 def _settings(options: PlanOptions, tool, material) -> tuple[float, PathSettings]:
@@ -375,7 +384,9 @@ def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
                      machine=machine, tool_id=tool.id, material_name=material_name,
                      bead_width=width, time_s=seconds, subparts=summaries,
                      settings=dict(options.settings), candidates=rows,
-                     objective=options.objective)
+                     objective=options.objective, jerk=options.jerk,
+                     speeds={role: path_settings.feeds.for_role(role) / 60.0
+                             for role in SPEED_ROLES})
 
 
 def _subpart_summary(sub, layers: list[Layer], assembly: Assembly, width: float,

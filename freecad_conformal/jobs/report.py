@@ -109,5 +109,22 @@ def report_data(result) -> dict:
         "objective": result.objective,
         "candidates": [dict(row) for row in result.candidates],
         # empty for options made in Python rather than from settings (settings/plan.py)
-        "settings": as_json(PLAN_SETTINGS, result.settings) if result.settings else {},
+        "settings": _settings_used(result, as_json(PLAN_SETTINGS, result.settings))
+        if result.settings else {},
     }
+
+
+def _settings_used(result, settings: dict) -> dict:
+    """The report's settings with what the plan resolved: each speed as printed (a derived
+    one from the material), the machine's acceleration and the small-perimeter length."""
+    from freecad_conformal.paths.assemble import SMALL_PERIMETER_LENGTH
+
+    for role, speed in result.speeds.items():
+        entry = settings.get(f"{role}_speed")
+        if entry is not None:
+            entry["used"] = speed
+    settings["acceleration"] = {"value": result.machine.acceleration, "unit": "mm/s^2",
+                                "derived": "the machine file"}
+    settings["small_perimeter_length"] = {"value": SMALL_PERIMETER_LENGTH, "unit": "mm",
+                                          "derived": "PrusaSlicer's rule: loops up to 2π·6.5 mm"}
+    return settings

@@ -122,10 +122,18 @@ def test_plan_report_json_names_every_setting_it_used(tmp_path):
 
     report = tmp_path / "t.json"
     assert main(["plan", "t_block", "-o", str(tmp_path / "t.ngc"), "--report", str(report),
-                 "--layer-height", "0.3", "--infill", "15"]) == 0
+                 "--layer-height", "0.3", "--infill", "15", "--solid-infill-speed", "25"]) == 0
     data = json.loads(report.read_text())
     assert data["format"] == "conformal.plan/1"
-    assert set(data["settings"]) == {s.key for s in PLAN_SETTINGS}
+    assert set(data["settings"]) == {s.key for s in PLAN_SETTINGS} | {"acceleration",
+                                                                       "small_perimeter_length"}
+    # Every speed as printed: given, or derived (the material's feed, the solid infill's).
+    speeds = data["settings"]
+    assert speeds["solid_infill_speed"] == {"value": 25.0, "unit": "mm/s", "used": 25.0}
+    assert speeds["bridge_infill_speed"]["value"] is None
+    assert speeds["bridge_infill_speed"]["used"] == 25.0
+    assert speeds["perimeter_speed"]["used"] > 0 and "derived" in speeds["perimeter_speed"]
+    assert speeds["acceleration"]["value"] > 0 and speeds["acceleration"]["unit"] == "mm/s^2"
     assert data["settings"]["layer_height"] == {"value": 0.3, "unit": "mm"}
     assert data["settings"]["infill"]["value"] == 15.0
     assert data["residual_overhang_mm2"] == 0.0 and len(data["sub_parts"]) == 1
