@@ -149,10 +149,31 @@ def prusa_on_subparts(plan, work: Path) -> Slice:
     return Slice("our sub-parts", volume, 0.0, seconds, work)
 
 
+def capped_column():
+    """A part of our own making (no test uses it): a 12 mm column 30 mm tall under a round
+    30 mm cap, 6 mm thick. Support-free upside down, as a planar slicer prints it."""
+    from freecad_conformal.freecad_env import import_freecad
+
+    App, Part = import_freecad()
+    column = Part.makeCylinder(6.0, 30.0)
+    cap = Part.makeCylinder(15.0, 6.0, App.Vector(0, 0, 30.0))
+    return column.fuse(cap).removeSplitter().Solids[0]
+
+
+#: Parts made here for the comparison, beside the samples and ../shared/parts.
+OWN_PARTS = {"capped_column": capped_column}
+
+
 def load(name: str):
     if name in samples.SAMPLES:
         return samples.SAMPLES[name]()
-    return load_shape(PARTS_DIR / f"{name}.brep")
+    if name in OWN_PARTS:
+        return OWN_PARTS[name]()
+    for suffix in (".brep", ".step"):
+        if (PARTS_DIR / f"{name}{suffix}").exists():
+            return load_shape(PARTS_DIR / f"{name}{suffix}")
+    raise SystemExit(f"no part named {name!r}: a sample ({', '.join(samples.SAMPLES)}), "
+                     f"{', '.join(OWN_PARTS)}, or a .brep/.step in {PARTS_DIR}")
 
 
 def prusa_roles(gcode: Path) -> dict[str, list[float]]:
