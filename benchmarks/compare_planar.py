@@ -121,6 +121,32 @@ def prusa_slice(stl: Path, orientation: str, supports: bool, work: Path) -> Slic
     return Slice(orientation, volume, support_volume(text), parse_time(text), out)
 
 
+def try_slice(stl: Path, orientation: str, supports: bool, work: Path) -> Slice | None:
+    """`prusa_slice`, or None where PrusaSlicer refuses (the screw lying on its side without
+    supports: "no extrusions in the first layer")."""
+    try:
+        return prusa_slice(stl, orientation, supports, work)
+    except subprocess.CalledProcessError:
+        return None
+
+
+def planar_baselines(stl: Path, work: Path) -> tuple[Slice, Slice | None]:
+    """PrusaSlicer's best orientation with supports (least filament), and its best
+    support-free print: the least filament among orientations its supported slice needs no
+    support in, sliced with supports off; else the best orientation with supports off (a
+    print that sags, for reference); None if PrusaSlicer refuses that too."""
+    with_support = [s for s in (try_slice(stl, o, True, work) for o in ORIENTATIONS) if s]
+    if not with_support:
+        raise SystemExit(f"PrusaSlicer sliced {stl.name} in no orientation")
+    best = min(with_support, key=lambda s: s.volume_cm3)
+    free = sorted((s for s in with_support if s.support_cm3 <= 0), key=lambda s: s.volume_cm3)
+    for candidate in [*free, best]:
+        bare = try_slice(stl, candidate.orientation, False, work)
+        if bare is not None:
+            return best, bare
+    return best, None
+
+
 def prusa_on_subparts(plan, work: Path) -> Slice:
     """PrusaSlicer (supports off) on each of our sub-parts stood on its base, summed: the same
     support-free geometry under the same rules, so what differs from our figures is the path
@@ -277,9 +303,7 @@ def main(names: list[str], roles: bool = False) -> int:
             shape = load(name)
             stl = work / f"{name}.stl"
             shape.exportStl(str(stl))
-            with_support = [prusa_slice(stl, o, True, work) for o in ORIENTATIONS]
-            best = min(with_support, key=lambda s: s.volume_cm3)
-            bare = prusa_slice(stl, best.orientation, False, work)
+            best, bare = planar_baselines(stl, work)
             try:
                 result, our_time, wall = ours(shape, name)
             except ConformalError as exc:
@@ -290,19 +314,25 @@ def main(names: list[str], roles: bool = False) -> int:
             pieces = prusa_on_subparts(result.plan, parts_dir)
             rows.append((name, best, bare, result, our_time, pieces))
             print(f"{name}: {len(result.subparts)} sub-parts, planned in {wall:.1f} s", flush=True)
-            if roles:
+            if roles and bare is not None:
                 print_roles(name, prusa_roles(bare.gcode), our_roles(result))
     print()
-    print(f"{'part':<10} {'PS best orientation':<20} {'PS+sup cm3':>10} {'sup cm3':>8} {'PS-sup cm3':>10} "
-          f"{'ours cm3':>9} {'ours/PS-sup':>11} {'ours/PS+sup':>11} | {'PS+sup':>7} {'PS-sup':>7} "
-          f"{'ours':>7} {'t/PS-sup':>8} {'t/PS+sup':>8} | {'our support':>11}")
+    print(f"{'part':<14} {'PS+sup orient.':<14} {'PS-sup orient.':<14} {'PS+sup cm3':>10} "
+          f"{'sup cm3':>8} {'PS-sup cm3':>10} {'ours cm3':>9} {'ours/PS-sup':>11} {'ours/PS+sup':>11} | "
+          f"{'PS+sup':>7} {'PS-sup':>7} {'ours':>7} {'t/PS-sup':>8} {'t/PS+sup':>8} | "
+          f"{'our support':>11}")
     for name, best, bare, result, our_time, *_ in rows:
         ours_cm3 = result.material_volume / 1000.0
         support = result.plan.support_area
-        print(f"{name:<10} {best.orientation:<20} {best.volume_cm3:>10.2f} {best.support_cm3:>8.2f} "
-              f"{bare.volume_cm3:>10.2f} {ours_cm3:>9.2f} {ours_cm3 / bare.volume_cm3:>11.3f} "
-              f"{ours_cm3 / best.volume_cm3:>11.3f} | {hms(best.seconds):>7} {hms(bare.seconds):>7} "
-              f"{hms(our_time):>7} {our_time / bare.seconds:>8.3f} {our_time / best.seconds:>8.3f} | "
+        free_orientation = bare.orientation if bare is not None else "(refused)"
+        free_cm3 = f"{bare.volume_cm3:>10.2f}" if bare is not None else f"{'-':>10}"
+        free_ratio = f"{ours_cm3 / bare.volume_cm3:>11.3f}" if bare is not None else f"{'-':>11}"
+        free_t = f"{hms(bare.seconds):>7}" if bare is not None else f"{'-':>7}"
+        free_t_ratio = f"{our_time / bare.seconds:>8.3f}" if bare is not None else f"{'-':>8}"
+        print(f"{name:<14} {best.orientation:<14} {free_orientation:<14} {best.volume_cm3:>10.2f} "
+              f"{best.support_cm3:>8.2f} {free_cm3} {ours_cm3:>9.2f} {free_ratio} "
+              f"{ours_cm3 / best.volume_cm3:>11.3f} | {hms(best.seconds):>7} {free_t} "
+              f"{hms(our_time):>7} {free_t_ratio} {our_time / best.seconds:>8.3f} | "
               f"{'none' if support <= 0 else f'{support:.0f} mm2':>11}")
     print("\nPrusaSlicer without supports on each of our sub-parts, stood on its base (the same "
           "support-free geometry under the same rules; the difference is path planning):")
