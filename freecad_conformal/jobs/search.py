@@ -28,7 +28,7 @@ import numpy as np
 
 from freecad_conformal.decomposition.planner import MIN_SAVING
 from freecad_conformal.decomposition.subparts import BuildPlan
-from freecad_conformal.errors import PlanError
+from freecad_conformal.errors import GeometryError, PlanError
 from freecad_conformal.geometry.overhang import (MIN_BASE_AREA, base_area, best_single_direction,
                                                  orientation_candidates, overhang_area)
 from freecad_conformal.geometry.sections import extent_along
@@ -156,10 +156,20 @@ def plan_candidates(solid, make_plan: Callable[[object, bool], tuple], layer_set
                 notes.append(f"no decomposition could be built ({exc}); built whole instead")
                 whole_along_best()
             continue
-        if split or len(makers) == 1:
-            made = _exact(label, placed, plan, split, layer_settings, path_settings, motion)
-        else:
-            made = _coarse(label, placed, plan, layer_settings, path_settings, motion)
+        try:
+            if split or len(makers) == 1:
+                made = _exact(label, placed, plan, split, layer_settings, path_settings, motion)
+            else:
+                made = _coarse(label, placed, plan, layer_settings, path_settings, motion)
+        except GeometryError as exc:
+            # A sub-part OCC cannot slice (the bottle's decomposition on OCCT 7.8): this
+            # candidate is lost, not the plan.
+            failures.append((label, exc))
+            if split:
+                notes.append(f"the decomposition could not be sliced ({exc}); built whole "
+                             "instead")
+                whole_along_best()
+            continue
         if made is None:
             failures.append((label, PlanError("the part is thinner than one layer")))
             continue
@@ -214,7 +224,8 @@ def _coarse(label: str, placed, plan: BuildPlan, layer_settings, path_settings: 
 def _refined(candidates: list[Candidate], layer_settings, path_settings: PathSettings,
              motion: Motion, objective: str) -> list[Candidate]:
     """`candidates` with the coarse ones that might win costed exactly: the best coarse
-    score and those within COARSE_MARGIN of it (ties of residual overhang only)."""
+    score and those within COARSE_MARGIN of it (ties of residual overhang only); should
+    none of those slice (OCC), the next ones in order until one does."""
     coarse = [c for c in candidates if not c.exact]
     if not coarse:
         return candidates
@@ -224,12 +235,19 @@ def _refined(candidates: list[Candidate], layer_settings, path_settings: PathSet
     best = min(value(c) for c in contenders)
     # In shares of the best time or material, as the balanced score counts them.
     unit = 1.0 if objective == "balanced" else (best or 1.0)
-    result = []
-    for c in candidates:
-        if not c.exact and c in contenders and value(c) <= best + max(COARSE_MARGIN, 0.0) * unit:
-            exact = _exact(c.label, c.placed, c.plan, False, layer_settings, path_settings,
-                           motion)
-            result.append(exact if exact is not None else c)
-        else:
-            result.append(c)
-    return result
+    replaced: dict[int, Candidate | None] = {}
+    lost: list[str] = []
+    for c in sorted(contenders, key=value):
+        near = value(c) <= best + max(COARSE_MARGIN, 0.0) * unit
+        if not near and any(r is not None for r in replaced.values()):
+            break
+        try:
+            replaced[id(c)] = _exact(c.label, c.placed, c.plan, False, layer_settings,
+                                     path_settings, motion) or c
+        except GeometryError as exc:
+            replaced[id(c)] = None     # its exact layers cannot be cut: not a plan
+            lost.append(f"{c.label}: {exc}")
+    result = [replaced.get(id(c), c) for c in candidates]
+    if not any(c is not None and c.exact for c in result):
+        raise PlanError("no candidate plan could be sliced: " + "; ".join(lost))
+    return [c for c in result if c is not None]

@@ -240,3 +240,34 @@ def test_bridge_infill_at_its_speed_shortens_the_t_and_the_cost_sees_it():
     checked = check_options(samples.t_block(), options)
     cost = plan_cost(fast.plan, fast.layers, checked[3], Motion.of(checked[4], options.jerk))
     assert cost.seconds == pytest.approx(fast.time_s, rel=CALIBRATION_GOAL)
+
+
+@pytest.mark.slow
+def test_a_decomposition_occ_cannot_slice_gives_way_to_the_whole_part(monkeypatch):
+    """A sub-part whose section OCC cannot cut (the bottle's decomposition on OCCT 7.8)
+    loses that candidate, not the plan: the solid is built whole, and the notes say why."""
+    from freecad_conformal.errors import GeometryError
+    from freecad_conformal.geometry.overhang import DEFAULT_OVERHANG_ANGLE
+    from freecad_conformal.jobs import search
+    from freecad_conformal.jobs.plan import machine_plan
+
+    jack = samples.jack()
+    options = plan_options({})
+    checked = check_options(jack, options)
+    real = search.plan_layers
+
+    def failing(sub, settings):
+        if sub.rule != "root":
+            raise GeometryError("the section at height 24.4 mm came back empty")
+        return real(sub, settings)
+
+    monkeypatch.setattr(search, "plan_layers", failing)
+
+    def make_plan(root, split):
+        return machine_plan(jack, PlanOptions(root=root, decompose=split))
+
+    found = search.plan_candidates(jack, make_plan, options.layers, checked[3],
+                                   Motion.of(checked[4], options.jerk), DEFAULT_OVERHANG_ANGLE)
+    assert [c.sub_parts for c in found] == [1] and found[0].exact
+    assert any("the decomposition could not be sliced (the section at height 24.4 mm" in note
+               for note in found[0].plan.notes)

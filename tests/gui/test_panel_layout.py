@@ -27,7 +27,9 @@ def test_job_labels_are_words_with_units_in_schema_groups():
     assert fields["TiltLayers"].label == "3-D layers"
     assert fields["Machine"].group == "Machine" and fields["Seam"].group == "Paths"
     groups = [name for name, _ in grouped(list(fields.values()))]
-    assert groups == ["Machine", "Layers", "Paths", "Cooling"]
+    assert groups == ["Machine", "Layers", "Paths", "Speeds", "Cooling"]
+    assert fields["BridgeInfillSpeed"].label == "Bridge infill speed [mm/s]"
+    assert fields["BridgeInfillSpeed"].empty_means == "the solid infill speed"
     assert fields["Tool"].picks == "tools" and fields["Material"].picks == "materials"
     assert fields["Dialect"].picks == "dialects" and fields["Root"].picks == "root"
     assert fields["Material"].empty_means == "the tool's first material"

@@ -1,0 +1,76 @@
+"""B-spline-heavy parts of our own making for the speed benchmarks (no test uses them).
+
+Issue 16 asks the plan choice to stay within 20 s on parts like these, which took minutes to
+decompose when tried as a new user would: a modelled screw thread (a profile swept along a
+helix), fan blades (lofted twisted sections on a hub) and a small free-form connecting rod
+(a loft through ellipses between two bosses).
+"""
+from __future__ import annotations
+
+import math
+
+from freecad_conformal.freecad_env import import_freecad
+
+
+def screw_thread(radius: float = 5.0, length: float = 24.0, pitch: float = 2.0):
+    """An M10-like screw: a core with a triangular thread swept along a helix, on a hex head."""
+    App, Part = import_freecad()
+    V = App.Vector
+    root = radius - 0.8       # the profile's base sinks 0.2 mm into the core: no shared face
+    helix = Part.makeHelix(pitch, length, root)
+    profile = Part.makePolygon([V(root, 0, -0.7), V(radius + 0.1, 0, 0), V(root, 0, 0.7),
+                                V(root, 0, -0.7)])
+    sweep = Part.Wire(helix).makePipeShell([profile], True, True)
+    core = Part.makeCylinder(radius - 0.6, length + 1.0, V(0, 0, -0.5))
+    thread = core.fuse(sweep).Solids[0]
+    head = Part.makePolygon([V(8 * math.cos(a), 8 * math.sin(a), -6.0)
+                             for a in [k * math.pi / 3 for k in range(7)]])
+    hexagon = Part.Face(head).extrude(V(0, 0, 6.0))
+    return hexagon.fuse(thread).Solids[0]
+
+
+def fan(blades: int = 5, hub: float = 8.0, span: float = 22.0):
+    """A hub with twisted blades, each lofted through three cambered sections."""
+    App, Part = import_freecad()
+    V = App.Vector
+    shape = Part.makeCylinder(hub, 12.0)
+    for k in range(blades):
+        turn = 360.0 * k / blades
+        sections = []
+        for r, twist, chord in ((hub - 1.0, 35.0, 9.0), (hub + span / 2, 25.0, 8.0),
+                                (hub + span, 15.0, 6.0)):
+            t = math.radians(twist)
+            points = [V(r, chord * s * math.cos(t), 6.0 + chord * s * math.sin(t)
+                        + 0.8 * (1 - 4 * s * s)) for s in (-0.5, -0.25, 0.0, 0.25, 0.5)]
+            back = [V(r, p.y, p.z - 1.2) for p in reversed(points)]
+            curve = Part.BSplineCurve()
+            curve.interpolate(points + back + [points[0]], PeriodicFlag=False)
+            sections.append(Part.Wire(curve.toShape()))
+        blade = Part.makeLoft(sections, True, False)
+        blade.rotate(V(0, 0, 0), V(0, 0, 1), turn)
+        shape = shape.fuse(blade)
+    return shape.removeSplitter().Solids[0]
+
+
+def connecting_rod(length: float = 60.0):
+    """Two bosses joined by a curved shank lofted through ellipses that narrow mid-way."""
+    App, Part = import_freecad()
+    V = App.Vector
+    sections = []
+    for k in range(5):
+        s = k / 4
+        x = length * s
+        y = 4.0 * math.sin(math.pi * s)
+        a, b = 4.0 - 1.5 * math.sin(math.pi * s), 3.0
+        ellipse = Part.Ellipse(V(x, y, b), a, b) if a >= b else Part.Ellipse(V(x, y, b), b, a)
+        wire = Part.Wire(ellipse.toShape())
+        wire.rotate(V(x, y, b), V(0, 1, 0), 90)
+        sections.append(wire)
+    shank = Part.makeLoft(sections, True, False)
+    big = Part.makeCylinder(9.0, 6.0, V(0, 0, 0)).cut(Part.makeCylinder(5.0, 6.0, V(0, 0, 0)))
+    small = Part.makeCylinder(6.0, 6.0, V(length, 0, 0)).cut(
+        Part.makeCylinder(3.0, 6.0, V(length, 0, 0)))
+    return big.fuse(small).fuse(shank).removeSplitter().Solids[0]
+
+
+OWN_PARTS = {"screw_thread": screw_thread, "fan": fan, "connecting_rod": connecting_rod}
