@@ -60,11 +60,15 @@ class _EdgeData:
 class FaceCutter:
     """Plane sections of one solid, face by face (see the module docstring)."""
 
-    def __init__(self, solid, normal: np.ndarray) -> None:
+    def __init__(self, solid, normal: np.ndarray, shared: dict | None = None) -> None:
+        """`shared`: what does not depend on the normal (faces' parameter domains, edges'
+        and faces' boxes), kept across the cutters of one solid along many normals (3-D
+        layers cut every plane along its own)."""
         App, Part = import_freecad()
         self._App, self._Part = App, Part
         self.solid = solid
         self.n = np.asarray(normal, dtype=float)
+        self._shared = shared if shared is not None else {}
         self._vertex_heights = np.array([np.dot(tuple(v.Point), self.n) for v in solid.Vertexes])
         self.edges: list[_EdgeData] = []
         self.faces: list[_FaceData] = []
@@ -79,13 +83,17 @@ class FaceCutter:
                 key = edge.hashCode()
                 if key not in index_of:
                     index_of[key] = len(self.edges)
-                    self.edges.append(_EdgeData(edge, edge_crosser(edge, self.n), *self._span(edge), []))
+                    self.edges.append(_EdgeData(edge, edge_crosser(edge, self.n),
+                                                *self._span(edge, ("edge", key)), []))
                 data = self.edges[index_of[key]]
                 if face_index not in data.faces:
                     data.faces.append(face_index)
                 if index_of[key] not in ids:
                     ids.append(index_of[key])
-            self.faces.append(_FaceData(face, FaceDomain(face), *self._span(face), ids,
+            domain = self._shared.get(("domain", face_index))
+            if domain is None:
+                domain = self._shared[("domain", face_index)] = FaceDomain(face)
+            self.faces.append(_FaceData(face, domain, *self._span(face, ("face", face_index)), ids,
                                         tuple(face.ParameterRange)))
 
     def prepare(self) -> None:
@@ -93,8 +101,10 @@ class FaceCutter:
         for data in self.faces:
             data.domain.prepare()
 
-    def _span(self, shape) -> tuple[float, float]:
-        box = optimal_box(shape)  # not `BoundBox`: see boxes.py
+    def _span(self, shape, key) -> tuple[float, float]:
+        box = self._shared.get(("box", key))
+        if box is None:
+            box = self._shared[("box", key)] = optimal_box(shape)  # not `BoundBox`: boxes.py
         corners = np.array([[x, y, z] for x in (box.XMin, box.XMax) for y in (box.YMin, box.YMax)
                             for z in (box.ZMin, box.ZMax)]) @ self.n
         slack = shape.getTolerance(1) + VERTEX_CLEARANCE

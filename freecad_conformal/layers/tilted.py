@@ -136,10 +136,12 @@ class _Sections:
     """Sections of one sub-part by planes of any normal (slicers of the last few normals
     kept); `cuts` counts the OCC Booleans."""
 
-    def __init__(self, shape, subpart: int) -> None:
+    def __init__(self, shape, subpart: int, base: PlanarSlicer | None = None) -> None:
         self.shape = shape
         self.subpart = subpart
         self.cuts = 0
+        #: the sub-part's planar slicer, turned for each new normal (its checks reused)
+        self._base = base
         self._slicers: OrderedDict[tuple[float, ...], PlanarSlicer] = OrderedDict()
 
     def at(self, point: np.ndarray, normal: np.ndarray) -> PlanarSection:
@@ -149,7 +151,8 @@ class _Sections:
         key = tuple(np.round(normal, 12))
         slicer = self._slicers.get(key)
         if slicer is None:
-            slicer = self._slicers[key] = PlanarSlicer(self.shape, normal)
+            slicer = self._slicers[key] = (self._base.turned(normal) if self._base is not None
+                                           else PlanarSlicer(self.shape, normal))
             while len(self._slicers) > SLICER_CACHE:
                 self._slicers.popitem(last=False)
         else:
@@ -199,7 +202,7 @@ def tilted_layers(subpart: SubPart, slicer: PlanarSlicer, low: float, high: floa
     """3-D layers of a sub-part whose centroidal axis bends (see the module docstring)."""
     d_min, d_max = settings.bounds
     nominal = settings.thickness if settings.mode == "uniform" else d_max
-    sections = _Sections(subpart.shape, subpart.index)
+    sections = _Sections(subpart.shape, subpart.index, slicer)
     normal = slicer.frame.n
     lower = _first_section(slicer, low, high, nominal)
     plane_point = lower.height * normal
