@@ -1,6 +1,7 @@
 """Wall time of `plan` against PrusaSlicer's CLI on the same part, in the same run.
 
-For every part in ../shared/parts and the built-in samples: our plan in a fresh process (its
+For every part in ../shared/parts, the built-in samples and the B-spline-heavy parts of our
+own making (benchmarks/own_parts.py: a screw thread, a fan, a connecting rod): our plan in a fresh process (its
 wall time, peak memory and time per stage: plan choice (decomposition or candidate
 orientations, laid out, sliced and costed: jobs/plan.choose_plan), layers not already sliced
 by the choice, paths, post, preview and files) and PrusaSlicer slicing the part's STL as modelled with the settings of
@@ -28,6 +29,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 PARTS_DIR = ROOT.parent / "shared" / "parts"
+from own_parts import OWN_PARTS  # noqa: E402  (B-spline-heavy parts of our own making)
 SAMPLES = ("bracket", "jack", "hinge")
 #: What each stage of ours is: (module, function) wrapped with a timer in the child process.
 STAGES = {"plan choice": ("freecad_conformal.jobs.plan", "choose_plan"),
@@ -91,14 +93,23 @@ def prusa(shape, work: Path) -> float:
     return time.perf_counter() - started
 
 
+def _own_part(name: str, folder: Path) -> str:
+    """A part of benchmarks/own_parts.py written as BREP, as a user's file would be."""
+    path = folder / f"{name}.brep"
+    OWN_PARTS[name]().exportBrep(str(path))
+    return str(path)
+
+
 def main(names: list[str]) -> int:
     from freecad_conformal.geometry.samples import load_part
 
     if shutil.which("prusa-slicer") is None:
         print("prusa-slicer is not installed: TMPDIR=/var/tmp apt-get install -y prusa-slicer")
         return 1
+    own_folder = Path(tempfile.mkdtemp(prefix="plan_speed_own_"))
     parts = names or [str(p) for p in sorted(PARTS_DIR.glob("*"))
-                      if p.suffix.lower() in (".step", ".brep")] + list(SAMPLES)
+                      if p.suffix.lower() in (".step", ".brep")] + list(SAMPLES) + list(OWN_PARTS)
+    parts = [_own_part(name, own_folder) if name in OWN_PARTS else name for name in parts]
     print(f"{'part':22} {'ours s':>8} {'prusa s':>8} {'ratio':>6} {'peak MB':>8}  "
           "largest stage        stages (s)")
     misses = []
