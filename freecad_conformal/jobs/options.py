@@ -5,11 +5,11 @@ from __future__ import annotations
 import math
 from typing import Any, Mapping
 
-from freecad_conformal.jobs.plan import SPEED_ROLES, PlanOptions
+from freecad_conformal.jobs.plan import PlanOptions
 from freecad_conformal.layers.model import LayerSettings
 from freecad_conformal.paths.assemble import Feeds, PathSettings
 from freecad_conformal.paths.fill2d import FillSettings
-from freecad_conformal.settings.plan import PLAN_SETTINGS
+from freecad_conformal.settings.plan import PLAN_SETTINGS, SPEED_ROLES
 from freecad_conformal.settings.schema import validate
 
 SECONDS_PER_MINUTE = 60.0

@@ -24,6 +24,7 @@ from freecad_conformal.layers.plan import plan_layers
 from freecad_conformal.decomposition.subparts import BuildPlan
 from freecad_conformal.post.branches import choose_rotary
 from freecad_conformal.post.kinematics import rotary_candidates
+from freecad_conformal.settings.plan import SPEED_ROLES
 from freecad_conformal.post.machine import Machine, load_machine
 from freecad_conformal.post.program import PostResult, post_toolpath
 
@@ -227,11 +228,6 @@ def centred_if_off_platform(shape, machine: Machine):
 def _part_size(shape) -> float:
     box = shape.BoundBox
     return float(min(box.XLength, box.YLength, box.ZLength))
-
-
-#: Feeds (paths/assemble.Feeds) each with a `<role>_speed` plan setting.
-SPEED_ROLES = ("external_perimeter", "perimeter", "small_perimeter", "infill", "solid_infill",
-               "bridge_infill", "travel")
 
 
 def _settings(options: PlanOptions, tool, material) -> tuple[float, PathSettings]:

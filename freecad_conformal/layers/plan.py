@@ -10,6 +10,17 @@ from freecad_conformal.layers.planar import planar_bounds, planar_layers
 from freecad_conformal.layers.tilted import axis_bends, tilted_layers
 
 
+def _along_build_direction(subpart: SubPart,
+                           settings: LayerSettings) -> tuple[PlanarSlicer, float, float]:
+    """The settings checked, and the sub-part's slicer and exact extent along its build
+    direction."""
+    settings.validate()
+    direction = unit(subpart.build_direction, f"build direction of sub-part {subpart.index}")
+    slicer = PlanarSlicer(subpart.shape, direction)
+    low, high = extent_along(subpart.shape, slicer.frame.n)
+    return slicer, low, high
+
+
 def plan_layers(subpart: SubPart, settings: LayerSettings) -> list[Layer]:
     """Layers of one sub-part along its build direction, in deposition order (none for a
     sliver thinner than ΔL_min; the job notes it).
@@ -17,14 +28,11 @@ def plan_layers(subpart: SubPart, settings: LayerSettings) -> list[Layer]:
     Raises:
         PlanError: bad settings, or a 3-D layer that cannot stay within [ΔL_min, ΔL_max].
     """
-    settings.validate()
-    direction = unit(subpart.build_direction, f"build direction of sub-part {subpart.index}")
-    slicer = PlanarSlicer(subpart.shape, direction)
-    low, high = extent_along(subpart.shape, slicer.frame.n)
-    bounds = planar_bounds(subpart.shape, slicer, low, high, settings)
+    slicer, low, high = _along_build_direction(subpart, settings)
     if high - low < settings.bounds[0]:
         return []      # a sliver thinner than the thinnest layer: nothing a bead can build
-    layers = planar_layers(subpart.index, slicer, bounds)
+    layers = planar_layers(subpart.index, slicer,
+                           planar_bounds(subpart.shape, slicer, low, high, settings))
     if settings.tilt and len(layers) > 2:
         if axis_bends(layers, settings.bounds):
             layers = tilted_layers(subpart, slicer, low, high, settings)
@@ -40,12 +48,9 @@ def sampled_layers(subpart: SubPart, settings: LayerSettings,
     Raises:
         PlanError: bad settings, or `every` below 1.
     """
-    settings.validate()
     if every < 1:
         raise PlanError(f"layers sampled every {every!r}: must be at least 1")
-    direction = unit(subpart.build_direction, f"build direction of sub-part {subpart.index}")
-    slicer = PlanarSlicer(subpart.shape, direction)
-    low, high = extent_along(subpart.shape, slicer.frame.n)
+    slicer, low, high = _along_build_direction(subpart, settings)
     if high - low < settings.bounds[0]:
         return [], 0.0
     bounds = planar_bounds(subpart.shape, slicer, low, high,

@@ -105,13 +105,22 @@ class Assembly:
     moves_checked: int
 
 
+def solid_areas(layers: Sequence[Layer], settings: PathSettings,
+                rests_on_parent: bool) -> tuple[list, list]:
+    """Per layer, its skin (the solid area) and the part of it over sparse infill filled
+    apart as bridge infill (None where bridges are not filled apart): the fill's and the
+    cost estimate's one reading of a stack (`paths.map3d`)."""
+    skins = skin_regions(layers, settings.top_layers, settings.bottom_layers, rests_on_parent)
+    bridges = (bridge_regions(layers, skins, settings.fill.solid_below_area)
+               if settings.feeds.bridges_apart else [None] * len(layers))
+    return skins, bridges
+
+
 def plan_paths(layers: Sequence[Layer], settings: PathSettings, rests_on_parent: bool,
                position: np.ndarray | None) -> list[list[Path3D]]:
     """Ordered 3D paths per layer of one sub-part, starting near `position`."""
     tolerance = settings.fill.bead_width * SIMPLIFY_FRACTION
-    skins = skin_regions(layers, settings.top_layers, settings.bottom_layers, rests_on_parent)
-    bridges = (bridge_regions(layers, skins, settings.fill.solid_below_area)
-               if settings.feeds.bridges_apart else [None] * len(layers))
+    skins, bridges = solid_areas(layers, settings, rests_on_parent)
     result = []
     for layer, skin, bridge in zip(layers, skins, bridges):
         here = layer.frame.to_2d(position[None])[0] if position is not None else None

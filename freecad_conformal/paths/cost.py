@@ -29,12 +29,12 @@ from freecad_conformal.decomposition.subparts import BuildPlan
 from freecad_conformal.layers.model import Layer
 from freecad_conformal.paths.approach import SAFE_MARGIN, bounding_sphere, transition
 from freecad_conformal.paths.assemble import (PERIMETER_ROLES, SIMPLIFY_FRACTION,
-                                              SMALL_PERIMETER_LENGTH, PathSettings, together)
+                                              SMALL_PERIMETER_LENGTH, PathSettings, solid_areas,
+                                              together)
 from freecad_conformal.paths.bead import bead_area, bead_spacing
 from freecad_conformal.paths.fill2d import (LINE_END_INSET, MITRE_LIMIT, fewest_turns_angle,
                                             infill_areas, perimeter_rings, polygons_of,
                                             scan_pieces, valid_region)
-from freecad_conformal.paths.map3d import bridge_regions, skin_regions
 from freecad_conformal.paths.timing import DEFAULT_JERK, junction_speeds, move_times
 
 #: The estimate's promise: within 10 % of the full plan's time and material (issue 16).
@@ -249,9 +249,7 @@ def layer_cost(layer: Layer, skin, settings: PathSettings, motion: Motion,
 def subpart_cost(index: int, layers: Sequence[Layer], settings: PathSettings, motion: Motion,
                  rests_on_parent: bool) -> SubPartCost:
     """Every layer's cost of one sub-part (skins as the fill sees them)."""
-    skins = skin_regions(layers, settings.top_layers, settings.bottom_layers, rests_on_parent)
-    bridges = (bridge_regions(layers, skins, settings.fill.solid_below_area)
-               if settings.feeds.bridges_apart else [None] * len(layers))
+    skins, bridges = solid_areas(layers, settings, rests_on_parent)
     return SubPartCost(index, [layer_cost(layer, skin, settings, motion, bridge)
                                for layer, skin, bridge in zip(layers, skins, bridges)])
 

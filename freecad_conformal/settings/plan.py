@@ -112,3 +112,7 @@ PLAN_SETTINGS: tuple[Setting, ...] = (
             "cooling never slows printing below this", group="cooling",
             minimum=0.0, open_minimum=True),
 )
+
+#: Print roles with a `<role>_speed` setting (fields of paths/assemble.Feeds).
+SPEED_ROLES = tuple(s.key.removesuffix("_speed") for s in PLAN_SETTINGS
+                    if s.group == "speeds" and s.key.endswith("_speed"))

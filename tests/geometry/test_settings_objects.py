@@ -102,18 +102,24 @@ def test_an_old_job_without_the_new_properties_still_plans_with_defaults(doc, Pa
     assert options.root == (0.0, 0.0, 1.0)
 
 
-def test_a_new_decomposition_has_the_decompose_commands_defaults(doc, Part):
-    """The GUI once stopped at 12 sub-parts and the library at 24."""
-    from freecad_conformal.objects.analysis_feature import create_decomposition
+def _new_object_and_command(doc, Part, create, command: str, settings):
+    """(checked values of a new object on a box, checked defaults of `command p.step`)."""
     from freecad_conformal.objects.properties import values_from_object
-    from freecad_conformal.settings.decompose import DECOMPOSE_SETTINGS
 
     body = doc.addObject("Part::Feature", "Body")
     body.Shape = Part.makeBox(10, 10, 10)
-    decomposition = create_decomposition(doc, body)
-    gui = validate(DECOMPOSE_SETTINGS, values_from_object(decomposition, DECOMPOSE_SETTINGS))
-    cli = validate(DECOMPOSE_SETTINGS, values_from_args(_cli(["decompose", "p.step"]),
-                                                        DECOMPOSE_SETTINGS))
+    made = create(doc, body)
+    return (validate(settings, values_from_object(made, settings)),
+            validate(settings, values_from_args(_cli([command, "p.step"]), settings)))
+
+
+def test_a_new_decomposition_has_the_decompose_commands_defaults(doc, Part):
+    """The GUI once stopped at 12 sub-parts and the library at 24."""
+    from freecad_conformal.objects.analysis_feature import create_decomposition
+    from freecad_conformal.settings.decompose import DECOMPOSE_SETTINGS
+
+    gui, cli = _new_object_and_command(doc, Part, create_decomposition, "decompose",
+                                       DECOMPOSE_SETTINGS)
     assert gui == cli and gui["max_subparts"] == 24
     assert validate(DECOMPOSE_SETTINGS, values_from_args(
         _cli(["decompose", "p.step", "--no-collision"]), DECOMPOSE_SETTINGS))["collision"] is False
@@ -122,16 +128,11 @@ def test_a_new_decomposition_has_the_decompose_commands_defaults(doc, Part):
 def test_new_sections_have_the_sections_commands_defaults(doc, Part):
     """Sections once had their own properties: a cylinder axis of their own, radii as
     start/end/step where the command took a list."""
-    from freecad_conformal.objects.properties import values_from_object
     from freecad_conformal.objects.sections_feature import create_sections
     from freecad_conformal.settings.sections import SECTIONS_SETTINGS
 
-    body = doc.addObject("Part::Feature", "Body")
-    body.Shape = Part.makeBox(10, 10, 10)
-    sections = create_sections(doc, body)
-    gui = validate(SECTIONS_SETTINGS, values_from_object(sections, SECTIONS_SETTINGS))
-    cli = validate(SECTIONS_SETTINGS, values_from_args(_cli(["sections", "p.step"]),
-                                                       SECTIONS_SETTINGS))
+    gui, cli = _new_object_and_command(doc, Part, create_sections, "sections",
+                                       SECTIONS_SETTINGS)
     assert gui == cli and gui["mode"] == "planar" and gui["layer"] == 1.0
 
 
