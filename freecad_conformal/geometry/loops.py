@@ -25,12 +25,31 @@ def dense_area(faces, frame, samples: int = 2001) -> float:
     """Area of planar section faces by the shoelace formula on their wires sampled densely
     in parameter (`samples` per edge): a check of OCC's area integration independent of it.
     A face's outer loop is taken as its largest (`isSame` misses on some Boolean faces)."""
-    total = 0.0
+    return dense_area_centroid(faces, frame, samples)[0]
+
+
+def dense_area_centroid(faces, frame, samples: int = 2001) -> tuple[float, np.ndarray]:
+    """`dense_area` and the faces' centroid in the frame's 2D coordinates, from the same
+    densely sampled polygons (a check of OCC's moment integration too)."""
+    total, moment = 0.0, np.zeros(2)
     for face in faces:
-        areas = sorted((abs(signed_area(frame.to_2d(_dense_points(wire, samples))))
-                        for wire in face.Wires), reverse=True)
-        total += areas[0] - sum(areas[1:])
-    return total
+        rings = [frame.to_2d(_dense_points(wire, samples)) for wire in face.Wires]
+        measured = sorted(((abs(signed_area(r)), _centroid(r)) for r in rings),
+                          key=lambda item: -item[0])
+        for index, (area, centroid) in enumerate(measured):
+            sign = 1.0 if index == 0 else -1.0
+            total += sign * area
+            moment += sign * area * centroid
+    return total, moment / total if total else moment
+
+
+def _centroid(points: np.ndarray) -> np.ndarray:
+    """Centroid of a closed polygon (first point not repeated), either orientation."""
+    x, y = points[:, 0], points[:, 1]
+    x1, y1 = np.roll(x, -1), np.roll(y, -1)
+    cross = x * y1 - x1 * y
+    area = 0.5 * cross.sum()
+    return np.array([((x + x1) * cross).sum(), ((y + y1) * cross).sum()]) / (6.0 * area)
 
 
 def _dense_points(wire, samples: int) -> np.ndarray:

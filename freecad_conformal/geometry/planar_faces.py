@@ -74,7 +74,8 @@ def _chain(pieces: list[Piece]) -> list | None:
                 return None
             used[following[0]] = True
             more, a, b = pieces[following[0]]
-            chain.extend(more)
+            # A piece of several edges walked from its far end joins edge by edge backwards.
+            chain.extend(more if a == current else more[::-1])
             current = b if a == current else a
         try:
             wire = Part.Wire(chain)

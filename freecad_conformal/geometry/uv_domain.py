@@ -39,7 +39,6 @@ class FaceDomain:
         if self._polygon is None and not self._broken:
             try:
                 self._polygon, self._size = _domain_polygon(self.face)
-                self._low = self._polygon.bounds[:2]
             except (ValueError, shapely.errors.ShapelyError):
                 self._broken = True    # a boundary without curves on the face: ask OCC
 
@@ -49,17 +48,31 @@ class FaceDomain:
         if self._broken:
             return bool(self.face.isInside(point, CLASSIFY_TOLERANCE, True))
         u, v = self.surface.parameter(point)
-        low_u, low_v = self._low
-        if self._u_period:
-            u = low_u + (u - low_u) % self._u_period
-        if self._v_period:
-            v = low_v + (v - low_v) % self._v_period
         step = UV_AMBIGUOUS * self._size
-        verdicts = shapely.contains_xy(self._polygon, np.array([u, u - step, u + step, u, u]),
-                                       np.array([v, v, v, v - step, v + step]))
-        if verdicts.all() or not verdicts.any():
-            return bool(verdicts[0])
+        ambiguous = False
+        for u_copy in self._copies(u, 0, self._u_period):
+            for v_copy in self._copies(v, 1, self._v_period):
+                verdicts = shapely.contains_xy(
+                    self._polygon, np.array([u_copy, u_copy - step, u_copy + step, u_copy, u_copy]),
+                    np.array([v_copy, v_copy, v_copy, v_copy - step, v_copy + step]))
+                if verdicts.all():
+                    return True
+                ambiguous = ambiguous or bool(verdicts.any())
+        if not ambiguous:
+            return False
         return bool(self.face.isInside(point, CLASSIFY_TOLERANCE, True))
+
+    def _copies(self, value: float, axis: int, period: float) -> list[float]:
+        """`value` and its copies a period apart that fall in the domain's range along
+        `axis`: a face may span more than one period (a thread's crest on its cylinder winds
+        round twice, u from 0.12 to 12.4), so a point of its second turn must not be
+        folded onto the first."""
+        if not period:
+            return [value]
+        low, high = self._polygon.bounds[axis], self._polygon.bounds[axis + 2]
+        first = low + (value - low) % period
+        return [float(c) for c in np.arange(first, max(high, first) + 0.5 * period, period)
+                if c <= high or c == first]
 
 
 def _domain_polygon(face):

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from freecad_conformal.geometry.face_sections import FaceCutter
-from freecad_conformal.geometry.loops import dense_area
+from freecad_conformal.geometry.loops import dense_area, dense_area_centroid
 from freecad_conformal.geometry.sections import PlanarSlicer, uniform_heights
 from freecad_conformal.geometry.solids import load_shape
 from freecad_conformal.geometry.torus_sections import FIT_TOLERANCE, torus_plane_curves
@@ -46,6 +46,7 @@ def _compare(shape, direction, spacing):
     ("Pump_Nut.brep", (0, 0, 1)), ("Pump_Nut.brep", (0.3, -0.5, 0.8)),
     ("bottle.brep", (1, 0, 0)), ("CrankArm.brep", (0, 0, 1)), ("CrankArm.brep", (1, 1, 1)),
     ("MODERN_Table_1.brep", (1, 1, 1)), ("screw.step", (0, 0, 1)),
+    ("sliced_cylinder.step", (1, 0, 0)),
 ])
 def test_face_by_face_sections_match_the_boolean(parts_dir, name, direction):
     shape = load_shape(parts_dir / name)
@@ -54,12 +55,30 @@ def test_face_by_face_sections_match_the_boolean(parts_dir, name, direction):
     assert len(done) >= 0.5 * len(rows), f"only {len(done)} of {len(rows)} layers face by face"
     for height, fast, reference in done:
         assert len(fast.faces) == len(reference.faces), height
-        assert fast.area == pytest.approx(reference.area, rel=AREA_REL, abs=AREA_ABS), height
         if reference.area > 0:
             difference = fast.polygons().symmetric_difference(reference.polygons()).area
             bound = CHORD * reference.polygons().length + 1e-3 * reference.area
             assert difference <= bound, (height, difference, bound)
-            assert np.allclose(fast.centroid, reference.centroid, atol=1e-3 * math.sqrt(reference.area))
+        area, centroid = reference.area, reference.centroid
+        if not _agree(fast, area, centroid):
+            area, centroid = _dense_truth(reference)   # the Boolean's own integral may err
+        assert fast.area == pytest.approx(area, rel=AREA_REL, abs=AREA_ABS), height
+        assert _agree(fast, area, centroid), (height, fast.centroid, centroid)
+
+
+def _agree(fast, area: float, centroid) -> bool:
+    if area <= 0:       # an empty section has no centroid
+        return fast.area == 0
+    return (fast.area == pytest.approx(area, rel=AREA_REL, abs=AREA_ABS)
+            and np.allclose(fast.centroid, centroid, atol=1e-3 * math.sqrt(area)))
+
+
+def _dense_truth(reference):
+    """The Boolean section's area and centroid from its wires sampled densely, independent
+    of OCC's boundary integrals: those err where a wire has gaps within its edges'
+    tolerances (the bottle's neck along X: 0.034 mm² and 0.012 mm off)."""
+    area, uv = dense_area_centroid(reference.faces, reference.frame)
+    return area, reference.frame.to_3d(uv[None, :], reference.height)[0]
 
 
 @pytest.mark.parts
@@ -146,3 +165,55 @@ def test_torus_segment_sections_match_the_boolean_in_a_mirrored_frame_too(App, P
             # a dense polygon on its own wires; ours agrees with that polygon to 1e-7.
             assert mine.area == pytest.approx(dense_area(reference.faces, reference.frame), rel=5e-6, abs=1e-9)
             assert len(mine.faces) == len(reference.faces)
+
+
+@pytest.mark.parts
+@pytest.mark.parametrize("name, direction, least", [
+    ("sliced_cylinder.step", (1, 0, 0), 0.85), ("bottle.brep", (1, 0, 0), 0.9),
+])
+def test_edges_off_their_faces_by_their_tolerance_are_cut_face_by_face(parts_dir, name, direction,
+                                                                      least):
+    """Elliptic arcs and thread edges stored with tolerances up to 2e-2 mm: their crossings
+    lie off the plane∩face curves by more than ON_CURVE (every sliced_cylinder layer along X
+    and a quarter of the bottle's went to the Boolean)."""
+    shape = load_shape(parts_dir / name)
+    slicer = PlanarSlicer(shape, direction)
+    slicer.sections(uniform_heights(shape, slicer.frame.n, 0.3))
+    done, total = slicer.counts["face_by_face"], sum(slicer.counts.values())
+    assert done >= least * total, slicer.counts
+
+
+def test_pieces_walked_from_their_far_end_join_into_a_closed_wire(App, Part):
+    """The unit square from three pieces, the middle one listed from the end the walk
+    reaches last: its edges must be added in reverse, or the wire breaks open."""
+    from freecad_conformal.geometry.planar_faces import faces_from_pieces
+
+    def segment(a, b):
+        return Part.LineSegment(App.Vector(*a, 0), App.Vector(*b, 0)).toShape()
+
+    bottom = ([segment((0, 0), (1, 0))], 0, 1)
+    right = ([segment((1, 1), (1, 0.5)), segment((1, 0.5), (1, 0))], 2, 1)
+    top_left = ([segment((1, 1), (0, 1)), segment((0, 1), (0, 0))], 2, 0)
+    faces = faces_from_pieces([bottom, right, top_left], 3, Part.Plane(App.Vector(), App.Vector(0, 0, 1)))
+    assert faces is not None and [f.area for f in faces] == [pytest.approx(1.0, rel=1e-12)]
+
+
+def test_a_face_winding_twice_round_its_cylinder_holds_points_of_its_second_turn(App, Part):
+    """A helical strip: u from 0 to 4π, v rising 8 mm over it, 2 mm wide. Above the angle π
+    it covers z 2..4 (first turn) and 6..8 (second); folding u into one period (as OCC's
+    own classifier does) loses the second turn."""
+    from FreeCAD import Base
+
+    from freecad_conformal.geometry.uv_domain import FaceDomain
+
+    cylinder = Part.Cylinder()
+    cylinder.Radius = 10
+    corners = [(0, 0), (4 * math.pi, 8), (4 * math.pi, 10), (0, 2)]
+    edges = [Part.Geom2d.Line2dSegment(Base.Vector2d(*corners[i]), Base.Vector2d(*corners[i - 3]))
+             .toShape(cylinder) for i in range(4)]
+    strip = Part.Face(cylinder, Part.Wire(edges))
+    strip.validate()    # orients the wire so that the strip, not its complement, is the face
+    assert strip.Area == pytest.approx(4 * math.pi * 10 * 2, rel=1e-9)
+    domain = FaceDomain(strip)
+    verdicts = {z: domain.contains(App.Vector(-10, 0, z)) for z in (3, 5, 7, 9)}
+    assert verdicts == {3: True, 5: False, 7: True, 9: False}
