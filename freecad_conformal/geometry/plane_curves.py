@@ -123,14 +123,39 @@ class CurveCrosser:
 def surface_curves(surface, parameter_range, plane, n: np.ndarray, height: float) -> list | None:
     """The plane's intersection curves with a face's whole surface (None: OCC failed);
     `parameter_range` is the face's (u0, u1, v0, v1)."""
-    if type(surface).__name__ == "Toroid":
+    kind = type(surface).__name__
+    if kind == "Toroid":
         curves = torus_plane_curves(surface, n, height, parameter_range)
         if curves is not None:
             return curves
+    if kind == "Sphere":
+        return sphere_plane_circle(surface, n, height)
     try:
         return list(surface.intersectSS(plane))
     except Exception:  # noqa: BLE001 - OCC raises bare Standard_Failure types here
         return None
+
+
+def sphere_plane_circle(sphere, n: np.ndarray, height: float) -> list | None:
+    """The plane n·p = height ∩ a sphere as one whole circle ([] if they miss, None if the
+    plane touches it). OCC's own answer is split into two arcs at the sphere's seam on
+    some planes, and an arc end that is no crossing point made the layer fall back: 14 of
+    the bottle's layers along X."""
+    App, Part = import_freecad()
+    centre = np.array(tuple(sphere.Center))
+    offset = height - float(centre @ n)
+    radius_squared = sphere.Radius ** 2 - offset ** 2
+    if radius_squared <= 0.0:
+        return [] if -radius_squared > (TANGENT_SLACK * sphere.Radius) ** 2 else None
+    radius = math.sqrt(radius_squared)
+    if radius < TANGENT_SLACK * sphere.Radius:
+        return None
+    return [Part.Circle(App.Vector(*(centre + offset * n)), App.Vector(*n), radius)]
+
+
+#: A plane within this fraction of a sphere's radius of touching it is a tangent case,
+#: left to the Boolean.
+TANGENT_SLACK = 1e-6
 
 
 def finite(parameter: float) -> bool:
