@@ -69,6 +69,35 @@ def default_workers() -> int:
     return max(1, min(os.cpu_count() or 1, 8))
 
 
+#: Sections × faces below which `workers=AUTO` stays in this process: a worker costs a
+#: fork (FreeCAD 0.20: ~20 ms) or a fresh interpreter that reads the solids again (1.x:
+#: ~1 s), and face-by-face sections cost ~10 µs per face (bottle: 900 sections of ~40
+#: faces in 9 s on one core).
+MIN_PARALLEL_WORK = 20_000
+
+#: `workers` value meaning "as many as help": every core for large jobs in a plain Python
+#: main process, else 1.
+AUTO = 0
+
+
+def useful_workers(requested: int, work: int) -> int:
+    """Processes to cut `work` (sections × faces) with when `requested` were asked for.
+
+    AUTO stays in this process inside FreeCAD (its executable cannot start workers, and a
+    GUI process should not fork), in a process that is itself a worker (batch's, whose
+    pool already fills the cores) and for small jobs. A daemonic process may have no
+    children at all, whatever was asked."""
+    if multiprocessing.current_process().daemon:
+        return 1
+    if requested != AUTO:
+        return max(1, requested)
+    from freecad_conformal.freecad_env import inside_freecad
+
+    if inside_freecad() or multiprocessing.parent_process() is not None or work < MIN_PARALLEL_WORK:
+        return 1
+    return default_workers()
+
+
 def _as_brep(items: list | None):
     """Faces as one BREP text with each face's (area, centroid); None stays None."""
     if items is None:
@@ -116,7 +145,7 @@ def _from_brep(text: str, props: list) -> list[SectionFace]:
 def cut_sections(slicer, heights: Sequence[float], workers: int = 1,
                  progress: Callable[[int, int], None] | None = None) -> list:
     """`slicer`'s sections at `heights` (any order, in the order given), the work spread
-    over `workers` processes (this one included).
+    over `workers` processes (this one included; AUTO: see `useful_workers`).
 
     First every height is cut face by face in small jobs (they cost about the same each,
     so small jobs keep both cores busy to the end); then the layers that path left go to
@@ -126,6 +155,7 @@ def cut_sections(slicer, heights: Sequence[float], workers: int = 1,
     if not np.all(np.isfinite(levels)):
         raise GeometryError(f"section heights must be finite, got {levels[~np.isfinite(levels)][0]!r}")
     levels, where = np.unique(levels, return_inverse=True)
+    workers = useful_workers(workers, len(levels) * sum(len(s.Faces) for s in slicer.solids))
     size = max(JOB_MIN, min(slicer.CHUNK, -(-len(levels) // (JOBS_PER_WORKER * workers))))
     jobs = [(solid_index, chunk) for solid_index in range(len(slicer.solids))
             for chunk in slicer._chunks(solid_index, levels, size)]

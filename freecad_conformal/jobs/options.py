@@ -30,7 +30,7 @@ def plan_options(values: Mapping[str, Any]) -> PlanOptions:
     layers = LayerSettings(mode=v["layer_mode"], thickness=v["layer_height"],
                            min_thickness=v["layer_min"], max_thickness=v["layer_max"],
                            max_volume_difference=v["max_volume_difference"],
-                           max_cusp=v["max_cusp"], tilt=v["tilt"])
+                           max_cusp=v["max_cusp"], tilt=v["tilt"], workers=v["section_workers"])
     # Speeds given are in mm/s; a derived one keeps the built-in feed, which jobs/plan.py
     # replaces with the material's where the material has one.
     given = {role: v[f"{role}_speed"] * SECONDS_PER_MINUTE for role in SPEED_ROLES

@@ -41,6 +41,8 @@ class LayerSettings:
             sections move sideways keeping their shape and are narrow enough to turn
             within the thickness bounds (`planning.tilted.axis_bends`); elsewhere the
             layers stay planar.
+        workers: processes cutting the sections at once (0: `section_pool.useful_workers`
+            decides); the layers are the same whatever the count.
     """
 
     mode: str = "uniform"
@@ -50,6 +52,7 @@ class LayerSettings:
     max_volume_difference: float = 2.0
     max_cusp: float = 0.05
     tilt: bool = True
+    workers: int = 0
 
     @property
     def bounds(self) -> tuple[float, float]:
@@ -70,6 +73,8 @@ class LayerSettings:
         low, high = self.bounds
         if low > high:
             raise PlanError(f"minimum layer height {low:g} mm exceeds the maximum {high:g} mm")
+        if not isinstance(self.workers, int) or self.workers < 0:
+            raise PlanError(f"workers must be a whole number, 0 or more, got {self.workers!r}")
         if self.mode == "uniform" and not low <= self.thickness <= high:
             raise PlanError(f"layer height {self.thickness:g} mm is outside [{low:g}, {high:g}] mm")
         for name, value in (("volume difference limit", self.max_volume_difference),

@@ -32,7 +32,8 @@ def plan_layers(subpart: SubPart, settings: LayerSettings) -> list[Layer]:
     if high - low < settings.bounds[0]:
         return []      # a sliver thinner than the thinnest layer: nothing a bead can build
     layers = planar_layers(subpart.index, slicer,
-                           planar_bounds(subpart.shape, slicer, low, high, settings))
+                           planar_bounds(subpart.shape, slicer, low, high, settings),
+                           settings.workers)
     if settings.tilt and len(layers) > 2:
         if axis_bends(layers, settings.bounds):
             layers = tilted_layers(subpart, slicer, low, high, settings)
@@ -56,4 +57,4 @@ def sampled_layers(subpart: SubPart, settings: LayerSettings,
     bounds = planar_bounds(subpart.shape, slicer, low, high,
                            LayerSettings(mode="uniform", thickness=settings.thickness))
     picked = bounds[every // 2::every] or [bounds[len(bounds) // 2]]
-    return planar_layers(subpart.index, slicer, picked), len(bounds) / len(picked)
+    return planar_layers(subpart.index, slicer, picked, settings.workers), len(bounds) / len(picked)

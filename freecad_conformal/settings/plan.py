@@ -43,6 +43,10 @@ PLAN_SETTINGS: tuple[Setting, ...] = (
             "once residual overhang is least: estimated time, material, or balanced (both, "
             "each relative to the least among the candidates)", group="machine",
             choices=OBJECTIVES),
+    Setting("section_workers", "int", 0, "section workers",
+            "processes cutting sections at once (0: every core for large parts when run "
+            "from Python; one inside FreeCAD, in a batch worker and for small parts)",
+            group="machine", prop="", minimum=0),
     Setting("layer_height", "length", 0.2, "layer height",
             "layer height; also the nominal height of adaptive and 3-D layers",
             group="layers", aliases=("--layer",), minimum=0.0, open_minimum=True),

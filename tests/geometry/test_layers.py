@@ -152,3 +152,48 @@ def test_bad_layer_settings(settings, message):
 def test_layer_larger_than_the_part_is_refused():
     with pytest.raises(PlanError, match="larger than the part"):
         LayerSettings(thickness=80.0).validate(part_size=62.0)
+
+
+def test_layers_are_the_same_on_two_processes_as_on_one():
+    """The plan's sections spread over worker processes (`LayerSettings.workers`) give the
+    same layers, in the same order, as one process."""
+    jack = samples.jack()
+    one = plan_layers(_sub(jack, (1, 0, 0)), LayerSettings(thickness=1.0, tilt=False, workers=1))
+    two = plan_layers(_sub(jack, (1, 0, 0)), LayerSettings(thickness=1.0, tilt=False, workers=2))
+    assert [layer.section_height for layer in one] == [layer.section_height for layer in two]
+    for a, b in zip(one, two):
+        assert a.region.symmetric_difference(b.region).area < 1e-9 * max(a.region.area, 1.0)
+
+
+def test_a_negative_worker_count_is_refused_by_name():
+    with pytest.raises(PlanError, match="workers must be a whole number, 0 or more, got -1"):
+        plan_layers(_sub(samples.jack()), LayerSettings(workers=-1))
+
+
+def test_automatic_workers_fill_the_cores_only_for_large_jobs_in_a_main_process():
+    from freecad_conformal.geometry import section_pool as pool
+
+    large = pool.MIN_PARALLEL_WORK
+    assert pool.useful_workers(pool.AUTO, large) == pool.default_workers()
+    assert pool.useful_workers(pool.AUTO, large - 1) == 1
+    assert pool.useful_workers(3, 1) == 3       # asked for: given, whatever the size
+
+
+def _useful_in_child(queue) -> None:
+    from freecad_conformal.geometry import section_pool as pool
+
+    queue.put((pool.useful_workers(pool.AUTO, 10 ** 9), pool.useful_workers(2, 10 ** 9)))
+
+
+def test_a_worker_process_cuts_its_sections_itself():
+    """A batch worker already fills the cores: AUTO stays in it; a daemonic one (which may
+    have no children) does so even when asked for more."""
+    import multiprocessing
+
+    context = multiprocessing.get_context("spawn")
+    queue = context.Queue()
+    child = context.Process(target=_useful_in_child, args=(queue,), daemon=True)
+    child.start()
+    answers = queue.get(timeout=120)
+    child.join()
+    assert answers == (1, 1)
