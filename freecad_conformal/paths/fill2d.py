@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 from shapely import affinity
-from shapely.geometry import LineString, MultiLineString, MultiPolygon, Polygon
+from shapely.geometry import LineString, MultiPolygon, Polygon
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.paths.bead import BEAD_MODELS, bead_spacing
@@ -148,32 +148,55 @@ def perimeter_rings(island: Polygon, width: float, count: int,
     return depths
 
 
-#: shapely's type id of a LineString (the pieces scan lines leave inside an area).
-LINESTRING_TYPE = 1
+#: Scan-line pieces shorter than this (mm) are dropped: a line grazing a vertex leaves a
+#: piece of no length, which no bead can lay.
+MIN_PIECE = 1e-6
 
 
 def scan_pieces(area, spacing: float, angle: float) -> tuple[np.ndarray, float]:
     """The pieces scan lines leave inside `area` (rotated frame, lines along x) as an (N, 3)
     array of (row, x0, x1), unsorted, and the first row's grid offset. Lines sit on a global
-    grid so sparse lines stack from layer to layer. All in shapely's array functions: one
-    GEOS intersection per call, no Python loop over the pieces."""
-    rotated = affinity.rotate(area, -angle, origin=(0.0, 0.0), use_radians=True)
-    minx, miny, maxx, maxy = rotated.bounds
+    grid so sparse lines stack from layer to layer.
+
+    The crossings of every boundary edge with every grid line, in numpy, paired along each
+    line by the even-odd rule (an edge spans the lines at low <= y < high, so a vertex on a
+    line counts once). GEOS's polygon ∩ lines cost 2.3 s on sliced_cylinder where this
+    takes 0.3, and on a ring that turning made self-intersecting it returned the pieces
+    outside the area instead."""
+    rings = [np.asarray(ring.coords) for poly in polygons_of(area)
+             for ring in (poly.exterior, *poly.interiors)]
+    if not rings:
+        return np.empty((0, 3)), 0.5
+    cos, sin = math.cos(angle), math.sin(angle)
+    turn = np.array([[cos, -sin], [sin, cos]])       # row vectors times this: rotate by -angle
+    starts = np.concatenate([ring[:-1] for ring in rings]) @ turn
+    ends = np.concatenate([ring[1:] for ring in rings]) @ turn
+    miny = float(min(starts[:, 1].min(), ends[:, 1].min()))
+    maxy = float(max(starts[:, 1].max(), ends[:, 1].max()))
     first = math.floor(miny / spacing - 0.5) + 0.5
-    ys = [(first + k) * spacing for k in range(int(math.ceil((maxy - miny) / spacing)) + 2)]
-    ys = [y for y in ys if miny < y < maxy]
-    if not ys:
+    low, high = np.minimum(starts[:, 1], ends[:, 1]), np.maximum(starts[:, 1], ends[:, 1])
+    row_from = np.ceil(low / spacing - first).astype(np.int64)
+    counts = np.maximum(np.ceil(high / spacing - first).astype(np.int64) - row_from, 0)
+    total = int(counts.sum())
+    if total == 0:
         return np.empty((0, 3)), first
-    lines = MultiLineString([[(minx - 1.0, y), (maxx + 1.0, y)] for y in ys])
-    parts = shapely.get_parts(rotated.intersection(lines))
-    parts = parts[(shapely.get_type_id(parts) == LINESTRING_TYPE) & ~shapely.is_empty(parts)]
-    if len(parts) == 0:
-        return np.empty((0, 3)), first
-    start = shapely.get_coordinates(shapely.get_point(parts, 0))
-    end = shapely.get_coordinates(shapely.get_point(parts, -1))
-    rows = np.rint(start[:, 1] / spacing - first)
-    return np.column_stack((rows, np.minimum(start[:, 0], end[:, 0]),
-                            np.maximum(start[:, 0], end[:, 0]))), first
+    edge = np.repeat(np.arange(len(starts)), counts)
+    rows = row_from[edge] + np.arange(total) - np.repeat(np.cumsum(counts) - counts, counts)
+    y = (first + rows) * spacing
+    a, b = starts[edge], ends[edge]
+    x = a[:, 0] + (y - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1])
+    inside = (y > miny) & (y < maxy)
+    rows, x = rows[inside], x[inside]
+    order = np.lexsort((x, rows))
+    rows, x = rows[order], x[order]
+    # Each line crosses closed rings an even number of times; a row that does not (a
+    # ring left open by rounding) cannot be paired and is left out.
+    _, crossings = np.unique(rows, return_counts=True)
+    if np.any(crossings % 2):
+        keep = np.repeat(crossings % 2 == 0, crossings)
+        rows, x = rows[keep], x[keep]
+    pieces = np.column_stack((rows[0::2].astype(float), x[0::2], x[1::2]))
+    return pieces[pieces[:, 2] - pieces[:, 1] >= MIN_PIECE], first
 
 
 def _scan_segments(area, spacing: float, angle: float) -> list[list[tuple[float, float, float]]]:

@@ -139,7 +139,7 @@ def test_a_self_touching_outline_is_repaired_before_filling():
 
 def test_fewest_turns_from_the_boundary_matches_counting_the_scan_pieces():
     """The direction chosen from the boundary's crossings has as few zigzag pieces as the
-    best of the candidates counted piece by piece with GEOS."""
+    best of the candidates counted piece by piece by the scan."""
     import random
 
     import shapely
@@ -181,3 +181,61 @@ def test_bridge_infill_fills_the_solid_over_sparse_apart():
     assert {p.role for p in plain} == {"external_perimeter", "perimeter", "solid_infill"}
     total = sum(p.length for p in plain if p.role == "solid_infill")
     assert length["bridge_infill"] + length["solid_infill"] == pytest.approx(total, rel=0.05)
+
+
+def _random_areas(count: int, seed: int):
+    import random
+
+    import shapely
+
+    rng = random.Random(seed)
+    for _ in range(count):
+        points = [(rng.uniform(0, 50), rng.uniform(0, 50)) for _ in range(rng.randint(3, 9))]
+        blob = Polygon(points).convex_hull.union(
+            Point(rng.uniform(0, 50), rng.uniform(0, 50)).buffer(rng.uniform(2, 10)))
+        yield shapely.make_valid(blob).difference(Point(25, 25).buffer(rng.uniform(0, 8))), rng
+
+
+def test_scan_pieces_are_the_lines_clipped_to_the_area():
+    """Against GEOS clipping each scan line to the area (on valid areas, where it is right):
+    the same rows, the same pieces."""
+    from freecad_conformal.paths.fill2d import scan_pieces
+
+    for area, rng in _random_areas(40, seed=11):
+        spacing, angle = rng.choice((0.45, 1.3)), rng.uniform(0, math.pi)
+        pieces, first = scan_pieces(area, spacing, angle)
+        turned = np.array([[math.cos(angle), -math.sin(angle)], [math.sin(angle), math.cos(angle)]])
+        expected = []
+        for row in range(-2, int(200 / spacing)):
+            y = (first + row) * spacing
+            line = LineString(np.array([(-200.0, y), (200.0, y)]) @ turned.T)
+            clipped = line.intersection(area)
+            for piece in getattr(clipped, "geoms", [clipped]):
+                if piece.geom_type == "LineString" and piece.length >= 1e-6:
+                    x = np.asarray(piece.coords) @ turned
+                    expected.append((row, x[:, 0].min(), x[:, 0].max()))
+        got = sorted(map(tuple, pieces))
+        assert len(got) == len(expected)
+        np.testing.assert_allclose(got, sorted(expected), atol=1e-7)
+
+
+def test_scan_pieces_stay_inside_an_area_that_turning_makes_self_intersecting():
+    """A sliced_cylinder layer's infill area: turned by the infill angle, its ring crossed
+    itself, and GEOS's clip returned the 194 pieces outside it (infill laid beside the
+    part) instead of the 97 inside."""
+    from pathlib import Path
+
+    import shapely
+
+    from freecad_conformal.paths.fill2d import scan_pieces
+
+    text = (Path(__file__).parent / "data" / "scan_area_turned_self_intersecting.wkt").read_text()
+    area = shapely.from_wkt(text)
+    spacing, angle = 1.7853981633974452, 4.188790204786391
+    pieces, first = scan_pieces(area, spacing, angle)
+    cos, sin = math.cos(angle), math.sin(angle)
+    y = (first + pieces[:, 0]) * spacing
+    middle = 0.5 * (pieces[:, 1] + pieces[:, 2])
+    points = shapely.points(middle * cos - y * sin, middle * sin + y * cos)
+    assert len(pieces) == 97 and shapely.contains(area, points).all()
+    assert (pieces[:, 2] - pieces[:, 1]).sum() == pytest.approx(area.area / spacing, rel=0.02)
