@@ -25,6 +25,7 @@ from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.boxes import box_reach, optimal_box
 from freecad_conformal.geometry.face_sections import FaceCutter
 from freecad_conformal.geometry.planar_faces import SectionFace
+from freecad_conformal.geometry.plane_curves import VERTEX_CLEARANCE
 from freecad_conformal.geometry.section_pool import cut_sections
 from freecad_conformal.geometry.frames import LayerFrame
 from freecad_conformal.geometry.loops import Loop, loops_of_faces, polygons_of_loops
@@ -228,6 +229,7 @@ class PlanarSlicer:
         #: ("nudged +1e-04 mm", "fuzzy Boolean"): a report says which layers needed what.
         self.repairs: dict[float, str] = {}
         self._extents: dict[int, tuple[float, float]] = {}
+        self._vertex_heights: np.ndarray | None = None
 
     def turned(self, direction: Sequence[float]) -> "PlanarSlicer":
         """A slicer of the same solids along another direction, without checking them and
@@ -237,6 +239,7 @@ class PlanarSlicer:
         other.frame = LayerFrame.for_direction(direction)
         other._cutters = {}
         other._extents = {}
+        other._vertex_heights = None
         other.counts = {"face_by_face": 0, "boolean": 0}
         other.repairs = {}
         return other
@@ -254,6 +257,22 @@ class PlanarSlicer:
         """
         layers = cut_sections(self, heights, workers, progress)
         return [self._recover_if_empty(layer) for layer in layers]
+
+    def off_vertices(self, heights: Sequence[float]) -> list[float]:
+        """`heights` moved by RETRY_NUDGE (up, else down) where a vertex of the solids lies
+        in the plane: such a plane costs a Boolean (0.1-0.3 s on a real part) where one
+        beside it is cut face by face. For a layer's sampling plane, whose slab is a
+        thousand times thicker, the move is immaterial; round-number parts hit it often
+        (a feature at 7.5 mm meets the middle of a 0.2 mm layer)."""
+        if self._vertex_heights is None:
+            self._vertex_heights = np.array([float(np.dot(tuple(v.Point), self.frame.n))
+                                             for solid in self.solids for v in solid.Vertexes])
+
+        def clear(height: float) -> bool:
+            return not np.any(np.abs(self._vertex_heights - height) < VERTEX_CLEARANCE)
+
+        return [next((h for h in (height, height + RETRY_NUDGE, height - RETRY_NUDGE)
+                      if clear(h)), height) for height in heights]
 
     def extent(self, solid_index: int) -> tuple[float, float]:
         """Exact (min, max) of one solid along the direction, computed once."""

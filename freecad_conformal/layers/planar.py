@@ -49,7 +49,7 @@ def _uniform_bounds(low: float, high: float, thickness: float) -> list[tuple[flo
 
 def planar_layers(subpart: int, slicer: PlanarSlicer,
                   bounds: Sequence[tuple[float, float]], workers: int = 1) -> list[Layer]:
-    middles = [0.5 * (a + b) for a, b in bounds]
+    middles = slicer.off_vertices([0.5 * (a + b) for a, b in bounds])
     sections = slicer.sections(middles, workers=workers)
     frame = slicer.frame
     layers = []

@@ -197,3 +197,19 @@ def test_a_worker_process_cuts_its_sections_itself():
     answers = queue.get(timeout=120)
     child.join()
     assert answers == (1, 1)
+
+
+def test_a_layer_sampled_through_a_vertex_is_cut_beside_it_face_by_face(App, Part):
+    """A step at 7.5 mm meets the middle plane of the 38th 0.2 mm layer: that plane is
+    moved off the step by RETRY_NUDGE instead of going to the Boolean."""
+    from freecad_conformal.geometry.sections import RETRY_NUDGE, PlanarSlicer
+    from freecad_conformal.layers.planar import _uniform_bounds, planar_layers
+
+    step = Part.makeBox(10, 10, 15).cut(Part.makeBox(5, 10, 7.5, App.Vector(0, 0, 7.5)))
+    slicer = PlanarSlicer(step, (0, 0, 1))
+    layers = planar_layers(0, slicer, _uniform_bounds(0.0, 15.0, 0.2), workers=1)
+    assert slicer.counts == {"face_by_face": 75, "boolean": 0}
+    at_step = layers[37]
+    assert at_step.section_height == pytest.approx(7.5 + RETRY_NUDGE, abs=1e-12)
+    assert at_step.region.area == pytest.approx(50.0, rel=1e-9)
+    assert [layer.section_height for layer in layers[36:39:2]] == pytest.approx([7.3, 7.7], abs=1e-12)
