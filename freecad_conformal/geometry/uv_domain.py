@@ -11,6 +11,8 @@ import numpy as np
 import shapely
 from shapely.geometry import Polygon
 
+from freecad_conformal.geometry.uv_projection import SurfaceProjector
+
 #: Points per edge when discretising the face's boundary curves in (u, v).
 UV_POINTS_PER_EDGE = 48
 
@@ -33,6 +35,7 @@ class FaceDomain:
         self._u_period = self.surface.UPeriod() if self.surface.isUPeriodic() else 0.0
         self._v_period = self.surface.VPeriod() if self.surface.isVPeriodic() else 0.0
         self._broken = False
+        self._projector: SurfaceProjector | None = None
 
     def prepare(self) -> None:
         """Discretise the domain now (`contains` does it on first use otherwise)."""
@@ -47,7 +50,7 @@ class FaceDomain:
         self.prepare()
         if self._broken:
             return bool(self.face.isInside(point, CLASSIFY_TOLERANCE, True))
-        u, v = self.surface.parameter(point)
+        u, v = self._parameter(point)
         step = UV_AMBIGUOUS * self._size
         ambiguous = False
         for u_copy in self._copies(u, 0, self._u_period):
@@ -61,6 +64,15 @@ class FaceDomain:
         if not ambiguous:
             return False
         return bool(self.face.isInside(point, CLASSIFY_TOLERANCE, True))
+
+    def _parameter(self, point) -> tuple[float, float]:
+        """(u, v) of a surface point: Newton from a grid on B-spline surfaces, whose OCC
+        projection is slow (`uv_projection`), OCC's own elsewhere."""
+        if type(self.surface).__name__ != "BSplineSurface":
+            return self.surface.parameter(point)
+        if self._projector is None:
+            self._projector = SurfaceProjector(self.surface)
+        return self._projector.parameter(point)
 
     def _copies(self, value: float, axis: int, period: float) -> list[float]:
         """`value` and its copies a period apart that fall in the domain's range along
