@@ -189,6 +189,24 @@ def plan_candidates(solid, make_plan: Callable[[object, bool], tuple], layer_set
     return _refined(candidates, layer_settings, path_settings, motion, objective)
 
 
+#: Sub-parts laid out within this (mm, and its cube in mm³) are the same solid.
+SAME_BUILD = 1e-6
+
+
+def _same_build(a: BuildPlan, b: BuildPlan) -> bool:
+    """Whether two plans build the same single sub-part along the same direction, where
+    the layout put them: one box, one volume, one build direction."""
+    if len(a.subparts) != 1 or len(b.subparts) != 1:
+        return False
+    first, second = a.subparts[0], b.subparts[0]
+    boxes = [np.array([box.XMin, box.YMin, box.ZMin, box.XMax, box.YMax, box.ZMax])
+             for box in (first.shape.BoundBox, second.shape.BoundBox)]
+    return (np.allclose(first.build_direction, second.build_direction, atol=SAME_BUILD)
+            and np.allclose(boxes[0], boxes[1], atol=SAME_BUILD)
+            and abs(first.shape.Volume - second.shape.Volume) <= SAME_BUILD ** 3 + SAME_BUILD
+            * abs(first.shape.Volume))
+
+
 def _exact(label: str, placed, plan: BuildPlan, split: bool, layer_settings,
            path_settings: PathSettings, motion: Motion) -> Candidate | None:
     """The candidate sliced and costed exactly; None if no sub-part holds a layer."""
@@ -230,7 +248,14 @@ def _refined(candidates: list[Candidate], layer_settings, path_settings: PathSet
     if not coarse:
         return candidates
     least = min(c.overhang for c in candidates)
-    contenders = [c for c in coarse if c.overhang <= least + OVERHANG_TIE] or coarse
+    contenders = [c for c in coarse if c.overhang <= least + OVERHANG_TIE]
+    if not contenders:
+        if any(c.exact for c in candidates):
+            # An exact candidate leaves less overhang than any coarse one, and overhang is
+            # ranked first: none of these can win (the bottle's whole orientation was
+            # sliced exactly for nothing, 3 s).
+            return candidates
+        contenders = coarse
     value = _objective(contenders, objective)
     best = min(value(c) for c in contenders)
     # In shares of the best time or material, as the balanced score counts them.
@@ -241,6 +266,13 @@ def _refined(candidates: list[Candidate], layer_settings, path_settings: PathSet
         near = value(c) <= best + max(COARSE_MARGIN, 0.0) * unit
         if not near and any(r is not None for r in replaced.values()):
             break
+        twin = next((e for e in candidates if e.exact and _same_build(e.plan, c.plan)), None)
+        if twin is not None:
+            # A decomposition that kept the solid whole along this very direction: the
+            # same layers (the screw thread sliced its 71 layers twice, 50 s each).
+            replaced[id(c)] = dataclasses.replace(c, layers=twin.layers, cost=twin.cost,
+                                                  exact=True)
+            continue
         try:
             replaced[id(c)] = _exact(c.label, c.placed, c.plan, False, layer_settings,
                                      path_settings, motion) or c

@@ -75,3 +75,64 @@ def test_the_coarse_ranking_chooses_what_exact_costing_chooses(name, monkeypatch
     assert flags == sorted(flags, reverse=True)
     assert {row["estimate"] for row in (c.row() for c in quick.candidates)} <= {
         "layers", f"every {search.COARSE_EVERY}th layer"}
+
+
+def test_a_coarse_candidate_with_more_overhang_than_an_exact_one_is_not_sliced(monkeypatch):
+    """Residual overhang ranks first: a coarse candidate that leaves more of it than an
+    exact one cannot win, so its layers are not cut (the bottle's whole orientation was,
+    3 s of its plan choice); with no exact candidate the best coarse one still is."""
+    from types import SimpleNamespace
+
+    from freecad_conformal.paths.cost import PlanCost
+
+    def candidate(label: str, overhang: float, exact: bool) -> search.Candidate:
+        return search.Candidate(label, None, SimpleNamespace(support_area=overhang), {},
+                                PlanCost(100.0, 10.0, {}, 0.0), exact=exact)
+
+    sliced: list[str] = []
+
+    def exact(label, *args):
+        sliced.append(label)
+        return candidate(label, 20.0, True)
+
+    monkeypatch.setattr(search, "_exact", exact)
+    decomposed, whole = candidate("decomposed", 10.0, True), candidate("whole", 20.0, False)
+    result = search._refined([decomposed, whole], None, None, None, "balanced")
+    assert sliced == [] and result == [decomposed, whole]
+    search._refined([whole], None, None, None, "balanced")
+    assert sliced == ["whole"]
+
+
+def test_a_whole_orientation_the_decomposition_already_built_is_not_sliced_again(
+        App, Part, monkeypatch):
+    """A decomposition that kept the solid whole along the same direction, laid out the
+    same, is the same plan: the coarse twin takes its exact layers and cost (the screw
+    thread sliced its tilted layers twice, 50 s each); a different direction is sliced."""
+    from freecad_conformal.decomposition.subparts import BuildPlan
+    from freecad_conformal.paths.cost import PlanCost
+
+    def plan(direction, shift=0.0) -> BuildPlan:
+        box = Part.makeBox(10, 20, 30, App.Vector(shift, 0, 0))
+        return BuildPlan(subparts=[SubPart(index=0, shape=box, build_direction=np.array(direction),
+                                           volume=box.Volume)], order=[0])
+
+    decomposed = search.Candidate("decomposed", None, plan((0.0, 0.0, 1.0)), {0: ["layers"]},
+                                  PlanCost(50.0, 5.0, {}, 0.0), split=True)
+    sliced: list[str] = []
+
+    def exact(label, placed, plan, *args):
+        sliced.append(label)
+        return search.Candidate(label, placed, plan, {0: []}, PlanCost(60.0, 6.0, {}, 0.0))
+
+    monkeypatch.setattr(search, "_exact", exact)
+    for direction, shift, expected in (((0.0, 0.0, 1.0), 0.0, []),
+                                       ((0.0, 1.0, 0.0), 0.0, ["whole"]),
+                                       ((0.0, 0.0, 1.0), 1e-3, ["whole"])):
+        sliced.clear()
+        whole = search.Candidate("whole", None, plan(direction, shift), {},
+                                 PlanCost(49.0, 5.0, {}, 0.0), exact=False)
+        result = search._refined([decomposed, whole], None, None, None, "balanced")
+        assert sliced == expected
+        assert result[1].exact and result[1].label == "whole"
+        if not expected:
+            assert result[1].layers is decomposed.layers and result[1].cost is decomposed.cost
