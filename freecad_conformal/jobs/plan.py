@@ -131,7 +131,9 @@ class JobResult:
             from freecad_conformal.paths.preview import render_png
 
             buffer = io.BytesIO()
-            render_png(self.assembly, buffer, title=f"{self.part}: {len(self.subparts)} sub-parts")
+            count = len(self.subparts)
+            render_png(self.assembly, buffer,
+                       title=f"{self.part}: {count} sub-part{'' if count == 1 else 's'}")
             contents[png] = buffer.getvalue()
         if summary is not None:
             contents[summary] = self.summary()
