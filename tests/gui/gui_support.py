@@ -52,10 +52,14 @@ def save_3d_view(path: str, width: int = 1000, height: int = 750, fit: bool = Tr
     """Offscreen render of the active 3D view on a white background."""
     FreeCADGui.Selection.clearSelection()    # no selection highlight in pictures
     view = FreeCADGui.ActiveDocument.ActiveView
+    # Pending layout first, and the fit again once painted: a fit made while the view was
+    # still being resized framed the nut in a corner of its picture (FreeCAD 1.0, once).
+    settle()
     if fit:
         view.viewIsometric()
         view.fitAll()
-    settle()
+        settle()
+        view.fitAll()
     view.saveImage(path, width, height, "White")
 
 
