@@ -45,7 +45,6 @@ MIN_BRIDGE = 2e-7
 #: thread's crossings onto the wrong curves (one face where the Boolean finds three).
 EDGE_TOLERANCE_FACTOR = 2.0
 
-
 #: Points at which an open intersection curve crossing no edge is tested against its face.
 OPEN_CURVE_SAMPLES = 7
 
@@ -54,9 +53,8 @@ def crossing_reach(edge) -> float:
     """How far (mm) a crossing point on `edge` may lie from the plane∩face curves of its
     faces: ON_CURVE, or EDGE_TOLERANCE_FACTOR times the edge's tolerance where OCC stored
     a wider one (an edge whose 3D curve only approximates its faces: sliced_cylinder's
-    elliptic arcs sit up to
-    3.4e-3 mm off their plane∩cylinder curves, the bottle's thread edges 1.2e-2 mm, and
-    no layer of the former along X was cut face by face)."""
+    elliptic arcs sit up to 3.4e-3 mm off their plane∩cylinder curves, the bottle's thread
+    edges 1.2e-2 mm, and no layer of the former along X was cut face by face)."""
     return max(ON_CURVE, EDGE_TOLERANCE_FACTOR * float(edge.Tolerance))
 
 
@@ -90,6 +88,11 @@ class _EdgeData:
     faces: list[int]
     #: how far (mm) a crossing on this edge may lie from a face's intersection curve
     reach: float = ON_CURVE
+
+    @property
+    def seam(self) -> bool:
+        """An edge of one face only: a seam, whose crossing joins that face to itself."""
+        return len(self.faces) == 1
 
 
 class FaceCutter:
@@ -148,9 +151,9 @@ class FaceCutter:
 
     def section_faces(self, height: float) -> list[SectionFace] | None:
         """Section faces at `height`, or None when the layer needs the Boolean."""
-        if np.any(np.abs(self._vertex_heights - height) < VERTEX_CLEARANCE):
+        if self.touches_vertex(height):
             return None
-        points, reach, seam, points_of_face = self._crossings(height)
+        points, owners, points_of_face = self._crossings(height)
         if points is None:
             return None
         plane = self._Part.Plane(self._App.Vector(*(height * self.n)), self._App.Vector(*self.n))
@@ -158,38 +161,38 @@ class FaceCutter:
         for face_index, data in enumerate(self.faces):
             if not data.low < height < data.high:
                 continue
-            face_pieces = self._face_pieces(data, plane, height, points, reach, seam,
+            face_pieces = self._face_pieces(data, plane, height, points, owners,
                                             points_of_face[face_index])
             if face_pieces is None:
                 return None
             pieces.extend(face_pieces)
         return faces_from_pieces(pieces, len(points), plane)
 
+    def touches_vertex(self, height: float) -> bool:
+        """Whether a vertex of the solid lies in the plane at `height` (not generic)."""
+        return bool(np.any(np.abs(self._vertex_heights - height) < VERTEX_CLEARANCE))
+
     def _crossings(self, height: float):
-        """Points where the plane crosses the solid's edges, how far each may lie from an
-        intersection curve (`crossing_reach`), whether each is on a seam (an edge of one
-        face only), and their ids per face."""
+        """Points where the plane crosses the solid's edges, the edge each lies on, and
+        their ids per face."""
         points: list[np.ndarray] = []
-        reach: list[float] = []
-        seam: list[bool] = []
+        owners: list[_EdgeData] = []
         points_of_face: list[list[int]] = [[] for _ in self.faces]
         for data in self.edges:
             if not data.low <= height <= data.high:
                 continue
             crossings = data.crosser.at(height)
             if crossings is None:
-                return None, None, None, None
+                return None, None, None
             for point in crossings:
                 for face_index in data.faces:
                     points_of_face[face_index].append(len(points))
                 points.append(point)
-                reach.append(data.reach)
-                seam.append(len(data.faces) == 1)
-        return points, reach, seam, points_of_face
+                owners.append(data)
+        return points, owners, points_of_face
 
     def _face_pieces(self, data: _FaceData, plane, height: float, points: list,
-                     reach: list[float], seam: list[bool],
-                     point_ids: list[int]) -> list[Piece] | None:
+                     owners: list[_EdgeData], point_ids: list[int]) -> list[Piece] | None:
         """The face's intersection curves cut at its crossings, the pieces inside it."""
         curves = surface_curves(data.domain.surface, data.parameter_range, plane, self.n, height)
         if curves is None:
@@ -201,7 +204,7 @@ class FaceCutter:
             for k, curve in enumerate(curves):
                 t = curve.parameter(point)
                 gap = float((curve.value(t) - point).Length)
-                if gap < reach[pid] and (best is None or gap < best[2]):
+                if gap < owners[pid].reach and (best is None or gap < best[2]):
                     best = (k, t, gap)
             if best is None:
                 return None  # a crossing of the face's edges on no curve: not generic
@@ -218,7 +221,7 @@ class FaceCutter:
                 elif not data.domain.contains(curve.value(0.5 * (start + end))):
                     continue
                 spans.append([curve, start, end, first, last])
-        seam_ids = [pid for pid in point_ids if seam[pid]]
+        seam_ids = [pid for pid in point_ids if owners[pid].seam]
         if not self._join_free_ends(spans, points, seam_ids):
             return None
         return [(self._edges(curve, start, end, points, first, last, plane), first, last)

@@ -136,6 +136,11 @@ def surface_curves(surface, parameter_range, plane, n: np.ndarray, height: float
         return None
 
 
+#: A plane within this fraction of a sphere's radius of touching it is a tangent case,
+#: left to the Boolean.
+TANGENT_SLACK = 1e-6
+
+
 def sphere_plane_circle(sphere, n: np.ndarray, height: float) -> list | None:
     """The plane n·p = height ∩ a sphere as one whole circle ([] if they miss, None if the
     plane touches it). OCC's own answer is split into two arcs at the sphere's seam on
@@ -152,10 +157,6 @@ def sphere_plane_circle(sphere, n: np.ndarray, height: float) -> list | None:
         return None
     return [Part.Circle(App.Vector(*(centre + offset * n)), App.Vector(*n), radius)]
 
-
-#: A plane within this fraction of a sphere's radius of touching it is a tangent case,
-#: left to the Boolean.
-TANGENT_SLACK = 1e-6
 
 
 def finite(parameter: float) -> bool:

@@ -21,7 +21,7 @@ from typing import Callable, Sequence
 import numpy as np
 
 from freecad_conformal.errors import GeometryError
-from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.freecad_env import import_freecad, inside_freecad
 from freecad_conformal.geometry.planar_faces import SectionFace
 
 #: Heights per job: at least JOB_MIN, about JOBS_PER_WORKER jobs per worker.
@@ -91,8 +91,6 @@ def useful_workers(requested: int, work: int) -> int:
         return 1
     if requested != AUTO:
         return max(1, requested)
-    from freecad_conformal.freecad_env import inside_freecad
-
     if inside_freecad() or multiprocessing.parent_process() is not None or work < MIN_PARALLEL_WORK:
         return 1
     return default_workers()

@@ -25,7 +25,6 @@ from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.boxes import box_reach, optimal_box
 from freecad_conformal.geometry.face_sections import FaceCutter
 from freecad_conformal.geometry.planar_faces import SectionFace
-from freecad_conformal.geometry.plane_curves import VERTEX_CLEARANCE
 from freecad_conformal.geometry.section_pool import cut_sections
 from freecad_conformal.geometry.frames import LayerFrame
 from freecad_conformal.geometry.loops import Loop, loops_of_faces, polygons_of_loops
@@ -229,7 +228,6 @@ class PlanarSlicer:
         #: ("nudged +1e-04 mm", "fuzzy Boolean"): a report says which layers needed what.
         self.repairs: dict[float, str] = {}
         self._extents: dict[int, tuple[float, float]] = {}
-        self._vertex_heights: np.ndarray | None = None
 
     def turned(self, direction: Sequence[float]) -> "PlanarSlicer":
         """A slicer of the same solids along another direction, without checking them and
@@ -239,7 +237,6 @@ class PlanarSlicer:
         other.frame = LayerFrame.for_direction(direction)
         other._cutters = {}
         other._extents = {}
-        other._vertex_heights = None
         other.counts = {"face_by_face": 0, "boolean": 0}
         other.repairs = {}
         return other
@@ -264,12 +261,10 @@ class PlanarSlicer:
         beside it is cut face by face. For a layer's sampling plane, whose slab is a
         thousand times thicker, the move is immaterial; round-number parts hit it often
         (a feature at 7.5 mm meets the middle of a 0.2 mm layer)."""
-        if self._vertex_heights is None:
-            self._vertex_heights = np.array([float(np.dot(tuple(v.Point), self.frame.n))
-                                             for solid in self.solids for v in solid.Vertexes])
+        cutters = [self.cutter(index) for index in range(len(self.solids))]
 
         def clear(height: float) -> bool:
-            return not np.any(np.abs(self._vertex_heights - height) < VERTEX_CLEARANCE)
+            return not any(cutter.touches_vertex(height) for cutter in cutters)
 
         return [next((h for h in (height, height + RETRY_NUDGE, height - RETRY_NUDGE)
                       if clear(h)), height) for height in heights]

@@ -21,6 +21,7 @@ material over the least of either, summed).
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass
 from typing import Callable
 
@@ -189,7 +190,7 @@ def plan_candidates(solid, make_plan: Callable[[object, bool], tuple], layer_set
     return _refined(candidates, layer_settings, path_settings, motion, objective)
 
 
-#: Sub-parts laid out within this (mm, and its cube in mm³) are the same solid.
+#: Sub-parts laid out within this (mm of box, relative volume, direction) are the same.
 SAME_BUILD = 1e-6
 
 
@@ -203,8 +204,7 @@ def _same_build(a: BuildPlan, b: BuildPlan) -> bool:
              for box in (first.shape.BoundBox, second.shape.BoundBox)]
     return (np.allclose(first.build_direction, second.build_direction, atol=SAME_BUILD)
             and np.allclose(boxes[0], boxes[1], atol=SAME_BUILD)
-            and abs(first.shape.Volume - second.shape.Volume) <= SAME_BUILD ** 3 + SAME_BUILD
-            * abs(first.shape.Volume))
+            and math.isclose(first.shape.Volume, second.shape.Volume, rel_tol=SAME_BUILD))
 
 
 def _exact(label: str, placed, plan: BuildPlan, split: bool, layer_settings,

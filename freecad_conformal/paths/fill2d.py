@@ -153,6 +153,16 @@ def perimeter_rings(island: Polygon, width: float, count: int,
 MIN_PIECE = 1e-6
 
 
+def _boundary_edges(area) -> tuple[np.ndarray, np.ndarray] | None:
+    """Start and end points (N, 2) of every edge of the area's rings; None when empty."""
+    rings = [np.asarray(ring.coords) for poly in polygons_of(area)
+             for ring in (poly.exterior, *poly.interiors)]
+    if not rings:
+        return None
+    return (np.concatenate([ring[:-1] for ring in rings]),
+            np.concatenate([ring[1:] for ring in rings]))
+
+
 def scan_pieces(area, spacing: float, angle: float) -> tuple[np.ndarray, float]:
     """The pieces scan lines leave inside `area` (rotated frame, lines along x) as an (N, 3)
     array of (row, x0, x1), unsorted, and the first row's grid offset. Lines sit on a global
@@ -163,14 +173,12 @@ def scan_pieces(area, spacing: float, angle: float) -> tuple[np.ndarray, float]:
     line counts once). GEOS's polygon ∩ lines cost 2.3 s on sliced_cylinder where this
     takes 0.3, and on a ring that turning made self-intersecting it returned the pieces
     outside the area instead."""
-    rings = [np.asarray(ring.coords) for poly in polygons_of(area)
-             for ring in (poly.exterior, *poly.interiors)]
-    if not rings:
+    edges = _boundary_edges(area)
+    if edges is None:
         return np.empty((0, 3)), 0.5
     cos, sin = math.cos(angle), math.sin(angle)
     turn = np.array([[cos, -sin], [sin, cos]])       # row vectors times this: rotate by -angle
-    starts = np.concatenate([ring[:-1] for ring in rings]) @ turn
-    ends = np.concatenate([ring[1:] for ring in rings]) @ turn
+    starts, ends = edges[0] @ turn, edges[1] @ turn
     miny = float(min(starts[:, 1].min(), ends[:, 1].min()))
     maxy = float(max(starts[:, 1].max(), ends[:, 1].max()))
     first = math.floor(miny / spacing - 0.5) + 0.5
@@ -223,12 +231,10 @@ def fewest_turns_angle(area, spacing: float) -> float:
     exactly on a grid line can make this count differ from GEOS's by a piece, so where
     directions tie the choice may differ from counting GEOS pieces (CrankArm: 2 of 1,558
     layers, each with the same number of pieces either way)."""
-    rings = [np.asarray(ring.coords) for poly in polygons_of(area)
-             for ring in (poly.exterior, *poly.interiors)]
-    if not rings:
+    edges = _boundary_edges(area)
+    if edges is None:
         return CANDIDATE_ANGLES[0]
-    starts = np.concatenate([ring[:-1] for ring in rings])
-    ends = np.concatenate([ring[1:] for ring in rings])
+    starts, ends = edges
     angles = np.asarray(CANDIDATE_ANGLES)
     # y in the rotated frame (rotated by -angle): -x sin(a) + y cos(a)
     normal = np.column_stack((-np.sin(angles), np.cos(angles)))
