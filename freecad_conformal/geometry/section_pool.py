@@ -224,7 +224,11 @@ def _shared(slicer, levels: np.ndarray, jobs: list, boolean: bool, workers: int,
             process.start()
             processes.append(process)
         while (index := _claim(counter)) < len(jobs):
-            results[index] = _cut(*work[index], boolean, slicer)
+            # Through the same BREP text as the workers' results: which process cut a
+            # job depends on timing, and a face read back from BREP is not bit for bit the
+            # one cut (CrankArm's G-code differed from run to run in 4,500 lines).
+            results[index] = [None if items is None else _from_brep(*_as_brep(items))
+                              for items in _cut(*work[index], boolean, slicer)]
             if report is not None:
                 report(index + 1)
         running = len(processes)

@@ -218,3 +218,26 @@ def test_json_form_has_the_documented_fields(Part):
     assert set(layer) >= {"height", "area", "centroid", "loops"}
     assert {loop["outer"] for loop in layer["loops"]} == {True, False}
     assert all(len(point) == 2 for loop in layer["loops"] for point in loop["points"])
+
+
+def test_sections_cut_on_several_processes_do_not_depend_on_which_process_cut_them(App, Part):
+    """Which process cuts a job depends on timing; every job's faces pass through the same
+    BREP text, so the polygons are bit for bit those of a round trip of the faces cut
+    here (without it CrankArm's G-code differed from run to run)."""
+    from freecad_conformal.geometry.planar_faces import SectionFace
+    from freecad_conformal.geometry.section_pool import _as_brep, _from_brep
+
+    rings = []      # a loft through turned ellipses: B-spline faces, whose sections' edges
+    for z, turn in ((0, 0), (10, 40), (20, 80)):      # do not survive BREP bit for bit
+        ellipse = Part.Ellipse(App.Vector(0, 0, z), 12, 4).toShape()
+        ellipse.rotate(App.Vector(0, 0, z), App.Vector(0, 0, 1), turn)
+        rings.append(Part.Wire([ellipse]))
+    loft = Part.makeLoft(rings, True, False)
+    heights = [-11.9 + 0.3 * k for k in range(80)]
+    here = PlanarSlicer(loft, (1, 0, 0))
+    expected = [here._make_section(layer.height, _from_brep(*_as_brep(
+        [SectionFace.of(face) for face in layer.faces])) if layer.faces else [])
+                for layer in here.sections(heights)]
+    pooled = PlanarSlicer(loft, (1, 0, 0)).sections(heights, workers=2)
+    for want, got in zip(expected, pooled):
+        assert want.polygons().equals_exact(got.polygons(), 0.0), want.height
