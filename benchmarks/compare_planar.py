@@ -48,7 +48,8 @@ from freecad_conformal.geometry import samples  # noqa: E402
 from freecad_conformal.geometry.solids import load_shape  # noqa: E402
 from freecad_conformal.paths.timing import (estimate_time, junction_speeds, move_seconds,  # noqa: E402
                                             move_times)
-from freecad_conformal.jobs.plan import PlanOptions, plan_job  # noqa: E402
+from freecad_conformal.jobs.job import plan_job  # noqa: E402
+from freecad_conformal.jobs.plan import PlanOptions  # noqa: E402
 from freecad_conformal.toolpath import KINDS  # noqa: E402
 
 PARTS_DIR = ROOT.parent / "shared" / "parts"

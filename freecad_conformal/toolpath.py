@@ -21,7 +21,8 @@ rapid positioning move. Per segment (arrays of length s):
   linearly between points, e.g. a helix on a rotary mandrel; collinear runs become one block).
 
 ``events`` are process `Event`s attached before or after a segment: light/laser/extruder
-on/off (power as a fraction 0..1), dwell (seconds) and tool change (tool id).
+on/off (power as a fraction 0..1), dwell (seconds), tool change (tool id), and for milling
+spindle on (rpm)/off and coolant on/off.
 
 Building one::
 
@@ -56,7 +57,7 @@ KINDS: tuple[str, ...] = ("travel", "deposit", "cure", "cut")
 INTERPOLATIONS: tuple[str, ...] = ("part_linear", "joint_linear")
 EVENT_ACTIONS: tuple[str, ...] = (
     "light_on", "light_off", "laser_on", "laser_off", "extruder_on", "extruder_off",
-    "dwell", "tool_change",
+    "dwell", "tool_change", "spindle_on", "spindle_off", "coolant_on", "coolant_off",
 )
 FORMAT_VERSION = 1
 
@@ -83,10 +84,11 @@ class Event:
     power: float = 0.0
     seconds: float = 0.0
     tool: int = 0
+    rpm: float = 0.0
 
     def to_json(self) -> dict:
         return {"segment": self.segment, "position": self.position, "action": self.action,
-                "power": self.power, "seconds": self.seconds, "tool": self.tool}
+                "power": self.power, "seconds": self.seconds, "tool": self.tool, "rpm": self.rpm}
 
 
 @dataclass(frozen=True)
@@ -270,6 +272,8 @@ def _check_event(event: Event, segments: int) -> None:
         raise ToolpathError(f"event {event.action}: power {event.power} must be a fraction 0..1")
     if not (math.isfinite(event.seconds) and event.seconds >= 0.0):
         raise ToolpathError(f"event {event.action}: seconds {event.seconds} must be >= 0")
+    if not (math.isfinite(event.rpm) and event.rpm >= 0.0):
+        raise ToolpathError(f"event {event.action}: rpm {event.rpm} must be >= 0")
 
 
 class ToolpathBuilder:
@@ -319,12 +323,14 @@ class ToolpathBuilder:
         return segment
 
     def event(self, action: str, *, power: float = 0.0, seconds: float = 0.0, tool: int = 0,
-              segment: int | None = None, position: str | None = None) -> Event:
+              rpm: float = 0.0, segment: int | None = None,
+              position: str | None = None) -> Event:
         """Attach an event; by default at the current place (after the last segment added)."""
         if segment is None:
             segment = len(self._segments) - 1 if self._segments else 0
             position = position or ("after" if self._segments else "before")
-        event = Event(segment, position or "before", action, float(power), float(seconds), int(tool))
+        event = Event(segment, position or "before", action, float(power), float(seconds), int(tool),
+                      float(rpm))
         self._events.append(event)
         return event
 

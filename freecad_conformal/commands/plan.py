@@ -53,7 +53,7 @@ def plan_part(shape, name: str, options, output: str | Path, png: str | Path | N
     """Decompose (each solid standing on the platform, the part turned on the table when
     the machine cannot reach a sub-part as placed), plan and write (G-code, PNG, summary,
     toolpath); returns (result, written)."""
-    from freecad_conformal.jobs.plan import plan_job
+    from freecad_conformal.jobs.job import plan_job
 
     from freecad_conformal.fileio import guard_outputs
 

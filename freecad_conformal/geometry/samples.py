@@ -107,6 +107,42 @@ SAMPLES.update({"l_block": l_block, "t_block": t_block, "inclined_rod": inclined
                 "hinge": hinge})
 
 
+def cross_hole_block(length: float = 30.0, width: float = 20.0, height: float = 16.0,
+                     hole: float = 6.0):
+    """A block with a round through hole across the build direction (along X): built along
+    +Z its ceiling overhangs, so a hybrid plan fills it and cuts it out afterwards."""
+    App, Part = import_freecad()
+    V = App.Vector
+    block = Part.makeBox(length, width, height)
+    bore = Part.makeCylinder(hole / 2, length, V(0, width / 2, height / 2), V(1, 0, 0))
+    return block.cut(bore).removeSplitter().Solids[0]
+
+
+def nozzle(diameter: float = 12.0, height: float = 10.0, bore: float = 0.5):
+    """A round nozzle with a `bore` mm hole along its axis: too small to deposit round, so
+    a hybrid plan fills it and cuts it layer by layer (METHODS section 6's nozzle)."""
+    App, Part = import_freecad()
+    body = Part.makeCylinder(diameter / 2, height)
+    return body.cut(Part.makeCylinder(bore / 2, height)).removeSplitter().Solids[0]
+
+
+def branch45(block: tuple[float, float, float] = (40.0, 30.0, 10.0), branch: float = 10.0,
+             length: float = 30.0, lean_deg: float = 45.0):
+    """A block with a square branch leaning `lean_deg` from vertical (METHODS section 6's
+    45° example): planar layers along +Z leave the branch's underside at the overhang limit."""
+    App, Part = import_freecad()
+    V = App.Vector
+    base = Part.makeBox(*block)
+    arm = Part.makeBox(branch, branch, length, V(-branch / 2, -branch / 2, 0))
+    arm.rotate(V(0, 0, 0), V(0, 1, 0), lean_deg)
+    arm.translate(V(0.3 * block[0], block[1] / 2, block[2]))
+    solid = base.fuse(arm).common(Part.makeBox(1e3, 1e3, 1e3, V(-500, -500, 0)))
+    return solid.removeSplitter().Solids[0]
+
+
+SAMPLES.update({"cross_hole_block": cross_hole_block, "nozzle": nozzle, "branch45": branch45})
+
+
 #: Names a built-in sample explicitly (`sample:jack`), even when a file of that name exists.
 SAMPLE_PREFIX = "sample:"
 

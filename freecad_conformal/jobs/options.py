@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from typing import Any, Mapping
 
-from freecad_conformal.jobs.plan import PlanOptions
+from freecad_conformal.jobs.plan import HybridOptions, PlanOptions
 from freecad_conformal.layers.model import LayerSettings
 from freecad_conformal.paths.assemble import Feeds, PathSettings
 from freecad_conformal.paths.fill2d import FillSettings
@@ -42,4 +42,18 @@ def plan_options(values: Mapping[str, Any]) -> PlanOptions:
                        layers=layers, paths=paths, bead_width=v["bead_width"],
                        dialect=v["dialect"], root=v["root"], decompose=v["decompose"],
                        objective=v["objective"], jerk=v["jerk"],
-                       settings=v)
+                       settings=v, process=v["process"],
+                       hybrid=HybridOptions(mill_tools=mill_tool_ids(v["mill_tool"]),
+                                            stock=v["stock_allowance"],
+                                            fill_holes_below=v["fill_holes_below"],
+                                            material_check=v["material_check"]))
+
+
+def mill_tool_ids(text: str) -> tuple[str, ...]:
+    """'endmill_6mm, drill_0p5' -> ('endmill_6mm', 'drill_0p5'); SettingError when empty."""
+    from freecad_conformal.settings.schema import SettingError
+
+    ids = tuple(part.strip() for part in str(text).split(",") if part.strip())
+    if not ids:
+        raise SettingError(f"mill tools (--mill-tool) {text!r} names no tool")
+    return ids

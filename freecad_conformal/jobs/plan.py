@@ -56,6 +56,21 @@ class PlanOptions:
     objective: str = "balanced"
     #: the checked user settings these options were made from (settings/plan.py), for reports
     settings: dict = field(default_factory=dict)
+    #: "additive" or "hybrid" (deposition and milling: jobs/hybrid.py)
+    process: str = "additive"
+    hybrid: "HybridOptions" = field(default_factory=lambda: HybridOptions())
+
+
+@dataclass
+class HybridOptions:
+    """Milling in a hybrid plan: the end mills (the first finishes walls and faces 3-D
+    layers), the stock allowance (mm), the hole diameter below which holes are filled and
+    cut (None: twice the bead width), and whether to check the material left."""
+
+    mill_tools: tuple[str, ...] = ("endmill_6mm",)
+    stock: float = 0.5
+    fill_holes_below: float | None = None
+    material_check: bool = True
 
 
 @dataclass
@@ -98,6 +113,8 @@ class JobResult:
     speeds: dict = field(default_factory=dict)
     #: the time model's corner speed change (mm/s)
     jerk: float = 0.0
+    #: what milling added (jobs/hybrid.HybridReport), None for an additive plan
+    hybrid: object = None
 
     @property
     def material_volume(self) -> float:
@@ -132,8 +149,9 @@ class JobResult:
 
             buffer = io.BytesIO()
             count = len(self.subparts)
+            process = ", deposit and mill" if self.hybrid is not None else ""
             render_png(self.assembly, buffer,
-                       title=f"{self.part}: {count} sub-part{'' if count == 1 else 's'}")
+                       title=f"{self.part}: {count} sub-part{'' if count == 1 else 's'}{process}")
             contents[png] = buffer.getvalue()
         if summary is not None:
             contents[summary] = self.summary()
@@ -332,8 +350,8 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
     return Choice(best.placed, best.plan, best.layers, candidates)
 
 
-def plan_job(shape, options: PlanOptions, part: str = "part", library=None,
-             progress=None) -> JobResult:
+def plan_additive(shape, options: PlanOptions, part: str = "part", library=None,
+                  progress=None) -> JobResult:
     """The whole job as `plan` and the Job object make it: the options checked first (before
     any geometry work), then the plan chosen and placed on the machine (`choose_plan`), then
     layers, paths and G-code."""
@@ -373,7 +391,7 @@ def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
     post = post_toolpath(assembly.toolpath, machine, options.dialect)
     seconds = estimate_time(assembly.toolpath, machine.acceleration, options.jerk,
                             max_feed=machine.max_feed, rapid_feed=machine.rapid_feed)
-    summaries = [_subpart_summary(sub, layers[sub.index], assembly, width, path_settings.fill.bead_model)
+    summaries = [subpart_summary(sub, layers[sub.index], assembly, width, path_settings.fill.bead_model)
                  for sub in plan.ordered()
                  if layers[sub.index]]
     plan.notes.extend(notes)
@@ -387,7 +405,7 @@ def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
                              for role in SPEED_ROLES})
 
 
-def _subpart_summary(sub, layers: list[Layer], assembly: Assembly, width: float,
+def subpart_summary(sub, layers: list[Layer], assembly: Assembly, width: float,
                      bead_model: str) -> SubPartSummary:
     mine = [p for p in assembly.paths if p.subpart == sub.index]
     length = float(sum(p.length for p in mine))

@@ -46,8 +46,32 @@ def summary_text(result) -> str:
         f"G-code: {len(result.post.values)} blocks",
     ]
     lines += _candidate_lines(result)
+    lines += _hybrid_lines(result.hybrid)
     lines += [f"note: {note}" for note in plan.notes]
     return "\n".join(lines) + "\n"
+
+
+def _hybrid_lines(hybrid) -> list[str]:
+    """Deposit and milling: times, switches, holes, support saved, the material check."""
+    if hybrid is None:
+        return []
+    lines = ["", f"hybrid: deposit {format_duration(hybrid.deposit_s)}, milling "
+             f"{format_duration(hybrid.milling_s)} ({', '.join(hybrid.mill_tools)}), travel "
+             f"{format_duration(hybrid.travel_s)}, {hybrid.switches} switches "
+             f"({format_duration(hybrid.switch_s)}; milling after every layer: "
+             f"{hybrid.naive_switches})",
+             f"support: {hybrid.support_hybrid_mm3:.1f} mm3; a planar build along the root "
+             f"direction needs {hybrid.support_planar_mm3:.1f} mm3 "
+             f"({100 * hybrid.support_saved:.0f} % saved)"]
+    lines += [f"hole filled while depositing, cut afterwards: {hole}" for hole in hybrid.holes_filled]
+    check = hybrid.check
+    if check is not None:
+        lines.append(f"material check (deposits minus milled volume, against the part): "
+                     f"deposited {check.deposited / 1000:.3f} cm3, removed "
+                     f"{check.removed / 1000:.3f} cm3; left uncut {check.uncut:.3f} mm3 (at most "
+                     f"{check.max_uncut:.3f} mm), missing or gouged {check.gouged:.3f} mm3 (at "
+                     f"most {check.max_gouge:.3f} mm)")
+    return lines
 
 
 #: Candidates the summary names besides the chosen plan (the report lists them all).
@@ -111,6 +135,8 @@ def report_data(result) -> dict:
         # empty for options made in Python rather than from settings (settings/plan.py)
         "settings": _settings_used(result, as_json(PLAN_SETTINGS, result.settings))
         if result.settings else {},
+        # deposition and milling (plan --process hybrid), None for an additive plan
+        "hybrid": result.hybrid.to_json() if result.hybrid is not None else None,
     }
 
 

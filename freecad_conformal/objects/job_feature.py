@@ -80,13 +80,15 @@ class JobFeature(Computed, ToolpathFeature):
 
 def compute_job(inputs: dict, progress) -> dict:
     """The plan of BREP text with setting values (objects/work.py runs it anywhere): the
-    steps of jobs/plan.plan_job, with progress between them."""
+    steps of jobs/plan.plan_additive, with progress between them, or the hybrid job."""
     from freecad_conformal.jobs.options import plan_options as options_from_values
     from freecad_conformal.geometry.solids import solids_of
     from freecad_conformal.jobs.plan import check_options, choose_plan, run_job
 
     shape = shape_from_text(inputs["brep"])
     options = options_from_values(inputs["values"])
+    if options.process == "hybrid":
+        return _compute_hybrid(shape, options, inputs["part"], progress)
     progress(0.02, "checking the settings")
     checked = check_options(shape, options)     # before any geometry work, as `plan` does
     progress(0.05, "choosing the plan and placing it on the machine")
@@ -115,6 +117,23 @@ def compute_job(inputs: dict, progress) -> dict:
             "gcode": result.post.text, "summary": result.summary(),
             "seconds": float(result.time_s), "subparts": len(result.subparts),
             **part_frames(shape, placed, before_layout, plan)}
+
+
+def _compute_hybrid(shape, options, part: str, progress) -> dict:
+    """The hybrid job (jobs/hybrid.py); its sub-parts are not drawn back on the part (the
+    holes it fills change the solid), so no frames."""
+    from freecad_conformal.jobs.hybrid import plan_hybrid
+
+    progress(0.05, "hybrid plan: deposition and milling")
+    result = plan_hybrid(shape, options, part, progress=lambda text: progress(0.5, text))
+    toolpath = result.assembly.toolpath
+    progress(0.95, "toolpath stored")
+    return {"toolpath": toolpath.to_bytes(),
+            "segment_subparts": segment_subparts(toolpath,
+                                                 [p.subpart for p in result.assembly.paths]),
+            "gcode": result.post.text, "summary": result.summary(),
+            "seconds": float(result.time_s), "subparts": len(result.subparts),
+            "frame_subparts": [], "frames": []}
 
 
 def plan_options(obj):

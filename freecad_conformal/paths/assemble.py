@@ -103,6 +103,8 @@ class Assembly:
     paths: list[Path3D]
     travels: list[np.ndarray]
     moves_checked: int
+    #: milling pass polylines of a hybrid plan (tool-tip points), for the preview
+    cuts: list[np.ndarray] = field(default_factory=list)
 
 
 def solid_areas(layers: Sequence[Layer], settings: PathSettings,

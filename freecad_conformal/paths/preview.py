@@ -29,13 +29,16 @@ AZIMUTH, ELEVATION = math.radians(-60.0), math.radians(30.0)
 COLOURS = ((31, 119, 180), (255, 127, 14), (44, 160, 44), (214, 39, 40), (148, 103, 189),
            (140, 86, 75), (227, 119, 194), (127, 127, 127), (188, 189, 34), (23, 190, 207))
 TRAVEL, FRAME, TEXT = (190, 190, 190), (150, 150, 150), (30, 30, 30)
+#: Milling passes of a hybrid plan: black, drawn over the deposits.
+CUT = (0, 0, 0)
 
 #: Ticks per axis, about.
 TICKS = 5
 
 
 def render_png(assembly, target: IO[bytes], title: str = "") -> None:
-    """Draw deposit paths (one colour per sub-part) and travels (thin grey) into `target`."""
+    """Draw deposit paths (one colour per sub-part), milling passes (black) and travels
+    (thin grey) into `target`."""
     try:
         from PIL import Image, ImageDraw, ImageFont
     except ImportError as exc:
@@ -67,6 +70,14 @@ def render_png(assembly, target: IO[bytes], title: str = "") -> None:
         y = 20 + 20 * rank
         draw.line([(20, y + 8), (44, y + 8)], fill=colour, width=3)
         draw.text((52, y), f"sub-part {subpart}", fill=TEXT, font=font)
+    cuts = getattr(assembly, "cuts", [])
+    for cut in cuts:
+        if len(cut) > 1:
+            draw.line(view.pixels(cut), fill=CUT, width=2)
+    if cuts:
+        y = 20 + 20 * len(order)
+        draw.line([(20, y + 8), (44, y + 8)], fill=CUT, width=3)
+        draw.text((52, y), "milling passes", fill=TEXT, font=font)
     heading = title + (f" (one layer in {step} drawn)" if step > 1 else "")
     width = draw.textlength(heading, font=_font(ImageFont, 17))
     draw.text(((WIDTH - width) / 2, 18), heading, fill=TEXT, font=_font(ImageFont, 17))

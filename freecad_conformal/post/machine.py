@@ -27,7 +27,13 @@ from freecad_conformal.tolerances import ZERO_LENGTH
 MACHINES_DIR = Path(__file__).resolve().parents[2] / "resources" / "machines"
 LINEAR_NAMES = ("X", "Y", "Z")
 ROTARY_NAMES = ("A", "B", "C")
-LIGHT_CONTROLS = ("spindle", "fan")
+#: How the program switches a light or laser: the spindle output (M3 S), a fan output
+#: (Marlin M106) or analog output 0 (LinuxCNC M68 E0 Q, the usual laser power input of a
+#: hybrid machine whose spindle drives the mill)
+LIGHT_CONTROLS = ("spindle", "fan", "analog")
+#: Seconds a switch between deposition and milling takes when the machine file does not
+#: say (METHODS section 6: about 30 s: head change, purge, spindle run-up)
+DEFAULT_PROCESS_SWITCH_S = 30.0
 
 _TOP_KEYS = {"name": str, "dialect": str, "linear_axes": dict, "rotary_axes": list,
              "tool_direction": list, "home": dict, "rapid_feed": (int, float),
@@ -35,10 +41,11 @@ _TOP_KEYS = {"name": str, "dialect": str, "linear_axes": dict, "rotary_axes": li
              "acceleration": (int, float), "light_control": str, "spindle_max": (int, float),
              "filament_diameter": (int, float), "description": str, "start_gcode": list,
              "end_gcode": list, "temperatures": dict, "home_on_start": bool,
-             "tool_change_z": (int, float), "tool_lengths": dict}
+             "tool_change_z": (int, float), "tool_lengths": dict,
+             "process_switch_s": (int, float)}
 _OPTIONAL_TOP = {"description", "light_control", "spindle_max", "filament_diameter",
                  "start_gcode", "end_gcode", "temperatures", "home_on_start", "tool_change_z",
-                 "tool_lengths"}
+                 "tool_lengths", "process_switch_s"}
 _HEATERS = ("hotend", "bed")
 _ROTARY_KEYS = {"name": str, "on": str, "direction": list, "pivot": list, "limits": list,
                 "continuous": bool, "wrap": bool}
@@ -88,6 +95,8 @@ class Machine:
     #: (tool, mm): how much longer each tool is than the one the head pivots are measured
     #: from; head machines need it for every tool they use when they use more than one
     tool_lengths: tuple[tuple[int, float], ...] = ()
+    #: seconds a switch between deposition and milling takes (hybrid plans)
+    process_switch_s: float = DEFAULT_PROCESS_SWITCH_S
 
     def for_tool(self, tool: int) -> "Machine":
         """This machine with its head pivots measured from the tip of `tool`.
@@ -177,8 +186,11 @@ def machine_from_dict(data: dict, source: str = "<dict>") -> Machine:
     light = data.get("light_control", "spindle")
     if light not in LIGHT_CONTROLS:
         raise KinematicsError(f"{where}: light_control {light!r} must be one of {LIGHT_CONTROLS}")
+    if light == "analog" and data["dialect"] != "linuxcnc":
+        raise KinematicsError(f"{where}: light_control 'analog' (M68) needs dialect linuxcnc, "
+                              f"not {data['dialect']!r}")
     for key in ("rapid_feed", "max_feed", "max_rotary_feed", "acceleration", "spindle_max",
-                "filament_diameter"):
+                "filament_diameter", "process_switch_s"):
         if key in data and not (_is_number(data[key]) and data[key] > 0):
             raise KinematicsError(f"{where}: {key} = {data[key]!r} must be > 0")
     return Machine(
@@ -194,6 +206,7 @@ def machine_from_dict(data: dict, source: str = "<dict>") -> Machine:
         temperatures=_temperatures(data.get("temperatures", {}), f"{where}: temperatures"),
         home_on_start=data.get("home_on_start", False),
         tool_lengths=_tool_lengths(data.get("tool_lengths", {}), f"{where}: tool_lengths"),
+        process_switch_s=float(data.get("process_switch_s", DEFAULT_PROCESS_SWITCH_S)),
         tool_change_z=(float(data["tool_change_z"]) if _is_number(data.get("tool_change_z"))
                        else _no_tool_change_z(data, where)))
 

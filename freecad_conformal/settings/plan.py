@@ -25,6 +25,10 @@ ROOT = Setting("root", "direction", "auto", "root direction",
 #: What the choice among candidate plans minimises (jobs/search.py).
 OBJECTIVES = ("balanced", "time", "material")
 
+#: Processes a plan can use: deposition only, or deposition and milling (jobs/hybrid.py).
+PROCESSES = ("additive", "hybrid")
+HYBRID_ONLY = ("process", ("hybrid",))
+
 PLAN_SETTINGS: tuple[Setting, ...] = (
     Setting("machine", "machine", DEFAULT_MACHINE, "machine",
             "machine name (resources/machines) or, on the command line, a .json path",
@@ -47,6 +51,24 @@ PLAN_SETTINGS: tuple[Setting, ...] = (
             "processes cutting sections at once (0: every core for large parts when run "
             "from Python; one inside FreeCAD, in a batch worker and for small parts)",
             group="machine", prop="", minimum=0),
+    Setting("process", "choice", "additive", "process",
+            "additive: deposition only; hybrid: deposit each layer with a stock allowance "
+            "and mill it to shape (3-D layers faced, walls finished, holes cut; METHODS "
+            "section 6)", group="hybrid", choices=PROCESSES),
+    Setting("mill_tool", "text", "endmill_6mm", "mill tools",
+            "end mill id(s) in the tool library, comma-separated: the first finishes walls "
+            "and faces 3-D layers, any of them may cut holes (the widest that fits)",
+            group="hybrid", only_when=HYBRID_ONLY),
+    Setting("stock_allowance", "length", 0.5, "stock allowance",
+            "how much wider than the part each layer is deposited, for the mill to finish",
+            group="hybrid", minimum=0.0, only_when=HYBRID_ONLY),
+    Setting("fill_holes_below", "length", None, "fill holes below",
+            "round holes narrower than this are deposited over and cut afterwards (holes "
+            "across the build direction always are)", group="hybrid", minimum=0.0,
+            derived="2 x bead width", only_when=HYBRID_ONLY),
+    Setting("material_check", "bool", True, "material check",
+            "simulate the material (deposits minus what the mill sweeps, exact solids) and "
+            "compare it with the part", group="hybrid", only_when=HYBRID_ONLY),
     Setting("layer_height", "length", 0.2, "layer height",
             "layer height; also the nominal height of adaptive and 3-D layers",
             group="layers", aliases=("--layer",), minimum=0.0, open_minimum=True),

@@ -16,7 +16,8 @@ from freecad_conformal.geometry import samples
 from freecad_conformal.geometry.solids import load_shape
 from freecad_conformal.jobs.options import plan_options
 from freecad_conformal.jobs.placement import turn_up
-from freecad_conformal.jobs.plan import PlanOptions, check_options, plan_job, single_plan
+from freecad_conformal.jobs.job import plan_job
+from freecad_conformal.jobs.plan import PlanOptions, check_options, single_plan
 from freecad_conformal.jobs.search import OVERHANG_TIE, ranked
 from freecad_conformal.geometry.frames import LayerFrame
 from freecad_conformal.layers.model import Layer, LayerSettings

@@ -112,7 +112,7 @@ def test_a_part_that_fits_no_orientation_is_refused_before_any_geometry_work(Par
 
     monkeypatch.setattr(jobs_plan, "machine_plan", must_not_run)
     with pytest.raises(PlanError, match=r"cannot fit Table-table A/C trunnion in any orientation"):
-        jobs_plan.plan_job(Part.makeBox(1e6, 1e6, 1e6), PlanOptions())
+        jobs_plan.plan_additive(Part.makeBox(1e6, 1e6, 1e6), PlanOptions())
 
 
 def test_plan_report_json_names_every_setting_it_used(tmp_path):

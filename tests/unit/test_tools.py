@@ -13,7 +13,7 @@ from freecad_conformal.process import library as library_module
 from freecad_conformal.process.library import ToolLibrary, read_tool_file, tools_to_json
 from freecad_conformal.process.tools import Tool
 
-SHIPPED = {"uv_large", "uv_small", "uv_large_angled45", "fdm_0p4", "laser_powder", "endmill_6mm",
+SHIPPED = {"uv_large", "uv_small", "uv_large_angled45", "fdm_0p4", "laser_powder", "endmill_6mm", "ball_endmill_6mm", "endmill_2mm", "drill_0p5",
            "uv_mask_disk", "uv_mask_square", "uv_mask_star", "uv_mask_heart"}
 
 

@@ -42,7 +42,7 @@ def _load(path: Path, body: str):
 
 def plan_gcode(shape, options, part: str):
     """The plan command's pipeline (options checked first: it is quick) -> JobResult."""
-    from freecad_conformal.jobs.plan import plan_job
+    from freecad_conformal.jobs.job import plan_job
 
     return plan_job(shape, options, part=part)
 

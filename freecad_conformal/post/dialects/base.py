@@ -60,10 +60,19 @@ class Dialect:
         return list(machine.end_gcode)
 
     def power_on(self, machine: Machine, power: float) -> str:
+        if machine.light_control == "analog":
+            return f"M68 E0 Q{number(power * 100.0, 2)}"
         return f"M3 S{number(power * machine.spindle_max, 2)}"
 
     def power_off(self, machine: Machine) -> str:
-        return "M5"
+        return "M68 E0 Q0" if machine.light_control == "analog" else "M5"
+
+    def spindle(self, rpm: float) -> list[str]:
+        """The milling spindle on at `rpm` (clockwise), or off for 0."""
+        return [f"M3 S{int(round(rpm))}"] if rpm > 0 else ["M5"]
+
+    def coolant(self, on: bool) -> list[str]:
+        return ["M8" if on else "M9"]
 
     def dwell(self, seconds: float) -> str:
         return f"G4 P{number(seconds * 1000.0, 1)}"
@@ -90,4 +99,8 @@ class Dialect:
             return self.extruder(action == "extruder_on")
         if action == "dwell":
             return [self.dwell(event.seconds)]
+        if action in ("spindle_on", "spindle_off"):
+            return self.spindle(event.rpm if action == "spindle_on" else 0.0)
+        if action in ("coolant_on", "coolant_off"):
+            return self.coolant(action == "coolant_on")
         return self.tool_change(event.tool, machine)

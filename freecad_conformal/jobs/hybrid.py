@@ -1,0 +1,245 @@
+"""The hybrid job: deposit with a stock allowance, mill to shape, one program (METHODS 6).
+
+check (tools, machine) → holes to fill (too small to deposit, or across the build) → the
+filled part planned as an additive plan (decomposition, layers, 3-D layers) → the sequence
+of deposits and milling sessions (paths/hybrid*.py) → one toolpath → G-code → the material
+left checked against the part (geometry/stock.py) and the support a planar build would need
+(geometry/support.py). Everything is computed before anything is written.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from freecad_conformal.errors import PlanError
+from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.holes import Hole, filled, find_holes
+from freecad_conformal.geometry.overhang import DEFAULT_OVERHANG_ANGLE
+from freecad_conformal.geometry.rotation import rodrigues_matrix
+from freecad_conformal.geometry.stock import MaterialCheck, check_material
+from freecad_conformal.geometry.support import support_volume
+from freecad_conformal.jobs.plan import (JobResult, PlanOptions, subpart_summary, check_options,
+                                         check_reach, machine_plan)
+from freecad_conformal.layers.model import check_thickness
+from freecad_conformal.layers.plan import plan_layers
+from freecad_conformal.paths.approach import bounding_sphere
+from freecad_conformal.paths.assemble import Assembly
+from freecad_conformal.paths.hybrid_sequence import hybrid_sequence
+from freecad_conformal.paths.hybrid_toolpath import DepositProcess, hybrid_toolpath
+from freecad_conformal.paths.milling import MillTool
+from freecad_conformal.paths.timing import move_seconds
+from freecad_conformal.post.program import post_toolpath
+from freecad_conformal.settings.plan import SPEED_ROLES
+from freecad_conformal.toolpath import KINDS
+
+#: A vertex of the part moved as the plan moved it lies on the plan's sub-parts to this (mm).
+SAME_PLACE = 1e-5
+
+#: Deposition tools get T1; end mills T2, T3, ... in the order given.
+DEPOSIT_TOOL_NUMBER = 1
+
+
+@dataclass
+class HybridReport:
+    """What milling adds to a plan, for the summary and the JSON report."""
+
+    switches: int
+    naive_switches: int
+    sessions: list[dict]
+    deposit_s: float
+    milling_s: float
+    travel_s: float
+    switch_s: float
+    mill_tools: list[str]
+    holes_filled: list[str]
+    support_planar_mm3: float
+    support_hybrid_mm3: float
+    check: MaterialCheck | None
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def support_saved(self) -> float:
+        """Fraction of the planar build's support volume this plan does without."""
+        if self.support_planar_mm3 <= 0:
+            return 0.0
+        return 1.0 - self.support_hybrid_mm3 / self.support_planar_mm3
+
+    def to_json(self) -> dict:
+        check = None if self.check is None else {
+            "deposited_mm3": self.check.deposited, "removed_mm3": self.check.removed,
+            "uncut_mm3": self.check.uncut, "gouged_mm3": self.check.gouged,
+            "max_uncut_mm": self.check.max_uncut, "max_gouge_mm": self.check.max_gouge}
+        return {"switches": self.switches, "naive_switches": self.naive_switches,
+                "deposit_time_s": self.deposit_s, "milling_time_s": self.milling_s,
+                "travel_time_s": self.travel_s, "switch_time_s": self.switch_s,
+                "mill_tools": self.mill_tools, "holes_filled": self.holes_filled,
+                "support_planar_mm3": self.support_planar_mm3,
+                "support_hybrid_mm3": self.support_hybrid_mm3,
+                "support_saved": self.support_saved, "material_check": check,
+                "sessions": self.sessions, "notes": self.notes}
+
+
+def mill_tools(ids, material: str, library) -> list[MillTool]:
+    """The end mills named, with their settings for `material` (T2, T3, ...)."""
+    tools = []
+    for number, tool_id in enumerate(ids, start=DEPOSIT_TOOL_NUMBER + 1):
+        tool = library.get(tool_id)
+        if tool.kind != "end_mill":
+            raise PlanError(f"mill tool {tool_id!r} is a {tool.kind}; --mill-tool takes end mills")
+        settings = tool.settings.get(material)
+        if settings is None:
+            raise PlanError(f"mill tool {tool_id!r} has no settings for material {material!r} "
+                            f"(it has: {', '.join(tool.settings) or 'none'})")
+        params = settings.parameters
+
+        def number_of(key: str, default: float, tool_id: str = tool_id) -> float:
+            value = params.get(key, default)
+            if not isinstance(value, (int, float)) or not value > 0:
+                raise PlanError(f"mill tool {tool_id!r}, material {material!r}: parameter "
+                                f"{key} = {value!r} must be a number > 0")
+            return float(value)
+
+        feed = float(settings.feed) if settings.feed else None
+        if feed is None:
+            raise PlanError(f"mill tool {tool_id!r}, material {material!r}: no feed_mm_min")
+        tools.append(MillTool(
+            number=number, id=tool_id, diameter=tool.diameter,
+            flute_length=tool.spec.flute_length, holder_diameter=tool.envelope.body_diameter,
+            holder_length=tool.envelope.body_length, feed=feed,
+            plunge_feed=number_of("plunge_mm_min", feed / 3.0),
+            rpm=number_of("spindle_rpm", 10000.0),
+            stepover=number_of("stepover_mm", 0.5 * tool.diameter)))
+    return tools
+
+
+def holes_to_fill(solid, root: np.ndarray, limit: float) -> list[Hole]:
+    """Holes narrower than `limit` or leaning from the root direction by more than the
+    overhang angle (their ceiling would overhang)."""
+    return [h for h in find_holes(solid)
+            if h.diameter < limit or h.across(root, DEFAULT_OVERHANG_ANGLE)]
+
+
+def placed_like(solid, reference, plan) -> tuple[np.ndarray, np.ndarray]:
+    """(rotation, translation) that moved `reference` (the filled part as given) to where
+    the plan's sub-parts stand: one of the placements' quarter turns, then a shift."""
+    from freecad_conformal.geometry.rotation import rotation_to
+
+    shapes = [sub.shape for sub in plan.subparts]
+    low = np.min([[s.BoundBox.XMin, s.BoundBox.YMin, s.BoundBox.ZMin] for s in shapes], axis=0)
+    points = np.array([tuple(v.Point) for v in reference.Vertexes[:60]])
+    App, Part = import_freecad()
+    compound = Part.makeCompound(shapes)
+    for up in ((0, 0, 1), (0, 0, -1), (1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0)):
+        axis, angle = rotation_to(np.array(up, dtype=float))
+        rotation = rodrigues_matrix(axis, angle) if angle > 0 else np.eye(3)
+        turned = points @ rotation.T
+        box = reference.copy()
+        box.rotate(App.Vector(0, 0, 0), App.Vector(*axis), math.degrees(angle))
+        bb = box.BoundBox
+        shift = low - np.array([bb.XMin, bb.YMin, bb.ZMin])
+        moved = turned + shift
+        if all(compound.distToShape(Part.Vertex(App.Vector(*p)))[0] <= SAME_PLACE for p in moved):
+            return rotation, shift
+    raise PlanError("the hybrid plan could not follow where the plan placed the part "
+                    "(not a quarter turn and a shift): give --root")
+
+
+def _moved_shape(shape, rotation: np.ndarray, shift: np.ndarray):
+    App, _ = import_freecad()
+    matrix = App.Matrix(*rotation[0], shift[0], *rotation[1], shift[1], *rotation[2], shift[2],
+                        0, 0, 0, 1)
+    moved = shape.copy()
+    moved.transformShape(matrix)
+    return moved
+
+
+def _moved_hole(hole: Hole, rotation: np.ndarray, shift: np.ndarray) -> Hole:
+    return dataclasses.replace(hole, point=rotation @ hole.point + shift,
+                               direction=rotation @ hole.direction)
+
+
+def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
+                progress=None) -> JobResult:
+    """The hybrid job (see the module docstring)."""
+    from freecad_conformal.geometry.solids import solids_of
+    from freecad_conformal.process.library import ToolLibrary
+
+    library = library if library is not None else ToolLibrary.load()
+    checked = check_options(shape, options, library)
+    tool, material_name, width, path_settings, machine = checked
+    mills = mill_tools(options.hybrid.mill_tools, material_name, library)
+    solids = solids_of(shape, "the part")
+    if len(solids) != 1:
+        raise PlanError(f"a hybrid plan takes one solid; the part has {len(solids)}")
+    solid = solids[0]
+    root = np.array([0.0, 0.0, 1.0]) if isinstance(options.root, str) else np.asarray(options.root)
+    limit = options.hybrid.fill_holes_below
+    limit = 2.0 * width if limit is None else limit
+    fill = holes_to_fill(solid, root / np.linalg.norm(root), limit)
+    solid_filled = filled(solid, fill)
+    planned_options = dataclasses.replace(
+        options, root=(float(root[0]), float(root[1]), float(root[2])), process="additive")
+    _, plan = machine_plan(solid_filled, planned_options)
+    check_reach(machine, plan)
+    rotation, shift = placed_like(solid, solid_filled, plan)
+    part_placed = _moved_shape(solid, rotation, shift)
+    holes = [_moved_hole(h, rotation, shift) for h in fill]
+    layers = {}
+    for sub in plan.ordered():
+        layers[sub.index] = plan_layers(sub, options.layers)
+        if layers[sub.index]:
+            check_thickness(layers[sub.index], options.layers)
+    d_max = options.layers.bounds[1]
+    sequence = hybrid_sequence(plan, layers, path_settings, holes, mills,
+                               options.hybrid.stock, d_max, progress)
+    centre, radius = bounding_sphere([sub.shape for sub in plan.subparts])
+    power = None
+    if tool.kind == "laser_nozzle":
+        material = tool.settings.get(material_name)
+        watts = material.power if material is not None and material.power else tool.spec.max_power
+        power = min(1.0, watts / tool.spec.max_power)
+    process = DepositProcess(DEPOSIT_TOOL_NUMBER, width, path_settings.fill.bead_model,
+                             path_settings.feeds, power)
+    program = hybrid_toolpath(sequence, process, centre, radius, part=part,
+                              material=material_name, tool=tool.id,
+                              process=f"hybrid: deposit {tool.id}, mill "
+                                      f"{', '.join(m.id for m in mills)}")
+    post = post_toolpath(program.toolpath, machine, options.dialect)
+    seconds, segments = move_seconds(program.toolpath, machine.acceleration, options.jerk,
+                                     max_feed=machine.max_feed, rapid_feed=machine.rapid_feed)
+    kinds = program.toolpath.kind[segments]
+    deposit_s = float(seconds[kinds == KINDS.index("deposit")].sum())
+    milling_s = float(seconds[kinds == KINDS.index("cut")].sum())
+    travel_s = float(seconds.sum()) - deposit_s - milling_s
+    switch_s = sequence.switches * machine.process_switch_s
+    check = None
+    if options.hybrid.material_check:
+        sweeps = [p.sweep for s in sequence.sessions for p in s.passes]
+        _, check = check_material(part_placed, sequence.deposits, sweeps)
+    planar = support_volume(part_placed, root / np.linalg.norm(root))
+    own = sum(support_volume(sub.shape, sub.build_direction) for sub in plan.subparts
+              if sub.overhang_area > 0)
+    report = HybridReport(
+        switches=sequence.switches, naive_switches=sequence.naive_switches,
+        sessions=[{"sub_part": s.subpart, "after_layer": s.last, "from_layer": s.first,
+                   "reason": s.reason, "passes": len(s.passes)} for s in sequence.sessions],
+        deposit_s=deposit_s, milling_s=milling_s, travel_s=travel_s, switch_s=switch_s,
+        mill_tools=[m.id for m in mills],
+        holes_filled=[f"{h.diameter:g} mm x {h.length:.2f} mm along "
+                      f"{np.round(h.direction, 4).tolist()}" for h in holes],
+        support_planar_mm3=planar, support_hybrid_mm3=own, check=check, notes=sequence.notes)
+    assembly = Assembly(program.toolpath, program.deposits, program.travels, 0, program.cuts)
+    summaries = [subpart_summary(sub, layers[sub.index], assembly, width,
+                                  path_settings.fill.bead_model)
+                 for sub in plan.ordered() if layers[sub.index]]
+    plan.notes.extend(sequence.notes)
+    return JobResult(part=part, plan=plan, layers=layers, assembly=assembly, post=post,
+                     machine=machine, tool_id=tool.id, material_name=material_name,
+                     bead_width=width, time_s=float(seconds.sum()) + switch_s,
+                     subparts=summaries, settings=dict(options.settings),
+                     objective=options.objective, jerk=options.jerk,
+                     speeds={role: path_settings.feeds.for_role(role) / 60.0
+                             for role in SPEED_ROLES}, hybrid=report)

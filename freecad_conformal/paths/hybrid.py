@@ -1,0 +1,292 @@
+"""The order of a hybrid plan: when to deposit, when to mill, and which passes (METHODS 6).
+
+Deposition goes on layer after layer and stops for milling only when it must:
+- a 3-D layer was deposited as a nominal layer (uniform `d_max`) and its top must be faced
+  to the layer's real top plane before anything is laid on it;
+- the next layer reaches out beyond this one (the wall turns outward: a face with no
+  neighbour below): the walls built so far would then sit under material the tool cannot
+  reach past;
+- the next layer would stand higher above the first unfinished layer than the shortest
+  tool of the session reaches (the finishing cutter's flutes, or a drill's for a hole
+  along the build direction, drilled layer by layer as METHODS' nozzle example);
+- the sub-part is finished.
+Milling as late as these rules allow gives the fewest switches a plan with them can have
+(each rule bounds how far deposition may run, and taking each run to its bound is the
+greedy cover, which is optimal for intervals). A naive plan switches after every layer.
+
+Within a session: the side walls of each run of layers with one section (a prismatic
+stretch) are finished by one contour pass with the tip at the run's bottom; passes see
+only what is built (earlier sub-parts, and this sub-part up to the session's top), so a
+branch built later does not hide the wall beneath it. Holes along the build direction
+that were filled while depositing are cut through the session's layers; holes across it
+are cut at the end, from their open ends, along their axes.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+import shapely
+from shapely.geometry import MultiPolygon
+
+from freecad_conformal.errors import PlanError
+from freecad_conformal.geometry.frames import LayerFrame
+from freecad_conformal.geometry.holes import Hole
+from freecad_conformal.geometry.sections import PlanarSlicer
+from freecad_conformal.geometry.stock import Prism
+from freecad_conformal.layers.model import Layer, as_multipolygon
+from freecad_conformal.paths.map3d import Path3D
+from freecad_conformal.paths.milling import (MillPass, MillTool, contour_passes, drill_passes,
+                                             facing_passes, forbidden_region)
+
+#: The next layer "reaches out" when it extends beyond this one by more than this (mm):
+#: sections of one prism agree to far less, and a real outward step is wider.
+GROWTH_TOLERANCE = 1e-3
+
+#: Two consecutive layers share one contour pass when their regions differ by less than
+#: this fraction of the area (the same prismatic stretch).
+SAME_SECTION = 1e-6
+
+#: Sections of what is built are sampled this often (mm) over a pass's reach along its
+#: axis (at least every layer); a feature thinner than this between samples is missed.
+SHADOW_STEP = 0.5
+
+#: A drill goes this much (mm) past the session's bottom so consecutive cuts of one hole
+#: overlap.
+DRILL_OVERLAP = 0.05
+
+#: A hole axis leaning more than this from the build direction is "across" it (filled
+#: while depositing and cut at the end); within it, "along" (cut layer by layer).
+ALONG_LIMIT = math.radians(1.0)
+
+
+@dataclass
+class Session:
+    """One switch to milling: after depositing layers `first..last` of `subpart`."""
+
+    subpart: int
+    first: int
+    last: int
+    reason: str
+    passes: list[MillPass] = field(default_factory=list)
+
+
+@dataclass
+class Step:
+    """Deposit one layer (`paths`, tip points, with `nominal` when it is a 3-D layer built
+    uniformly thick) or mill one session."""
+
+    kind: str                         # "deposit" or "mill"
+    paths: list[Path3D] = field(default_factory=list)
+    session: Session | None = None
+
+
+@dataclass
+class HybridSequence:
+    steps: list[Step]
+    deposits: list[Prism]
+    sessions: list[Session]
+    layers_deposited: int
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def switches(self) -> int:
+        """Deposition ↔ milling switches (the last session ends the program)."""
+        return max(0, 2 * len(self.sessions) - 1)
+
+    @property
+    def naive_switches(self) -> int:
+        """Switches of a plan that mills after every layer."""
+        return max(0, 2 * self.layers_deposited - 1)
+
+
+def nominal_paths(paths: list[Path3D], lower_point: np.ndarray, lower_normal: np.ndarray,
+                  d_max: float) -> list[Path3D]:
+    """A 3-D layer's paths moved onto the nominal top: `d_max` above the lower plane along
+    its normal, the tool along that normal (the layer is deposited uniformly thick)."""
+    n = np.asarray(lower_normal, dtype=float)
+    level = float(np.asarray(lower_point) @ n) + d_max
+    out = []
+    for path in paths:
+        points = path.points + np.outer(level - path.points @ n, n)
+        out.append(Path3D(points=points, axis=n.copy(), role=path.role, subpart=path.subpart,
+                          layer=path.layer, thickness=d_max, closed=path.closed))
+    return out
+
+
+def layer_bottom(layer: Layer) -> float:
+    """Height along the layer's top normal of its slab's lowest point."""
+    return float(layer.top_point @ layer.top_normal) - layer.thickness_max
+
+
+def deposit_prism(layer: Layer, lower_point: np.ndarray | None, lower_normal: np.ndarray | None,
+                  stock: float, d_max: float) -> Prism:
+    """What one layer deposits: its region widened by the stock allowance, as a prism on
+    the layer's lower plane (a 3-D layer: `d_max` thick along the lower normal)."""
+    region = layer.region.buffer(stock, quad_segs=8) if stock > 0 else layer.region
+    if not layer.tilted or lower_point is None:
+        top = float(layer.top_point @ layer.top_normal)
+        frame = LayerFrame.for_direction(layer.top_normal)
+        moved = _moved(region, layer.frame, layer.section_height, frame)
+        return Prism(frame, moved, top - layer.thickness_max, layer.thickness_max)
+    frame = LayerFrame.for_direction(lower_normal)
+    moved = _moved(region, layer.frame, layer.section_height, frame)
+    return Prism(frame, moved, float(np.asarray(lower_point) @ frame.n), d_max)
+
+
+def _moved(region, source: LayerFrame, height: float, target: LayerFrame) -> MultiPolygon:
+    """`region` (source frame at `height`) in `target`'s coordinates, projected along its n."""
+    if np.allclose(source.u, target.u) and np.allclose(source.v, target.v):
+        return as_multipolygon(region)
+
+    def move(uv: np.ndarray) -> np.ndarray:
+        return target.to_2d(source.to_3d(uv, height))
+
+    return as_multipolygon(shapely.transform(region, move).buffer(0))
+
+
+class Shadows:
+    """Sections of what is built, projected along one axis over a height range."""
+
+    def __init__(self, built: Sequence, current, current_top: float, normal: np.ndarray) -> None:
+        self.normal = np.asarray(normal, dtype=float)
+        self.frame = LayerFrame.for_direction(self.normal)
+        self._slicers = [PlanarSlicer(shape, self.normal) for shape in built]
+        self._current = PlanarSlicer(current, self.normal)
+        self._top = current_top
+
+    def over(self, low: float, high: float, step: float) -> MultiPolygon:
+        """What is built between heights `low` and `high` (this sub-part only below its
+        current top), seen along the axis."""
+        if high <= low:
+            return MultiPolygon()
+        count = max(2, int(math.ceil((high - low) / step)) + 1)
+        heights = list(np.linspace(low + 1e-4, high - 1e-4, count))
+        pieces = []
+        for slicer in self._slicers:
+            pieces += [s.polygons() for s in slicer.sections(heights) if not s.is_empty]
+        mine = [h for h in heights if h <= self._top - 1e-4]
+        if mine:
+            pieces += [s.polygons() for s in self._current.sections(mine) if not s.is_empty]
+        return as_multipolygon(shapely.union_all(pieces)) if pieces else MultiPolygon()
+
+
+def _forbidden(shadows: Shadows, tip: float, tool: MillTool, step: float) -> MultiPolygon:
+    flutes = shadows.over(tip, tip + tool.flute_length, step)
+    holder = shadows.over(tip + tool.flute_length,
+                          tip + tool.flute_length + tool.holder_length, max(step, 1.0))
+    return forbidden_region(flutes, holder, tool)
+
+
+def _runs(layers: Sequence[Layer]) -> list[list[Layer]]:
+    """Consecutive layers with one normal and one section, grouped."""
+    runs: list[list[Layer]] = []
+    for layer in layers:
+        last = runs[-1][-1] if runs else None
+        if (last is not None and not layer.tilted and not last.tilted
+                and np.allclose(last.top_normal, layer.top_normal)
+                and last.region.symmetric_difference(layer.region).area
+                <= SAME_SECTION * max(layer.area, 1.0)):
+            runs[-1].append(layer)
+        else:
+            runs.append([layer])
+    return runs
+
+
+def grows_out(lower: Layer, upper: Layer) -> bool:
+    """True when `upper` reaches beyond `lower` (planar layers of one normal)."""
+    if upper.tilted or lower.tilted or not np.allclose(lower.top_normal, upper.top_normal):
+        return False
+    beyond = upper.region.difference(lower.region.buffer(GROWTH_TOLERANCE))
+    return not beyond.is_empty and beyond.area > GROWTH_TOLERANCE ** 2
+
+
+def finishing_passes(layers: Sequence[Layer], shadows_for, stock: float, tool: MillTool,
+                     step: float) -> list[MillPass]:
+    """Contour passes finishing the walls of `layers`, top run first (so the tool never
+    passes under material it has yet to cut); `shadows_for(normal)` gives the Shadows."""
+    passes: list[MillPass] = []
+    for run in reversed(_runs(layers)):
+        normal = run[0].top_normal
+        shadows = shadows_for(normal)
+        tip = min(layer_bottom(layer) for layer in run)
+        top = max(float(layer.top_point @ normal) for layer in run)
+        near = as_multipolygon(shapely.union_all(
+            [_moved(layer.region.buffer(stock, quad_segs=8), layer.frame, layer.section_height,
+                    shadows.frame) for layer in run]))
+        height = top - tip
+        for k in range(max(1, int(math.ceil(height / tool.flute_length - 1e-9)))):
+            level = tip + k * tool.flute_length
+            forbidden = _forbidden(shadows, level, tool, step)
+            passes += contour_passes(forbidden, near, shadows.frame, level, tool)
+    return passes
+
+
+def facing(layer: Layer, lower_point: np.ndarray, lower_normal: np.ndarray, d_max: float,
+           stock: float, shadows: Shadows, tool: MillTool, step: float) -> list[MillPass]:
+    """Face a nominal 3-D layer down to its top plane."""
+    top = float(layer.top_point @ layer.top_normal)
+    deposit = deposit_prism(layer, lower_point, lower_normal, stock, d_max)
+    footprint = _moved(deposit.region, deposit.frame, deposit.bottom + d_max, shadows.frame)
+    forbidden = _forbidden(shadows, top, tool, step)
+    return facing_passes(footprint, forbidden, shadows.frame, top, tool)
+
+
+def drill_tool(hole: Hole, tools: Sequence[MillTool]) -> MillTool | None:
+    """The widest tool that fits the hole (None when none does)."""
+    fitting = [t for t in tools if t.radius <= hole.radius + 1e-9]
+    return max(fitting, key=lambda t: t.diameter) if fitting else None
+
+
+def along(hole: Hole, normal: np.ndarray) -> bool:
+    return not hole.across(np.asarray(normal, dtype=float), ALONG_LIMIT)
+
+
+def session_drills(holes: Sequence[Hole], normal: np.ndarray, bottom: float, top: float,
+                   tools: Sequence[MillTool]) -> list[MillPass]:
+    """Cut the filled holes along `normal` through the layers between `bottom` and `top`."""
+    passes = []
+    n = np.asarray(normal, dtype=float)
+    for hole in holes:
+        if not along(hole, n):
+            continue
+        ends = sorted(float(hole.end(w) @ n) for w in ("low", "high"))
+        low, high = max(ends[0], bottom - DRILL_OVERLAP), min(ends[1], top)
+        if high - low <= DRILL_OVERLAP:
+            continue
+        tool = drill_tool(hole, tools)
+        if tool is None:
+            raise PlanError(f"no mill tool fits the {hole.diameter:g} mm hole; give one at most "
+                            "that wide with --mill-tool")
+        entry = hole.point + (high - float(hole.point @ n)) * n
+        passes += drill_passes(entry, -n, hole.radius, high - low, tool)
+    return passes
+
+
+def final_drills(holes: Sequence[Hole], normals: Sequence[np.ndarray],
+                 tools: Sequence[MillTool], notes: list[str]) -> list[MillPass]:
+    """Cut the holes across every build direction, from their open ends."""
+    passes = []
+    for hole in holes:
+        if any(along(hole, n) for n in normals):
+            continue
+        tool = drill_tool(hole, tools)
+        if tool is None:
+            raise PlanError(f"no mill tool fits the {hole.diameter:g} mm hole; give one at most "
+                            "that wide with --mill-tool")
+        ends = [(w, hole.direction if w == "low" else -hole.direction) for w in hole.open_ends]
+        if not ends:
+            notes.append(f"the {hole.diameter:g} mm hole across the build opens at neither end: "
+                         "left filled")
+            continue
+        share = hole.length / 2.0 + DRILL_OVERLAP if hole.through else hole.length
+        if share > tool.flute_length:
+            notes.append(f"the {hole.diameter:g} mm hole across the build is {hole.length:.1f} mm "
+                         f"long; {tool.id} reaches {tool.flute_length:g} mm from "
+                         f"{'each end' if hole.through else 'its open end'}: left uncut")
+            continue
+        for which, inward in ends:
+            passes += drill_passes(hole.end(which), inward, hole.radius, share, tool)
+    return passes

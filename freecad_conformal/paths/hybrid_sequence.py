@@ -1,0 +1,127 @@
+"""A hybrid plan's steps: deposit layer by layer, mill when a rule says so (paths/hybrid.py)."""
+from __future__ import annotations
+
+from typing import Callable, Sequence
+
+import numpy as np
+
+from freecad_conformal.decomposition.subparts import BuildPlan
+from freecad_conformal.geometry.holes import Hole
+from freecad_conformal.layers.model import Layer
+from freecad_conformal.paths.assemble import PathSettings, plan_paths
+from freecad_conformal.paths.hybrid import (DRILL_OVERLAP, SHADOW_STEP, HybridSequence, Session, Shadows, Step,
+                                            along, deposit_prism, drill_tool, facing, final_drills,
+                                            finishing_passes, grows_out, layer_bottom,
+                                            nominal_paths, session_drills)
+from freecad_conformal.paths.milling import MillTool
+
+
+def _top_along(layer: Layer, normal: np.ndarray) -> float:
+    """The highest point of the layer's slab top along `normal`."""
+    rings = [np.asarray(p.exterior.coords) for p in layer.region.geoms]
+    if not rings:
+        return float(layer.top_point @ normal)
+    return float(max((layer.to_3d(ring) @ normal).max() for ring in rings))
+
+
+def _reach(holes: Sequence[Hole], normal: np.ndarray, bottom: float, top: float,
+           tools: Sequence[MillTool]) -> float:
+    """How far above the first unfinished layer's bottom deposition may go: the finishing
+    tool's flutes, or the flutes of a drill cutting a hole along the build in that span."""
+    reach = tools[0].flute_length
+    for hole in holes:
+        if not along(hole, normal):
+            continue
+        ends = sorted(float(hole.end(w) @ normal) for w in ("low", "high"))
+        if ends[1] <= bottom or ends[0] >= top:
+            continue
+        tool = drill_tool(hole, tools)
+        if tool is not None:
+            # each cut reaches DRILL_OVERLAP into the one before
+            reach = min(reach, tool.flute_length - DRILL_OVERLAP)
+    return reach
+
+
+def _break(stack: Sequence[Layer], first: int, k: int, holes: Sequence[Hole],
+           tools: Sequence[MillTool]) -> str:
+    """Why milling must come after layer k ('' when deposition may go on)."""
+    layer = stack[k]
+    if layer.tilted:
+        return "3-D layer top"
+    if k + 1 == len(stack):
+        return "sub-part built"
+    upper = stack[k + 1]
+    if grows_out(layer, upper):
+        return "wall turns outward"
+    normal = layer.top_normal
+    bottom = layer_bottom(stack[first])
+    top = _top_along(upper, normal)
+    if top - bottom > _reach(holes, normal, bottom, top, tools) + 1e-9:
+        return "tool reach"
+    return ""
+
+
+def hybrid_sequence(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSettings,
+                    holes: Sequence[Hole], tools: Sequence[MillTool], stock: float,
+                    d_max: float, progress: Callable[[str], None] | None = None) -> HybridSequence:
+    """Deposition and milling steps for the whole plan (`tools[0]` finishes the walls and
+    faces 3-D layers; every tool may cut holes)."""
+    steps: list[Step] = []
+    deposits = []
+    sessions: list[Session] = []
+    notes: list[str] = []
+    built: list = []
+    normals: list[np.ndarray] = []
+    position = None
+    count = 0
+    for sub in plan.ordered():
+        stack = layers.get(sub.index) or []
+        if not stack:
+            continue
+        normals.append(np.asarray(sub.build_direction, dtype=float))
+        per_layer = plan_paths(stack, settings, sub.parent is not None, position)
+        first = 0
+        for k, layer in enumerate(stack):
+            below = (stack[k - 1].top_point, stack[k - 1].top_normal) if k else (None, None)
+            paths = per_layer[k]
+            if layer.tilted and below[0] is not None:
+                paths = nominal_paths(paths, below[0], below[1], d_max)
+            steps.append(Step("deposit", paths))
+            deposits.append(deposit_prism(layer, below[0], below[1], stock, d_max))
+            count += 1
+            if paths:
+                position = paths[-1].points[-1]
+            reason = _break(stack, first, k, holes, tools)
+            if not reason:
+                continue
+            shadows: dict[tuple, Shadows] = {}
+
+            def shadows_for(normal: np.ndarray, _layer: Layer = layer) -> Shadows:
+                key = tuple(np.round(normal, 12))
+                if key not in shadows:
+                    shadows[key] = Shadows(built, sub.shape, _top_along(_layer, normal), normal)
+                return shadows[key]
+
+            step = min(SHADOW_STEP, layer.thickness_min)
+            session = Session(sub.index, first, k, reason)
+            if layer.tilted and below[0] is not None:
+                session.passes += facing(layer, below[0], below[1], d_max, stock,
+                                         shadows_for(layer.top_normal), tools[0], step)
+            session.passes += finishing_passes(stack[first:k + 1], shadows_for, stock, tools[0], step)
+            normal = layer.top_normal
+            session.passes += session_drills(holes, normal, layer_bottom(stack[first]),
+                                             _top_along(layer, normal), tools)
+            sessions.append(session)
+            steps.append(Step("mill", session=session))
+            if progress is not None:
+                progress(f"sub-part {sub.index}: milling after layer {k} ({reason})")
+            first = k + 1
+        built.append(sub.shape)
+    drills = final_drills(holes, normals, tools, notes)
+    if drills:
+        if not sessions:
+            sessions.append(Session(-1, 0, 0, "holes"))
+            steps.append(Step("mill", session=sessions[-1]))
+        sessions[-1].passes += drills
+        sessions[-1].reason += ", holes across the build"
+    return HybridSequence(steps, deposits, sessions, count, notes)

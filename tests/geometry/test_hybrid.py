@@ -1,0 +1,186 @@
+"""Hybrid deposition + milling: holes, passes, switching, one program, the material check."""
+from __future__ import annotations
+
+import math
+import shutil
+
+import numpy as np
+import pytest
+from shapely.geometry import MultiPolygon, Polygon, box
+
+from freecad_conformal.cli import main
+from freecad_conformal.errors import PlanError
+from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry import samples
+from freecad_conformal.geometry.frames import LayerFrame
+from freecad_conformal.geometry.holes import filled, find_holes
+from freecad_conformal.geometry.stock import Prism, check_material
+from freecad_conformal.geometry.support import support_volume
+from freecad_conformal.jobs.options import plan_options
+from freecad_conformal.jobs.job import plan_job
+from freecad_conformal.paths.milling import (MillTool, contour_passes, drill_passes,
+                                             forbidden_region)
+from freecad_conformal.jobs.hybrid import mill_tools
+from freecad_conformal.post.machine import load_machine
+from freecad_conformal.post.verify import verify_program
+from freecad_conformal.process.library import ToolLibrary
+
+TOOL = MillTool(number=2, id="flat6", diameter=6.0, flute_length=20.0, holder_diameter=20.0,
+                holder_length=50.0, feed=300.0, plunge_feed=100.0, rpm=3200.0, stepover=3.0)
+HYBRID = {"process": "hybrid", "tool": "laser_powder", "machine": "hybrid_ac",
+          "layer_height": 0.5}
+
+
+def test_holes_found_and_filled_fillets_and_bosses_are_not_holes():
+    App, Part = import_freecad()
+    block = samples.cross_hole_block()
+    blind = block.cut(Part.makeCylinder(2, 5, App.Vector(8, 4, 11), App.Vector(0, 0, 1)))
+    edges = [e for e in blind.Edges if e.BoundBox.ZLength > 15.9 and e.BoundBox.XLength < 1e-9
+             and e.BoundBox.YLength < 1e-9]
+    rounded = blind.makeFillet(1.0, edges[:2])        # concave? no: convex corners, partial
+    boss = rounded.fuse(Part.makeCylinder(3, 4, App.Vector(22, 10, 16))).removeSplitter()
+    holes = find_holes(boss)
+    assert [round(h.diameter, 6) for h in holes] == [6.0, 4.0]
+    across, pocket = holes
+    assert across.through and np.allclose(np.abs(across.direction), (1, 0, 0))
+    assert across.length == pytest.approx(30.0)
+    assert pocket.open_ends == (("high",) if pocket.direction[2] > 0 else ("low",))
+    solid = filled(samples.cross_hole_block(), find_holes(samples.cross_hole_block()))
+    assert solid.Volume == pytest.approx(30 * 20 * 16, rel=1e-5)
+
+
+def test_support_volume_of_a_t_and_of_a_hole_ceiling():
+    App, Part = import_freecad()
+    t = Part.makeBox(10, 10, 20, App.Vector(10, 0, 0)).fuse(Part.makeBox(30, 10, 5, App.Vector(0, 0, 20)))
+    assert support_volume(t) == pytest.approx(2 * 10 * 10 * 20, rel=1e-6)
+    assert support_volume(t, (0, 0, -1)) == pytest.approx(0.0, abs=1e-6)
+    # a 6 mm hole across: the ceiling within 45° of the top overhangs; its column stands on
+    # the floor: chord from −r·sin45 to r·sin45, area ∫2√(r²−x²)dx
+    r = 3.0
+    s = r * math.sin(math.pi / 4)
+    area = s * math.sqrt(r * r - s * s) * 2 + 2 * r * r * math.asin(s / r)
+    assert support_volume(samples.cross_hole_block()) == pytest.approx(30 * area, rel=0.01)
+
+
+def test_contour_pass_touches_the_wall_and_never_enters_the_part():
+    square = MultiPolygon([box(0, 0, 20, 10)])
+    forbidden = forbidden_region(square, MultiPolygon(), TOOL)
+    passes = contour_passes(forbidden, MultiPolygon([box(-0.5, -0.5, 20.5, 10.5)]),
+                            LayerFrame.for_direction((0, 0, 1)), 2.0, TOOL)
+    assert len(passes) == 1
+    ring = passes[0].points
+    assert np.allclose(ring[:, 2], 2.0)
+    centre = Polygon(ring[:, :2])
+    # the flank reaches the wall everywhere and no further
+    distances = [square.distance(centre.exterior.interpolate(f, normalized=True))
+                 for f in np.linspace(0, 1, 200)]
+    assert min(distances) == pytest.approx(3.0, abs=5e-3) and max(distances) == pytest.approx(3.0, abs=5e-3)
+    sweep = passes[0].sweep.region
+    assert sweep.intersection(square).area < 1e-3          # no gouge
+    assert sweep.covers(box(-0.5, -0.5, 20.5, 10.5).difference(square.geoms[0]).buffer(-1e-3))
+
+
+def test_a_holder_keeps_the_tool_off_a_wall_it_cannot_reach_past():
+    wall = MultiPolygon([box(0, 0, 20, 10)])
+    overhead = MultiPolygon([box(0, 0, 8, 10)])           # material above the flutes, one end
+    forbidden = forbidden_region(wall, overhead, TOOL)
+    passes = contour_passes(forbidden, MultiPolygon([box(-0.5, -0.5, 20.5, 10.5)]),
+                            LayerFrame.for_direction((0, 0, 1)), 0.0, TOOL)
+    assert len(passes) == 1
+    ring = Polygon(passes[0].points[:, :2]).exterior
+    points = [ring.interpolate(f, normalized=True) for f in np.linspace(0, 1, 400)]
+    assert min(overhead.distance(p) for p in points) == pytest.approx(10.0, abs=1e-2)
+    assert min(wall.distance(p) for p in points) == pytest.approx(3.0, abs=1e-2)
+
+
+def test_drill_refuses_a_tool_wider_than_the_hole_or_too_short():
+    with pytest.raises(PlanError, match="wider than a hole"):
+        drill_passes(np.zeros(3), np.array([0, 0, -1.0]), 1.0, 5.0, TOOL)
+    with pytest.raises(PlanError, match="reaches 20 mm deep"):
+        drill_passes(np.zeros(3), np.array([0, 0, -1.0]), 5.0, 25.0, TOOL)
+    helix = drill_passes(np.array([1.0, 2.0, 10.0]), np.array([0, 0, -1.0]), 5.0, 8.0, TOOL)[0]
+    radial = np.linalg.norm(helix.points[:, :2] - [1.0, 2.0], axis=1)
+    assert np.allclose(radial, 2.0) and helix.points[:, 2].min() == pytest.approx(2.0)
+    assert helix.sweep.region.area == pytest.approx(math.pi * 25, rel=1e-3)
+
+
+def test_material_check_measures_stock_left_and_gouges():
+    App, Part = import_freecad()
+    part = Part.makeBox(10, 10, 4)
+    frame = LayerFrame.for_direction((0, 0, 1))
+    deposit = [Prism(frame, MultiPolygon([box(-1, -1, 11, 11)]), 0.0, 4.0)]
+    trim = Prism(frame, MultiPolygon([box(-5, -5, 15, 15).difference(box(0, 0, 10, 10))]), 0.0, 4.0)
+    _, exact = check_material(part, deposit, [trim])
+    assert exact.uncut < 1e-6 and exact.gouged < 1e-6 and exact.max_deviation < 1e-6
+    short = Prism(frame, MultiPolygon([box(-5, -5, 15, 15).difference(box(-0.3, 0, 10, 10))]), 0.0, 4.0)
+    _, left = check_material(part, deposit, [short])
+    assert left.uncut == pytest.approx(0.3 * 10 * 4, rel=1e-6)
+    assert left.max_uncut == pytest.approx(0.3, abs=1e-6)
+    deep = Prism(frame, MultiPolygon([box(-5, -5, 15, 15).difference(box(0.2, 0, 10, 10))]), 0.0, 4.0)
+    _, cut = check_material(part, deposit, [deep])
+    assert cut.gouged == pytest.approx(0.2 * 10 * 4, rel=1e-6)
+    assert cut.max_gouge == pytest.approx(0.2, abs=1e-6)
+
+
+@pytest.mark.slow
+def test_cross_hole_block_plans_verifies_and_matches_the_part(tmp_path):
+    result = plan_job(samples.cross_hole_block(), plan_options(HYBRID), part="cross_hole_block")
+    hybrid = result.hybrid
+    assert hybrid.holes_filled and "6 mm" in hybrid.holes_filled[0]
+    assert hybrid.support_planar_mm3 > 600 and hybrid.support_hybrid_mm3 == 0
+    # one milling session: the block is lower than the cutter's flutes
+    assert hybrid.switches == 1 and hybrid.naive_switches == 2 * 32 - 1
+    check = hybrid.check
+    # what is left or cut too far is micron-thin (polygonal arcs, simplified sweeps)
+    assert check.max_deviation < 0.005 and check.gouged < 5.0 and check.uncut < 5.0
+    assert check.removed > 848 * 0.99                     # the hole's 848 mm³ came out
+    text = result.post.text
+    assert text.count("T2 M6") == 1 and "G43 H2" in text and "M3 S3200" in text
+    assert text.count("M68 E0 Q40") == text.count("M68 E0 Q0") > 50
+    program = tmp_path / "block.ngc"
+    program.write_text(text)
+    deviation = verify_program(text, load_machine("hybrid_ac"), result.assembly.toolpath)
+    assert deviation.position < 0.01 and deviation.angle < 1e-3, deviation.report()
+    if shutil.which("rs274"):
+        from freecad_conformal.post.rs274 import canonical_moves
+
+        kinds, _ = canonical_moves(program)
+        assert len(kinds) > 500
+
+
+@pytest.mark.slow
+def test_nozzle_hole_is_cut_layer_by_layer_with_the_small_tool():
+    options = plan_options({**HYBRID, "mill_tool": "endmill_6mm,drill_0p5"})
+    result = plan_job(samples.nozzle(), options, part="nozzle")
+    hybrid = result.hybrid
+    drills = [s for s in hybrid.sessions if s["passes"] >= 2]
+    # 2.5 mm flutes cut 0.5 mm layers in runs of four: five sessions on 10 mm
+    assert len(hybrid.sessions) == 5 and len(drills) == 5
+    assert hybrid.switches * 3 <= hybrid.naive_switches
+    assert hybrid.check.max_deviation < 0.05
+    assert result.post.text.count("T3 M6") == 5
+
+
+def test_hybrid_refuses_a_deposition_tool_as_mill_and_a_material_without_settings():
+    with pytest.raises(PlanError, match="takes end mills"):
+        plan_job(samples.cross_hole_block(), plan_options({**HYBRID, "mill_tool": "fdm_0p4"}))
+    library = ToolLibrary.load()
+    with pytest.raises(PlanError, match="no settings for material 'PLA'"):
+        mill_tools(["endmill_6mm"], "PLA", library)
+    tools = mill_tools(["endmill_6mm", "drill_0p5"], "316L", library)
+    assert [(t.number, t.rpm, t.feed) for t in tools] == [(2, 3200, 300), (3, 24000, 30)]
+
+
+def test_plan_command_takes_process_and_mill_tool(tmp_path, capsys):
+    out = tmp_path / "block.ngc"
+    code = main(["plan", "cross_hole_block", "--process", "hybrid", "--tool", "laser_powder",
+                 "--machine", "hybrid_ac", "--layer-height", "0.5", "--no-material-check",
+                 "-o", str(out), "--report", str(tmp_path / "r.json")])
+    assert code == 0
+    printed = capsys.readouterr().out
+    assert "hybrid: deposit" in printed and "switches" in printed
+    import json
+
+    report = json.loads((tmp_path / "r.json").read_text())
+    assert report["hybrid"]["switches"] == 1 and report["hybrid"]["material_check"] is None
+    assert report["settings"]["process"]["value"] == "hybrid"
