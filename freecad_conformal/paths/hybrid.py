@@ -32,6 +32,7 @@ import shapely
 from shapely.geometry import MultiPolygon
 
 from freecad_conformal.errors import PlanError
+from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.frames import LayerFrame
 from freecad_conformal.geometry.holes import Hole
 from freecad_conformal.geometry.sections import PlanarSlicer
@@ -148,13 +149,14 @@ def _moved(region, source: LayerFrame, height: float, target: LayerFrame) -> Mul
 
 
 class Shadows:
-    """Sections of what is built, projected along one axis over a height range."""
+    """Sections of what is built, projected along one axis over a height range (`current`,
+    the sub-part being built, only below `current_top`; None when all is built)."""
 
     def __init__(self, built: Sequence, current, current_top: float, normal: np.ndarray) -> None:
         self.normal = np.asarray(normal, dtype=float)
         self.frame = LayerFrame.for_direction(self.normal)
         self._slicers = [PlanarSlicer(shape, self.normal) for shape in built]
-        self._current = PlanarSlicer(current, self.normal)
+        self._current = PlanarSlicer(current, self.normal) if current is not None else None
         self._top = current_top
 
     def over(self, low: float, high: float, step: float) -> MultiPolygon:
@@ -168,7 +170,7 @@ class Shadows:
         for slicer in self._slicers:
             pieces += [s.polygons() for s in slicer.sections(heights) if not s.is_empty]
         mine = [h for h in heights if h <= self._top - 1e-4]
-        if mine:
+        if mine and self._current is not None:
             pieces += [s.polygons() for s in self._current.sections(mine) if not s.is_empty]
         return as_multipolygon(shapely.union_all(pieces)) if pieces else MultiPolygon()
 
@@ -290,3 +292,57 @@ def final_drills(holes: Sequence[Hole], normals: Sequence[np.ndarray],
         for which, inward in ends:
             passes += drill_passes(hole.end(which), inward, hole.radius, share, tool)
     return passes
+
+
+def finishing_axes(shapes: Sequence, directions: Sequence[np.ndarray], root: np.ndarray) -> list[np.ndarray]:
+    """Tool axes for the last finishing passes: the build directions, and for each planar
+    face parallel to none of them the direction in its plane nearest the root direction
+    (a flat end mill's flank along that axis lies on the face: "3+2" finishing)."""
+    axes = [np.asarray(d, dtype=float) / np.linalg.norm(d) for d in directions]
+    up = np.asarray(root, dtype=float) / np.linalg.norm(root)
+    for shape in shapes:
+        for face in shape.Faces:
+            if type(face.Surface).__name__ != "Plane":
+                continue
+            u0, u1, v0, v1 = face.ParameterRange
+            m = np.array(tuple(face.normalAt(0.5 * (u0 + u1), 0.5 * (v0 + v1))))
+            if any(abs(float(m @ a)) < PARALLEL_FACE for a in axes):
+                continue
+            along_face = up - float(up @ m) * m
+            if np.linalg.norm(along_face) < 1e-9:
+                continue                  # a face square to the root: a top, faced or built flat
+            axes.append(along_face / np.linalg.norm(along_face))
+    return axes
+
+
+#: A planar face is finished by a pass along an axis when the axis lies in its plane to
+#: this (the cosine between the face normal and the axis).
+PARALLEL_FACE = 1e-6
+
+
+def final_finishing(shapes: Sequence, axes: Sequence[np.ndarray], tool: MillTool,
+                    step: float) -> list[MillPass]:
+    """Contour passes along each axis over the whole built part, level by level a flute
+    length apart, round every ring that touches the part's walls."""
+    from freecad_conformal.geometry.sections import extent_along
+
+    App, Part = import_freecad()
+    compound = Part.makeCompound(list(shapes))
+    passes: list[MillPass] = []
+    for axis in axes:
+        shadows = Shadows(shapes, None, -math.inf, axis)
+        low, high = extent_along(compound, shadows.normal)
+        level = low
+        while level < high - 1e-6:
+            flutes = shadows.over(level, min(level + tool.flute_length, high), step)
+            holder = shadows.over(level + tool.flute_length,
+                                  level + tool.flute_length + tool.holder_length, max(step, 1.0))
+            forbidden = forbidden_region(flutes, holder, tool)
+            passes += contour_passes(forbidden, flutes.buffer(STOCK_REACH), shadows.frame,
+                                     level, tool)
+            level += tool.flute_length
+    return passes
+
+
+#: Final passes go round rings within this (mm) of the part's walls plus the tool radius.
+STOCK_REACH = 1.0

@@ -6,14 +6,32 @@ from typing import Callable, Sequence
 import numpy as np
 
 from freecad_conformal.decomposition.subparts import BuildPlan
+from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.holes import Hole
 from freecad_conformal.layers.model import Layer
 from freecad_conformal.paths.assemble import PathSettings, plan_paths
 from freecad_conformal.paths.hybrid import (DRILL_OVERLAP, SHADOW_STEP, HybridSequence, Session, Shadows, Step,
                                             along, deposit_prism, drill_tool, facing, final_drills,
+                                            final_finishing, finishing_axes,
                                             finishing_passes, grows_out, layer_bottom,
                                             nominal_paths, session_drills)
 from freecad_conformal.paths.milling import MillTool
+
+
+def _flat_walls(shape, layer: Layer, stack: Sequence[Layer], k: int) -> bool:
+    """True when the part's walls where the next layer reaches out are planar (the last
+    "3+2" finishing passes lie on them), so deposition need not stop there."""
+    if k + 1 >= len(stack):
+        return True
+    beyond = stack[k + 1].region.difference(layer.region)
+    if beyond.is_empty:
+        return True
+    App, Part = import_freecad()
+    uv = np.asarray(beyond.representative_point().coords)
+    point = stack[k + 1].frame.to_3d(uv, stack[k + 1].section_height)[0]
+    vertex = Part.Vertex(App.Vector(*point))
+    nearest = min(shape.Faces, key=lambda f: f.distToShape(vertex)[0])
+    return type(nearest.Surface).__name__ == "Plane"
 
 
 def _top_along(layer: Layer, normal: np.ndarray) -> float:
@@ -43,7 +61,7 @@ def _reach(holes: Sequence[Hole], normal: np.ndarray, bottom: float, top: float,
 
 
 def _break(stack: Sequence[Layer], first: int, k: int, holes: Sequence[Hole],
-           tools: Sequence[MillTool]) -> str:
+           tools: Sequence[MillTool], finished_later: bool) -> str:
     """Why milling must come after layer k ('' when deposition may go on)."""
     layer = stack[k]
     if layer.tilted:
@@ -51,7 +69,7 @@ def _break(stack: Sequence[Layer], first: int, k: int, holes: Sequence[Hole],
     if k + 1 == len(stack):
         return "sub-part built"
     upper = stack[k + 1]
-    if grows_out(layer, upper):
+    if grows_out(layer, upper) and not finished_later:
         return "wall turns outward"
     normal = layer.top_normal
     bottom = layer_bottom(stack[first])
@@ -87,11 +105,13 @@ def hybrid_sequence(plan: BuildPlan, layers: dict[int, list[Layer]], settings: P
             if layer.tilted and below[0] is not None:
                 paths = nominal_paths(paths, below[0], below[1], d_max)
             steps.append(Step("deposit", paths))
-            deposits.append(deposit_prism(layer, below[0], below[1], stock, d_max))
+            prism = deposit_prism(layer, below[0], below[1], stock, d_max)
+            prism.order = len(sessions)           # milled by this session and later ones
+            deposits.append(prism)
             count += 1
             if paths:
                 position = paths[-1].points[-1]
-            reason = _break(stack, first, k, holes, tools)
+            reason = _break(stack, first, k, holes, tools, _flat_walls(sub.shape, layer, stack, k))
             if not reason:
                 continue
             shadows: dict[tuple, Shadows] = {}
@@ -111,17 +131,25 @@ def hybrid_sequence(plan: BuildPlan, layers: dict[int, list[Layer]], settings: P
             normal = layer.top_normal
             session.passes += session_drills(holes, normal, layer_bottom(stack[first]),
                                              _top_along(layer, normal), tools)
+            for cut in session.passes:
+                cut.sweep.order = len(sessions)
             sessions.append(session)
             steps.append(Step("mill", session=session))
             if progress is not None:
                 progress(f"sub-part {sub.index}: milling after layer {k} ({reason})")
             first = k + 1
         built.append(sub.shape)
-    drills = final_drills(holes, normals, tools, notes)
+    # the walls along the build directions were finished session by session; faces
+    # leaning from all of them get passes along an axis in their plane
+    extra = finishing_axes(built, normals, normals[0])[len(normals):] if built else []
+    drills = final_finishing(built, extra, tools[0], SHADOW_STEP) if extra else []
+    drills += final_drills(holes, normals, tools, notes)
     if drills:
         if not sessions:
             sessions.append(Session(-1, 0, 0, "holes"))
             steps.append(Step("mill", session=sessions[-1]))
+        for cut in drills:
+            cut.sweep.order = len(sessions) - 1
         sessions[-1].passes += drills
-        sessions[-1].reason += ", holes across the build"
+        sessions[-1].reason += ", last finishing"
     return HybridSequence(steps, deposits, sessions, count, notes)

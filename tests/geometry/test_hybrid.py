@@ -120,6 +120,11 @@ def test_material_check_measures_stock_left_and_gouges():
     _, cut = check_material(part, deposit, [deep])
     assert cut.gouged == pytest.approx(0.2 * 10 * 4, rel=1e-6)
     assert cut.max_gouge == pytest.approx(0.2, abs=1e-6)
+    # a session mills only what was deposited before it: a layer laid afterwards keeps
+    # its stock (the facing of a 3-D layer reaches up into where the next layers go)
+    later = [Prism(frame, MultiPolygon([box(-1, -1, 11, 11)]), 0.0, 4.0, order=1)]
+    _, untouched = check_material(part, later, [trim])
+    assert untouched.removed == 0 and untouched.uncut == pytest.approx(12 * 12 * 4 - 400)
 
 
 @pytest.mark.slow
