@@ -27,7 +27,10 @@ def test_job_labels_are_words_with_units_in_schema_groups():
     assert fields["TiltLayers"].label == "3-D layers"
     assert fields["Machine"].group == "Machine" and fields["Seam"].group == "Paths"
     groups = [name for name, _ in grouped(list(fields.values()))]
-    assert groups == ["Machine", "Layers", "Paths", "Speeds", "Cooling"]
+    assert groups == ["Machine", "Hybrid", "Layers", "Paths", "Speeds", "Cooling"]
+    assert fields["StockAllowance"].label == "Stock allowance [mm]"
+    additive, hybrid = {"Process": "additive"}, {"Process": "hybrid"}
+    assert not fields["MillTool"].shown(additive) and fields["MillTool"].shown(hybrid)
     assert fields["BridgeInfillSpeed"].label == "Bridge infill speed [mm/s]"
     assert fields["BridgeInfillSpeed"].empty_means == "the solid infill speed"
     assert fields["Tool"].picks == "tools" and fields["Material"].picks == "materials"
