@@ -8,8 +8,9 @@ hole across the build, a nozzle with a 0.5 mm hole; or files given), plan it wit
 - support volume: ours (residual overhang of the plan's sub-parts) against a planar 2.5-D
   build of the same part along +Z (every face overhanging more than 45° supported down to
   the part or the platform, `geometry/support.py`);
-- the material check: deposits minus what the mill sweeps against the exact part (largest
-  distance of stock left or of a gouge from the part's surface, and their volumes);
+- the material check: points of the part's surface moved 0.05 mm (then 0.1 … 5 mm) out
+  and in, classified against deposits less later sweeps: how many show stock left or a
+  gouge at the tolerance, and the largest offset at which any does;
 - times: deposit, milling, travel and switches (estimated), and the planner's wall time.
 
 Run: .venv/bin/python benchmarks/hybrid.py [PART ...] [--layer-height 0.5]
@@ -27,11 +28,13 @@ from freecad_conformal.geometry.samples import load_part  # noqa: E402
 from freecad_conformal.jobs.job import plan_job  # noqa: E402
 from freecad_conformal.jobs.options import plan_options  # noqa: E402
 
-PARTS = {"branch45": {}, "cross_hole_block": {}, "nozzle": {"mill_tool": "endmill_6mm,drill_0p5"}}
+PARTS = {"branch45": {}, "branch45 planar": {"tilt": False}, "cross_hole_block": {},
+         "nozzle": {"mill_tool": "endmill_6mm,drill_0p5"}}
 
 
 def run(name: str, extra: dict, layer: float) -> dict:
-    shape, label = load_part(name)
+    shape, label = load_part(name.split()[0])
+    label = name
     values = {"process": "hybrid", "tool": "laser_powder", "machine": "hybrid_ac",
               "layer_height": layer, **extra}
     start = time.perf_counter()
@@ -43,8 +46,9 @@ def run(name: str, extra: dict, layer: float) -> dict:
             "tilted": sum(s.tilted_layers for s in result.subparts),
             "sub_parts": len(result.subparts), "switches": h.switches, "naive": h.naive_switches,
             "support_planar": h.support_planar_mm3, "support_ours": h.support_hybrid_mm3,
-            "saved": h.support_saved, "max_dev": check.max_deviation, "uncut": check.uncut,
-            "gouged": check.gouged, "max_uncut": check.max_uncut, "max_gouge": check.max_gouge,
+            "saved": h.support_saved, "points": check.points,
+            "uncut": check.uncut_points, "gouged": check.gouge_points,
+            "max_uncut": check.max_uncut, "max_gouge": check.max_gouge,
             "deposit_s": h.deposit_s, "milling_s": h.milling_s, "travel_s": h.travel_s,
             "switch_s": h.switch_s, "sessions": h.sessions}
 
@@ -57,15 +61,15 @@ def main(argv: list[str] | None = None) -> int:
     names = args.parts or list(PARTS)
     rows = [run(name, PARTS.get(name, {}), args.layer_height) for name in names]
     print(f"{'part':<18} {'sub':>3} {'layers':>6} {'3-D':>4} {'switches':>8} {'naive':>6} "
-          f"{'fewer':>6} {'support planar':>14} {'ours':>6} {'saved':>6} {'max dev mm':>10} "
-          f"{'uncut mm3':>9} {'gouge mm3':>9} {'plan s':>7}")
+          f"{'fewer':>6} {'support planar':>14} {'ours':>6} {'saved':>6} {'points':>6} "
+          f"{'stock>0.05':>10} {'max mm':>6} {'gouge>0.05':>10} {'max mm':>6} {'plan s':>7}")
     for r in rows:
         fewer = r["naive"] / max(r["switches"], 1)
         saved = f"{100 * r['saved']:.0f} %" if r["support_planar"] > 0 else "n/a"
         print(f"{r['part']:<18} {r['sub_parts']:>3} {r['layers']:>6} {r['tilted']:>4} "
               f"{r['switches']:>8} {r['naive']:>6} {fewer:>5.1f}x {r['support_planar']:>14.1f} "
-              f"{r['support_ours']:>6.1f} {saved:>6} {r['max_dev']:>10.4f} {r['uncut']:>9.3f} "
-              f"{r['gouged']:>9.3f} {r['wall_s']:>7.1f}")
+              f"{r['support_ours']:>6.1f} {saved:>6} {r['points']:>6} {r['uncut']:>10} "
+              f"{r['max_uncut']:>6g} {r['gouged']:>10} {r['max_gouge']:>6g} {r['wall_s']:>7.1f}")
     print()
     print(f"{'part':<18} {'deposit s':>9} {'milling s':>9} {'travel s':>9} {'switch s':>9}  "
           "milling sessions (reason: count)")

@@ -19,7 +19,7 @@ from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.holes import Hole, filled, find_holes
 from freecad_conformal.geometry.overhang import DEFAULT_OVERHANG_ANGLE
 from freecad_conformal.geometry.rotation import rodrigues_matrix
-from freecad_conformal.geometry.stock import MaterialCheck, check_material
+from freecad_conformal.geometry.stock import OFFSETS, MaterialCheck, check_material
 from freecad_conformal.geometry.support import support_volume
 from freecad_conformal.jobs.plan import (JobResult, PlanOptions, subpart_summary, check_options,
                                          check_reach, machine_plan)
@@ -69,9 +69,12 @@ class HybridReport:
 
     def to_json(self) -> dict:
         check = None if self.check is None else {
-            "deposited_mm3": self.check.deposited, "removed_mm3": self.check.removed,
-            "uncut_mm3": self.check.uncut, "gouged_mm3": self.check.gouged,
-            "max_uncut_mm": self.check.max_uncut, "max_gouge_mm": self.check.max_gouge}
+            "deposited_mm3": self.check.deposited, "surface_points": self.check.points,
+            "tolerance_mm": OFFSETS[0], "uncut_points": self.check.uncut_points,
+            "gouge_points": self.check.gouge_points, "max_uncut_mm": self.check.max_uncut,
+            "max_gouge_mm": self.check.max_gouge,
+            "by_offset_mm": {f"{k:g}": {"uncut_points": v[0], "gouge_points": v[1]}
+                             for k, v in self.check.by_offset.items()}}
         return {"switches": self.switches, "naive_switches": self.naive_switches,
                 "deposit_time_s": self.deposit_s, "milling_time_s": self.milling_s,
                 "travel_time_s": self.travel_s, "switch_time_s": self.switch_s,
@@ -218,7 +221,7 @@ def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
     check = None
     if options.hybrid.material_check:
         sweeps = [p.sweep for s in sequence.sessions for p in s.passes]
-        _, check = check_material(part_placed, sequence.deposits, sweeps)
+        check = check_material(part_placed, sequence.deposits, sweeps)
     planar = support_volume(part_placed, root / np.linalg.norm(root))
     own = sum(support_volume(sub.shape, sub.build_direction) for sub in plan.subparts
               if sub.overhang_area > 0)

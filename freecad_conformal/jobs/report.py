@@ -66,11 +66,12 @@ def _hybrid_lines(hybrid) -> list[str]:
     lines += [f"hole filled while depositing, cut afterwards: {hole}" for hole in hybrid.holes_filled]
     check = hybrid.check
     if check is not None:
-        lines.append(f"material check (deposits minus milled volume, against the part): "
-                     f"deposited {check.deposited / 1000:.3f} cm3, removed "
-                     f"{check.removed / 1000:.3f} cm3; left uncut {check.uncut:.3f} mm3 (at most "
-                     f"{check.max_uncut:.3f} mm), missing or gouged {check.gouged:.3f} mm3 (at "
-                     f"most {check.max_gouge:.3f} mm)")
+        tolerance = min(check.by_offset) if check.by_offset else 0.0
+        lines.append(f"material check (deposits less what the mill sweeps, at {check.points} "
+                     f"points of the part's surface moved {tolerance:g} mm out and in): stock "
+                     f"left at {check.uncut_points}, gouged or missing at {check.gouge_points}; "
+                     f"stock stands up to {check.max_uncut:g} mm proud, gouges reach "
+                     f"{check.max_gouge:g} mm in (sampled offsets)")
     return lines
 
 

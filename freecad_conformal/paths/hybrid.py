@@ -311,7 +311,12 @@ def finishing_axes(shapes: Sequence, directions: Sequence[np.ndarray], root: np.
             along_face = up - float(up @ m) * m
             if np.linalg.norm(along_face) < 1e-9:
                 continue                  # a face square to the root: a top, faced or built flat
-            axes.append(along_face / np.linalg.norm(along_face))
+            along_face /= np.linalg.norm(along_face)
+            # and across it: along the face's rise the rest of the part often stands in
+            # the way (a branch's underside over its block), across it seldom
+            for axis in (along_face, np.cross(m, along_face)):
+                if not any(float(axis @ a) > 1.0 - 1e-9 for a in axes):
+                    axes.append(axis)
     return axes
 
 
@@ -340,9 +345,13 @@ def final_finishing(shapes: Sequence, axes: Sequence[np.ndarray], tool: MillTool
             forbidden = forbidden_region(flutes, holder, tool)
             passes += contour_passes(forbidden, flutes.buffer(STOCK_REACH), shadows.frame,
                                      level, tool)
-            level += tool.flute_length
+            level += FINAL_LEVEL_FRACTION * tool.flute_length
     return passes
 
 
 #: Final passes go round rings within this (mm) of the part's walls plus the tool radius.
 STOCK_REACH = 1.0
+
+#: Last passes along an axis start every this fraction of the flute length: a wall the
+#: rest of the part hides from one tip level is often clear from a nearby one.
+FINAL_LEVEL_FRACTION = 0.25
