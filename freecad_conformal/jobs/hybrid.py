@@ -164,6 +164,34 @@ def _moved_hole(hole: Hole, rotation: np.ndarray, shift: np.ndarray) -> Hole:
                                direction=rotation @ hole.direction)
 
 
+def _additive_plan(solid_filled, options: PlanOptions, root: np.ndarray, checked):
+    """(plan, rotation, shift, notes) of the filled part: with the root left to "auto" the
+    additive plan search chooses (whole orientations, decompositions); a choice that turns
+    the part other than by a quarter turn is not followed (the holes and the check need the
+    motion), and the part is then planned as modelled (+Z)."""
+    from freecad_conformal.jobs.plan import choose_plan
+
+    additive = dataclasses.replace(options, process="additive")
+    if isinstance(options.root, str):
+        choice = choose_plan(solid_filled, additive, checked)
+        try:
+            rotation, shift = placed_like(solid_filled, solid_filled, choice.plan)
+            check_reach(checked[4], choice.plan)
+            return choice.plan, rotation, shift, []
+        except PlanError as exc:
+            note = (f"the chosen plan ({exc}) is not followed: the part is planned as "
+                    "modelled, along +Z")
+        else:  # pragma: no cover - returned above
+            note = ""
+    else:
+        note = ""
+    fixed = dataclasses.replace(additive, root=(float(root[0]), float(root[1]), float(root[2])))
+    _, plan = machine_plan(solid_filled, fixed)
+    check_reach(checked[4], plan)
+    rotation, shift = placed_like(solid_filled, solid_filled, plan)
+    return plan, rotation, shift, [note] if note else []
+
+
 def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
                 progress=None) -> JobResult:
     """The hybrid job (see the module docstring)."""
@@ -183,11 +211,7 @@ def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
     limit = 2.0 * width if limit is None else limit
     fill = holes_to_fill(solid, root / np.linalg.norm(root), limit)
     solid_filled = filled(solid, fill)
-    planned_options = dataclasses.replace(
-        options, root=(float(root[0]), float(root[1]), float(root[2])), process="additive")
-    _, plan = machine_plan(solid_filled, planned_options)
-    check_reach(machine, plan)
-    rotation, shift = placed_like(solid, solid_filled, plan)
+    plan, rotation, shift, notes = _additive_plan(solid_filled, options, root, checked)
     part_placed = _moved_shape(solid, rotation, shift)
     holes = [_moved_hole(h, rotation, shift) for h in fill]
     layers = {}
@@ -222,7 +246,8 @@ def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
     if options.hybrid.material_check:
         sweeps = [p.sweep for s in sequence.sessions for p in s.passes]
         check = check_material(part_placed, sequence.deposits, sweeps)
-    planar = support_volume(part_placed, root / np.linalg.norm(root))
+    # the peer: the part as modelled (or turned to the root given), built planar along +Z
+    planar = support_volume(solid, root / np.linalg.norm(root))
     own = sum(support_volume(sub.shape, sub.build_direction) for sub in plan.subparts
               if sub.overhang_area > 0)
     report = HybridReport(
@@ -238,7 +263,7 @@ def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
     summaries = [subpart_summary(sub, layers[sub.index], assembly, width,
                                   path_settings.fill.bead_model)
                  for sub in plan.ordered() if layers[sub.index]]
-    plan.notes.extend(sequence.notes)
+    plan.notes.extend(notes + sequence.notes)
     return JobResult(part=part, plan=plan, layers=layers, assembly=assembly, post=post,
                      machine=machine, tool_id=tool.id, material_name=material_name,
                      bead_width=width, time_s=float(seconds.sum()) + switch_s,

@@ -188,3 +188,15 @@ def test_plan_command_takes_process_and_mill_tool(tmp_path, capsys):
     report = json.loads((tmp_path / "r.json").read_text())
     assert report["hybrid"]["switches"] == 1 and report["hybrid"]["material_check"] is None
     assert report["settings"]["process"]["value"] == "hybrid"
+
+
+@pytest.mark.slow
+def test_auto_root_follows_the_search_that_turns_a_t_upside_down():
+    # as modelled the T's arms overhang (support under them); the plan search builds it
+    # upside down, which the hybrid plan follows: no support at all
+    result = plan_job(samples.t_block(), plan_options({**HYBRID, "material_check": False}))
+    hybrid = result.hybrid
+    assert hybrid.support_planar_mm3 > 1000
+    assert hybrid.support_hybrid_mm3 == 0 and hybrid.support_saved == 1.0
+    assert result.subparts[0].direction @ np.array([0.0, 0.0, 1.0]) == pytest.approx(1.0)
+    assert not any("not followed" in note for note in result.plan.notes)
