@@ -59,6 +59,16 @@ class HybridReport:
     support_hybrid_mm3: float
     check: MaterialCheck | None
     notes: list[str] = field(default_factory=list)
+    #: the motion from the part as modelled to the machine frame: p -> rotation @ p + shift
+    rotation: np.ndarray = field(default_factory=lambda: np.eye(3))
+    shift: np.ndarray = field(default_factory=lambda: np.zeros(3))
+
+    def frame_back(self) -> list[float]:
+        """The motion from the machine frame back to the part as modelled (3x4, row-major)."""
+        back = np.eye(4)[:3]
+        back[:, :3] = self.rotation.T
+        back[:, 3] = -self.rotation.T @ self.shift
+        return back.ravel().tolist()
 
     @property
     def support_saved(self) -> float:
@@ -258,7 +268,8 @@ def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
         mill_tools=[m.id for m in mills],
         holes_filled=[f"{h.diameter:g} mm x {h.length:.2f} mm along "
                       f"{np.round(h.direction, 4).tolist()}" for h in holes],
-        support_planar_mm3=planar, support_hybrid_mm3=own, check=check, notes=sequence.notes)
+        support_planar_mm3=planar, support_hybrid_mm3=own, check=check, notes=sequence.notes,
+        rotation=rotation, shift=shift)
     assembly = Assembly(program.toolpath, program.deposits, program.travels, 0, program.cuts)
     summaries = [subpart_summary(sub, layers[sub.index], assembly, width,
                                   path_settings.fill.bead_model)

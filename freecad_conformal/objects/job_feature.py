@@ -120,8 +120,8 @@ def compute_job(inputs: dict, progress) -> dict:
 
 
 def _compute_hybrid(shape, options, part: str, progress) -> dict:
-    """The hybrid job (jobs/hybrid.py); its sub-parts are not drawn back on the part (the
-    holes it fills change the solid), so no frames."""
+    """The hybrid job (jobs/hybrid.py): the whole part moves as one (a quarter turn and a
+    shift), so every sub-part has the same frame back onto the part as modelled."""
     from freecad_conformal.jobs.hybrid import plan_hybrid
 
     progress(0.05, "hybrid plan: deposition and milling")
@@ -133,7 +133,8 @@ def _compute_hybrid(shape, options, part: str, progress) -> dict:
                                                  [p.subpart for p in result.assembly.paths]),
             "gcode": result.post.text, "summary": result.summary(),
             "seconds": float(result.time_s), "subparts": len(result.subparts),
-            "frame_subparts": [], "frames": []}
+            "frame_subparts": [sub.index for sub in result.plan.subparts],
+            "frames": [v for _ in result.plan.subparts for v in result.hybrid.frame_back()]}
 
 
 def plan_options(obj):

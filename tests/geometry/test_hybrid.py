@@ -200,3 +200,28 @@ def test_auto_root_follows_the_search_that_turns_a_t_upside_down():
     assert hybrid.support_hybrid_mm3 == 0 and hybrid.support_saved == 1.0
     assert result.subparts[0].direction @ np.array([0.0, 0.0, 1.0]) == pytest.approx(1.0)
     assert not any("not followed" in note for note in result.plan.notes)
+
+
+@pytest.mark.slow
+def test_job_object_computes_a_hybrid_plan_mapped_back_onto_the_part():
+    from freecad_conformal.gui.path_display import frame_matrices, to_part_frame
+    from freecad_conformal.objects.job_feature import compute_job
+    from freecad_conformal.objects.toolpath_feature import toolpath_from_bytes
+    from freecad_conformal.settings.plan import PLAN_SETTINGS
+    from freecad_conformal.settings.schema import defaults
+    from freecad_conformal.toolpath import KINDS
+
+    App, Part = import_freecad()
+    shape = samples.t_block()                       # the search builds it upside down
+    values = dict(defaults(PLAN_SETTINGS), **HYBRID, material_check=False)
+    result = compute_job({"brep": shape.exportBrepToString(), "part": "t", "values": values},
+                         lambda *_: None)
+    assert "hybrid: deposit" in result["summary"] and "T2 M6" in result["gcode"]
+    toolpath = toolpath_from_bytes(result["toolpath"])
+    matrices = frame_matrices(result["frame_subparts"], result["frames"])
+    on_part = to_part_frame(toolpath.points, toolpath.segment_index,
+                            result["segment_subparts"], matrices)
+    deposit = np.flatnonzero(toolpath.kind[toolpath.segment_index] == KINDS.index("deposit"))
+    sample = deposit[:: max(1, len(deposit) // 100)]
+    inside = np.mean([shape.isInside(App.Vector(*map(float, p)), 0.6, True) for p in on_part[sample]])
+    assert inside > 0.95
