@@ -158,6 +158,13 @@ class Shadows:
         self._slicers = [PlanarSlicer(shape, self.normal) for shape in built]
         self._current = PlanarSlicer(current, self.normal) if current is not None else None
         self._top = current_top
+        # the silhouette of a part along the axis has its corners at the heights of its
+        # vertices: sections there make the projected outline exact for planar faces
+        # (between samples a 45° block's corner was missed by 0.1 mm, and cut)
+        self._corners = np.unique(np.round(np.concatenate(
+            [np.array([tuple(v.Point) for v in shape.Vertexes]).reshape(-1, 3) @ self.normal
+             for shape in [*built, *([current] if current is not None else [])]] or
+            [np.zeros(0)]), 9))
 
     def over(self, low: float, high: float, step: float) -> MultiPolygon:
         """What is built between heights `low` and `high` (this sub-part only below its
@@ -165,11 +172,16 @@ class Shadows:
         if high <= low:
             return MultiPolygon()
         count = max(2, int(math.ceil((high - low) / step)) + 1)
-        heights = list(np.linspace(low + 1e-4, high - 1e-4, count))
+        corners = self._corners[(self._corners > low + 1e-4) & (self._corners < high - 1e-4)]
+        heights = sorted(set(np.linspace(low + 1e-4, high - 1e-4, count).tolist())
+                         | set((corners - 1e-4).tolist()) | set((corners + 1e-4).tolist()))
+        heights = [h for h in heights if low < h < high]
         pieces = []
         for slicer in self._slicers:
             pieces += [s.polygons() for s in slicer.sections(heights) if not s.is_empty]
         mine = [h for h in heights if h <= self._top - 1e-4]
+        if low < self._top - 1e-4 < high:
+            mine.append(self._top - 1e-4)     # the last layer's section, just under the top
         if mine and self._current is not None:
             pieces += [s.polygons() for s in self._current.sections(mine) if not s.is_empty]
         return as_multipolygon(shapely.union_all(pieces)) if pieces else MultiPolygon()
