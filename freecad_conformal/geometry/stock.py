@@ -56,8 +56,7 @@ class Prism:
             return inside
         uv = self.frame.to_2d(points[inside])
         result = np.zeros(len(points), dtype=bool)
-        result[np.flatnonzero(inside)] = shapely.contains_xy(self.region, uv[:, 0], uv[:, 1]) | \
-            shapely.intersects_xy(self.region.boundary, uv[:, 0], uv[:, 1])
+        result[np.flatnonzero(inside)] = shapely.intersects_xy(self.region, uv[:, 0], uv[:, 1])
         return result
 
     @property

@@ -9,7 +9,6 @@ left checked against the part (geometry/stock.py) and the support a planar build
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -135,10 +134,11 @@ def holes_to_fill(solid, root: np.ndarray, limit: float) -> list[Hole]:
             if h.diameter < limit or h.across(root, DEFAULT_OVERHANG_ANGLE)]
 
 
-def placed_like(solid, reference, plan) -> tuple[np.ndarray, np.ndarray]:
+def placed_like(reference, plan) -> tuple[np.ndarray, np.ndarray]:
     """(rotation, translation) that moved `reference` (the filled part as given) to where
-    the plan's sub-parts stand: one of the placements' quarter turns, then a shift."""
-    from freecad_conformal.geometry.rotation import rotation_to
+    the plan's sub-parts stand: one of the placements' quarter turns (`turn_up`), then a
+    shift."""
+    from freecad_conformal.jobs.placement import turn_up
 
     shapes = [sub.shape for sub in plan.subparts]
     low = np.min([[s.BoundBox.XMin, s.BoundBox.YMin, s.BoundBox.ZMin] for s in shapes], axis=0)
@@ -146,14 +146,12 @@ def placed_like(solid, reference, plan) -> tuple[np.ndarray, np.ndarray]:
     App, Part = import_freecad()
     compound = Part.makeCompound(shapes)
     for up in ((0, 0, 1), (0, 0, -1), (1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0)):
-        axis, angle = rotation_to(np.array(up, dtype=float))
-        rotation = rodrigues_matrix(axis, angle) if angle > 0 else np.eye(3)
-        turned = points @ rotation.T
-        box = reference.copy()
-        box.rotate(App.Vector(0, 0, 0), App.Vector(*axis), math.degrees(angle))
-        bb = box.BoundBox
-        shift = low - np.array([bb.XMin, bb.YMin, bb.ZMin])
-        moved = turned + shift
+        turned, placement = turn_up(reference, up)
+        rotation = (rodrigues_matrix(placement.axis, placement.angle) if placement.turned
+                    else np.eye(3))
+        box = turned.BoundBox
+        shift = low - np.array([box.XMin, box.YMin, box.ZMin])
+        moved = points @ rotation.T + shift
         if all(compound.distToShape(Part.Vertex(App.Vector(*p)))[0] <= SAME_PLACE for p in moved):
             return rotation, shift
     raise PlanError("the hybrid plan could not follow where the plan placed the part "
@@ -175,31 +173,29 @@ def _moved_hole(hole: Hole, rotation: np.ndarray, shift: np.ndarray) -> Hole:
 
 
 def _additive_plan(solid_filled, options: PlanOptions, root: np.ndarray, checked):
-    """(plan, rotation, shift, notes) of the filled part: with the root left to "auto" the
-    additive plan search chooses (whole orientations, decompositions); a choice that turns
-    the part other than by a quarter turn is not followed (the holes and the check need the
-    motion), and the part is then planned as modelled (+Z)."""
+    """(plan, layers the choice already sliced, rotation, shift, notes) of the filled part:
+    with the root left to "auto" the additive plan search chooses (whole orientations,
+    decompositions); a choice that turns the part other than by a quarter turn is not
+    followed (the holes and the check need the motion), and the part is then planned as
+    modelled (+Z)."""
     from freecad_conformal.jobs.plan import choose_plan
 
     additive = dataclasses.replace(options, process="additive")
+    notes = []
     if isinstance(options.root, str):
         choice = choose_plan(solid_filled, additive, checked)
         try:
-            rotation, shift = placed_like(solid_filled, solid_filled, choice.plan)
+            rotation, shift = placed_like(solid_filled, choice.plan)
             check_reach(checked[4], choice.plan)
-            return choice.plan, rotation, shift, []
+            return choice.plan, choice.layers or {}, rotation, shift, notes
         except PlanError as exc:
-            note = (f"the chosen plan ({exc}) is not followed: the part is planned as "
-                    "modelled, along +Z")
-        else:  # pragma: no cover - returned above
-            note = ""
-    else:
-        note = ""
+            notes.append(f"the chosen plan ({exc}) is not followed: the part is planned as "
+                         "modelled, along +Z")
     fixed = dataclasses.replace(additive, root=(float(root[0]), float(root[1]), float(root[2])))
     _, plan = machine_plan(solid_filled, fixed)
     check_reach(checked[4], plan)
-    rotation, shift = placed_like(solid_filled, solid_filled, plan)
-    return plan, rotation, shift, [note] if note else []
+    rotation, shift = placed_like(solid_filled, plan)
+    return plan, {}, rotation, shift, notes
 
 
 def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
@@ -221,12 +217,14 @@ def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
     limit = 2.0 * width if limit is None else limit
     fill = holes_to_fill(solid, root / np.linalg.norm(root), limit)
     solid_filled = filled(solid, fill)
-    plan, rotation, shift, notes = _additive_plan(solid_filled, options, root, checked)
+    plan, sliced, rotation, shift, notes = _additive_plan(solid_filled, options, root, checked)
     part_placed = _moved_shape(solid, rotation, shift)
     holes = [_moved_hole(h, rotation, shift) for h in fill]
     layers = {}
     for sub in plan.ordered():
-        layers[sub.index] = plan_layers(sub, options.layers)
+        # the plan search sliced its choice already: not again
+        layers[sub.index] = (sliced[sub.index] if sub.index in sliced
+                             else plan_layers(sub, options.layers))
         if layers[sub.index]:
             check_thickness(layers[sub.index], options.layers)
     d_max = options.layers.bounds[1]

@@ -189,7 +189,7 @@ def drill_passes(entry: np.ndarray, inward: np.ndarray, radius: float, depth: fl
         heights = top - np.minimum(t / turns, 1.0) * depth     # a last full turn at the bottom
     points = (np.outer(uv[:, 0], frame.u) + np.outer(uv[:, 1], frame.v)
               + np.outer(heights, frame.n))
-    disc = Polygon(np.asarray(shapely.Point(*centre).buffer(radius, quad_segs=ARC_SEGMENTS).exterior.coords))
+    disc = shapely.Point(*centre).buffer(radius, quad_segs=ARC_SEGMENTS)
     sweep = Prism(frame, MultiPolygon([disc]), top - depth, depth)
     return [MillPass(points, frame.n.copy(), "drill", tool, tool.plunge_feed if offset < 1e-6
                      else tool.feed, sweep)]
