@@ -26,6 +26,7 @@ from freecad_conformal.layers.model import check_thickness
 from freecad_conformal.layers.plan import plan_layers
 from freecad_conformal.paths.approach import bounding_sphere
 from freecad_conformal.paths.assemble import Assembly
+from freecad_conformal.paths.hybrid_groups import group_tilted
 from freecad_conformal.paths.hybrid_sequence import hybrid_sequence
 from freecad_conformal.paths.hybrid_toolpath import DepositProcess, hybrid_toolpath
 from freecad_conformal.paths.milling import MillTool
@@ -228,8 +229,19 @@ def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
         if layers[sub.index]:
             check_thickness(layers[sub.index], options.layers)
     d_max = options.layers.bounds[1]
+    faces, grouped = {}, []
+    for sub in plan.ordered():
+        if not any(layer.tilted for layer in layers[sub.index]):
+            continue
+        stack = group_tilted(sub.shape, layers[sub.index], d_max, mills[0].flute_length,
+                             DEFAULT_OVERHANG_ANGLE)
+        layers[sub.index], faces[sub.index] = stack.layers, stack.faces
+        if stack.replaced[1]:
+            grouped.append(f"sub-part {sub.index}: {stack.replaced[0]} 3-D layers deposited as "
+                           f"planar layers in {stack.replaced[1]} runs, each faced once")
+    notes += grouped
     sequence = hybrid_sequence(plan, layers, path_settings, holes, mills,
-                               options.hybrid.stock, d_max, progress)
+                               options.hybrid.stock, d_max, progress, faces)
     centre, radius = bounding_sphere([sub.shape for sub in plan.subparts])
     power = None
     if tool.kind == "laser_nozzle":

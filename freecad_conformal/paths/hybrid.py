@@ -248,6 +248,17 @@ def facing(layer: Layer, lower_point: np.ndarray, lower_normal: np.ndarray, d_ma
     return facing_passes(footprint, forbidden, shadows.frame, top, tool)
 
 
+def face_to(prisms: Sequence[Prism], point: np.ndarray, normal: np.ndarray, shadows: Shadows,
+            tool: MillTool, step: float) -> list[MillPass]:
+    """Face what `prisms` deposited down to the plane (`point`, `normal`): a run of 3-D
+    layers deposited as planar layers (paths/hybrid_groups.py)."""
+    top = float(np.asarray(point) @ np.asarray(normal))
+    footprint = as_multipolygon(shapely.union_all(
+        [_moved(p.region, p.frame, p.bottom + p.height, shadows.frame) for p in prisms]))
+    forbidden = _forbidden(shadows, top, tool, step)
+    return facing_passes(footprint, forbidden, shadows.frame, top, tool)
+
+
 def drill_tool(hole: Hole, tools: Sequence[MillTool]) -> MillTool | None:
     """The widest tool that fits the hole (None when none does)."""
     fitting = [t for t in tools if t.radius <= hole.radius + 1e-9]

@@ -11,7 +11,8 @@ from freecad_conformal.geometry.holes import Hole
 from freecad_conformal.layers.model import Layer
 from freecad_conformal.paths.assemble import PathSettings, plan_paths
 from freecad_conformal.paths.hybrid import (DRILL_OVERLAP, SHADOW_STEP, HybridSequence, Session, Shadows, Step,
-                                            along, deposit_prism, drill_tool, facing, final_drills,
+                                            along, deposit_prism, drill_tool, face_to, facing,
+                                            final_drills,
                                             final_finishing, finishing_axes,
                                             finishing_passes, grows_out, layer_bottom,
                                             nominal_paths, session_drills)
@@ -61,9 +62,12 @@ def _reach(holes: Sequence[Hole], normal: np.ndarray, bottom: float, top: float,
 
 
 def _break(stack: Sequence[Layer], first: int, k: int, holes: Sequence[Hole],
-           tools: Sequence[MillTool], finished_later: bool) -> str:
-    """Why milling must come after layer k ('' when deposition may go on)."""
+           tools: Sequence[MillTool], finished_later: bool, faced: bool = False) -> str:
+    """Why milling must come after layer k ('' when deposition may go on); `faced`: a run
+    of 3-D layers deposited as planar layers ends at k (paths/hybrid_groups.py)."""
     layer = stack[k]
+    if faced:
+        return "3-D layers' top"
     if layer.tilted:
         return "3-D layer top"
     if k + 1 == len(stack):
@@ -81,9 +85,12 @@ def _break(stack: Sequence[Layer], first: int, k: int, holes: Sequence[Hole],
 
 def hybrid_sequence(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSettings,
                     holes: Sequence[Hole], tools: Sequence[MillTool], stock: float,
-                    d_max: float, progress: Callable[[str], None] | None = None) -> HybridSequence:
+                    d_max: float, progress: Callable[[str], None] | None = None,
+                    faces: dict[int, dict] | None = None) -> HybridSequence:
     """Deposition and milling steps for the whole plan (`tools[0]` finishes the walls and
-    faces 3-D layers; every tool may cut holes)."""
+    faces 3-D layers; every tool may cut holes). `faces[sub][k]`: after layer k, face to
+    the plane (point, normal) what was deposited since layer `first` (a GroupedStack's)."""
+    faces = faces or {}
     steps: list[Step] = []
     deposits = []
     sessions: list[Session] = []
@@ -98,9 +105,12 @@ def hybrid_sequence(plan: BuildPlan, layers: dict[int, list[Layer]], settings: P
             continue
         normals.append(np.asarray(sub.build_direction, dtype=float))
         per_layer = plan_paths(stack, settings, sub.parent is not None, position)
+        planes = faces.get(sub.index, {})
         first = 0
         for k, layer in enumerate(stack):
             below = (stack[k - 1].top_point, stack[k - 1].top_normal) if k else (None, None)
+            if k - 1 in planes:
+                below = planes[k - 1][:2]       # deposited on the face milled there
             paths = per_layer[k]
             if layer.tilted and below[0] is not None:
                 paths = nominal_paths(paths, below[0], below[1], d_max)
@@ -111,7 +121,8 @@ def hybrid_sequence(plan: BuildPlan, layers: dict[int, list[Layer]], settings: P
             count += 1
             if paths:
                 position = paths[-1].points[-1]
-            reason = _break(stack, first, k, holes, tools, _flat_walls(sub.shape, layer, stack, k))
+            reason = _break(stack, first, k, holes, tools, _flat_walls(sub.shape, layer, stack, k),
+                            k in planes)
             if not reason:
                 continue
             shadows: dict[tuple, Shadows] = {}
@@ -124,7 +135,11 @@ def hybrid_sequence(plan: BuildPlan, layers: dict[int, list[Layer]], settings: P
 
             step = min(SHADOW_STEP, layer.thickness_min)
             session = Session(sub.index, first, k, reason)
-            if layer.tilted and below[0] is not None:
+            if k in planes:
+                point, normal, start = planes[k]
+                run = deposits[len(deposits) - (k - start + 1):]
+                session.passes += face_to(run, point, normal, shadows_for(normal), tools[0], step)
+            elif layer.tilted and below[0] is not None:
                 session.passes += facing(layer, below[0], below[1], d_max, stock,
                                          shadows_for(layer.top_normal), tools[0], step)
             session.passes += finishing_passes(stack[first:k + 1], shadows_for, stock, tools[0], step)
