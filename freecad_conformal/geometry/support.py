@@ -16,6 +16,7 @@ import numpy as np
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.frames import unit
 from freecad_conformal.geometry.overhang import DEFAULT_OVERHANG_ANGLE, lowest_level
+from freecad_conformal.tolerances import ROUNDING_SLACK
 
 #: Mesh deflection (mm) for curved overhanging faces.
 CURVED_DEFLECTION = 0.05
@@ -64,3 +65,105 @@ def _overhanging(Part, App, face, d: np.ndarray, limit: float) -> list:
             wire = Part.makePolygon([points[a], points[b], points[c], points[a]])
             pieces.append(Part.Face(wire))
     return pieces
+
+
+#: Surface samples for the support under 3-D layers: mesh triangles split until no edge is
+#: longer than this (mm), each classified by the layer its centre lies in.
+LAYERED_SAMPLE = 1.0
+
+#: Rays start this far (mm) off the surface, so they do not hit their own triangle.
+RAY_START = 1e-4
+
+
+def layered_support_volume(shape, direction: Sequence[float], layers: Sequence | None = None,
+                           angle: float = DEFAULT_OVERHANG_ANGLE) -> float:
+    """Support volume (mm³) under `shape` built from the platform normal to `direction`
+    in `layers` (layers/model.Layer, possibly 3-D; None: planar along `direction`): a
+    surface point overhangs when its normal points down by more than the overhang limit
+    from the normal of the layer it lies in, and its support is the column along that
+    normal down to the first surface of the part below it or the platform. Sampled
+    (`LAYERED_SAMPLE`). Unlike `support_volume` a column stops at the first surface it
+    meets, so a part's overhang above another is not counted twice (a branch leaning over
+    its block: 22,482 mm³ where `support_volume` gives 25,912); on parts without that they
+    agree to 0.1 % (tests/geometry/test_hybrid_groups.py)."""
+    from freecad_conformal.geometry.surface_mesh import surface_mesh
+
+    mesh = surface_mesh(shape)
+    if mesh is None:
+        return support_volume(shape, direction, angle)
+    b = unit(direction, "build direction")
+    platform = lowest_level(shape, b)
+    corners = mesh.points[mesh.triangles]                      # (M, 3, 3)
+    small = _split(corners, LAYERED_SAMPLE)
+    centres = small.mean(axis=1)
+    cross = np.cross(small[:, 1] - small[:, 0], small[:, 2] - small[:, 0])
+    areas = 0.5 * np.linalg.norm(cross, axis=1)
+    keep = areas > 1e-12
+    small, centres, cross, areas = small[keep], centres[keep], cross[keep], areas[keep]
+    normals = cross / (2.0 * areas[:, None])
+    local = (_layer_normals(centres, layers) if layers
+             else np.broadcast_to(b, centres.shape).copy())
+    facing = np.einsum("ij,ij->i", normals, local)
+    # a face exactly at the limit (a branch leaning 45°) prints without support
+    over = facing < -math.cos(angle) - ROUNDING_SLACK
+    if not over.any():
+        return 0.0
+    starts = centres[over] - RAY_START * local[over]
+    down = -local[over]
+    rise = local[over] @ b
+    with np.errstate(divide="ignore"):
+        # a column leaning away from the platform reaches it never, only the part
+        to_platform = np.where(rise > 1e-9, (starts @ b - platform) / rise, np.inf)
+    hits = _first_hits(starts, down, corners)
+    height = np.minimum(np.maximum(to_platform, 0.0), hits)
+    height = np.where(np.isfinite(height), height, 0.0)
+    return float(np.sum(areas[over] * -facing[over] * height))
+
+
+def _split(triangles: np.ndarray, longest: float) -> np.ndarray:
+    """Triangles (K, 3, 3) split four ways until no edge is longer than `longest`."""
+    done = []
+    while len(triangles):
+        edges = np.linalg.norm(triangles - np.roll(triangles, 1, axis=1), axis=2).max(axis=1)
+        fine = edges <= longest
+        done.append(triangles[fine])
+        t = triangles[~fine]
+        a, b, c = t[:, 0], t[:, 1], t[:, 2]
+        ab, bc, ca = 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a)
+        triangles = np.concatenate([np.stack(s, axis=1) for s in
+                                    ((a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca))])
+    return np.concatenate(done) if done else np.zeros((0, 3, 3))
+
+
+def _layer_normals(points: np.ndarray, layers: Sequence) -> np.ndarray:
+    """Per point, the top normal of the first layer whose top plane is not below it (the
+    last layer's above the stack)."""
+    tops = np.array([np.asarray(layer.top_point, dtype=float) for layer in layers])
+    normals = np.array([np.asarray(layer.top_normal, dtype=float) for layer in layers])
+    # (P, L): how far each point lies above each layer's top plane
+    above = np.einsum("pk,lk->pl", points, normals) - np.einsum("lk,lk->l", tops, normals)
+    inside = above <= 1e-9
+    index = np.where(inside.any(axis=1), inside.argmax(axis=1), len(layers) - 1)
+    return normals[index]
+
+
+def _first_hits(starts: np.ndarray, directions: np.ndarray, triangles: np.ndarray,
+                chunk: int = 256) -> np.ndarray:
+    """Distance along each ray to the first triangle it crosses (inf if none):
+    Möller–Trumbore over all triangles, `chunk` rays at a time."""
+    a, e1, e2 = triangles[:, 0], triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0]
+    out = np.full(len(starts), np.inf)
+    for k in range(0, len(starts), chunk):
+        o, d = starts[k:k + chunk, None, :], directions[k:k + chunk, None, :]
+        p = np.cross(d, e2[None])
+        det = np.einsum("rmk,mk->rm", p, e1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            inv = 1.0 / det
+            s = o - a[None]
+            u = np.einsum("rmk,rmk->rm", s, p) * inv
+            q = np.cross(s, e1[None])
+            v = np.einsum("rmk,rmk->rm", np.broadcast_to(d, q.shape), q) * inv
+            t = np.einsum("rmk,mk->rm", q, e2) * inv
+            ok = (np.abs(det) > 1e-12) & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
+        out[k:k + chunk] = np.where(ok, t, np.inf).min(axis=1)
+    return out
