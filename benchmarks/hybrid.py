@@ -5,12 +5,16 @@ hole across the build, a nozzle with a 0.5 mm hole; or files given), plan it wit
 `--process hybrid` and print, against the peers measured in the same run:
 - switches between deposition and milling, against a plan that mills after every layer
   (the naive plan: same layers, same passes);
-- support volume: ours (residual overhang of the plan's sub-parts) against a planar 2.5-D
-  build of the same part along +Z (every face overhanging more than 45° supported down to
-  the part or the platform, `geometry/support.py`);
+- support volume: ours (under the layers as deposited: a surface point overhangs by the
+  normal of the layer it lies in, so 3-D layers that follow a lean need none there) against
+  a planar 2.5-D build of the same part along +Z, measured the same way (every point
+  overhanging more than 45° supported down to the part or the platform,
+  `geometry/support.layered_support_volume`);
 - the material check: points of the part's surface moved 0.05 mm (then 0.1 … 5 mm) out
   and in, classified against deposits less later sweeps: how many show stock left or a
-  gouge at the tolerance, and the largest offset at which any does;
+  gouge at the tolerance, and the largest offset at which any does; "off corners": the
+  points with stock left outside the concave corners a cutter of the finishing radius
+  cannot reach into (`geometry/stock.corner_zones`);
 - times: deposit, milling, travel and switches (estimated), and the planner's wall time.
 
 Run: .venv/bin/python benchmarks/hybrid.py [PART ...] [--layer-height 0.5]
@@ -24,16 +28,22 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))   # run from anywhere
 
+from freecad_conformal.geometry import samples  # noqa: E402
 from freecad_conformal.geometry.samples import load_part  # noqa: E402
 from freecad_conformal.jobs.job import plan_job  # noqa: E402
 from freecad_conformal.jobs.options import plan_options  # noqa: E402
 
-PARTS = {"branch45": {}, "branch45 planar": {"tilt": False}, "cross_hole_block": {},
-         "nozzle": {"mill_tool": "endmill_6mm,drill_0p5"}}
+PARTS = {"branch45": {}, "branch45 planar": {"tilt": False},
+         "branch55": {}, "t_block": {},
+         "cross_hole_block": {}, "nozzle": {"mill_tool": "endmill_6mm,drill_0p5"}}
+
+#: Parts made here rather than by name: the branch leaning 55° (past the 45° rule).
+MADE = {"branch55": lambda: samples.branch45(lean_deg=55.0)}
 
 
 def run(name: str, extra: dict, layer: float) -> dict:
-    shape, label = load_part(name.split()[0])
+    base = name.split()[0]
+    shape = MADE[base]() if base in MADE else load_part(base)[0]
     label = name
     values = {"process": "hybrid", "tool": "laser_powder", "machine": "hybrid_ac",
               "layer_height": layer, **extra}
@@ -48,6 +58,7 @@ def run(name: str, extra: dict, layer: float) -> dict:
             "support_planar": h.support_planar_mm3, "support_ours": h.support_hybrid_mm3,
             "saved": h.support_saved, "points": check.points,
             "uncut": check.uncut_points, "gouged": check.gouge_points,
+            "uncut_outside": check.uncut_outside_corners,
             "max_uncut": check.max_uncut, "max_gouge": check.max_gouge,
             "deposit_s": h.deposit_s, "milling_s": h.milling_s, "travel_s": h.travel_s,
             "switch_s": h.switch_s, "sessions": h.sessions}
@@ -55,21 +66,23 @@ def run(name: str, extra: dict, layer: float) -> dict:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("parts", nargs="*", help="part files or sample names (default: the three samples)")
+    parser.add_argument("parts", nargs="*", help="part files or sample names (default: PARTS)")
     parser.add_argument("--layer-height", type=float, default=0.5)
     args = parser.parse_args(argv)
     names = args.parts or list(PARTS)
     rows = [run(name, PARTS.get(name, {}), args.layer_height) for name in names]
     print(f"{'part':<18} {'sub':>3} {'layers':>6} {'3-D':>4} {'switches':>8} {'naive':>6} "
           f"{'fewer':>6} {'support planar':>14} {'ours':>6} {'saved':>6} {'points':>6} "
-          f"{'stock>0.05':>10} {'max mm':>6} {'gouge>0.05':>10} {'max mm':>6} {'plan s':>7}")
+          f"{'stock>0.05':>10} {'off corners':>11} {'max mm':>6} {'gouge>0.05':>10} {'max mm':>6} "
+          f"{'plan s':>7}")
     for r in rows:
         fewer = r["naive"] / max(r["switches"], 1)
         saved = f"{100 * r['saved']:.0f} %" if r["support_planar"] > 0 else "n/a"
         print(f"{r['part']:<18} {r['sub_parts']:>3} {r['layers']:>6} {r['tilted']:>4} "
               f"{r['switches']:>8} {r['naive']:>6} {fewer:>5.1f}x {r['support_planar']:>14.1f} "
               f"{r['support_ours']:>6.1f} {saved:>6} {r['points']:>6} {r['uncut']:>10} "
-              f"{r['max_uncut']:>6g} {r['gouged']:>10} {r['max_gouge']:>6g} {r['wall_s']:>7.1f}")
+              f"{r['uncut_outside']:>11} {r['max_uncut']:>6g} {r['gouged']:>10} "
+              f"{r['max_gouge']:>6g} {r['wall_s']:>7.1f}")
     print()
     print(f"{'part':<18} {'deposit s':>9} {'milling s':>9} {'travel s':>9} {'switch s':>9}  "
           "milling sessions (reason: count)")

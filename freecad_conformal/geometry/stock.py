@@ -17,6 +17,7 @@ intersection gave 0.004 mm³ where the Boolean removed 12 mm³).
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Sequence
 
@@ -79,6 +80,9 @@ class MaterialCheck:
     max_gouge: float
     #: per offset (mm): (points with stock that far out, points gouged that deep)
     by_offset: dict = field(default_factory=dict)
+    #: of `uncut_points`, those outside every concave corner's zone that a cutter of the
+    #: finishing radius cannot reach (`corner_zones`); None when no radius was given
+    uncut_outside_corners: int | None = None
 
     @property
     def max_deviation(self) -> float:
@@ -121,14 +125,18 @@ def surface_samples(part, spacing: float = SAMPLE_SPACING) -> tuple[np.ndarray, 
 
 
 def check_material(part, deposits: Sequence[Prism], sweeps: Sequence[Prism],
-                   offsets: Sequence[float] = OFFSETS) -> MaterialCheck:
-    """The result of `deposits` less later `sweeps` against `part` (see the module)."""
+                   offsets: Sequence[float] = OFFSETS,
+                   corner_radius: float | None = None) -> MaterialCheck:
+    """The result of `deposits` less later `sweeps` against `part` (see the module);
+    `corner_radius`: the finishing cutter's radius, to tell stock in the corners no such
+    cutter reaches from stock elsewhere."""
     from freecad_conformal.freecad_env import import_freecad
 
-    App, _ = import_freecad()
+    App, Part = import_freecad()
     points, normals = surface_samples(part)
     by_offset = {}
     max_uncut = max_gouge = 0.0
+    outside = None
     for offset in offsets:
         out = points + offset * normals
         inward = points - offset * normals
@@ -136,7 +144,12 @@ def check_material(part, deposits: Sequence[Prism], sweeps: Sequence[Prism],
         # points that really left it count as stock, and only points inside as gouge
         # (asked of OCC for the suspects only: a classification costs tens of µs)
         suspects = np.flatnonzero(in_result(out, deposits, sweeps))
-        proud = sum(not part.isInside(App.Vector(*out[k]), 1e-6, True) for k in suspects)
+        left = [k for k in suspects if not part.isInside(App.Vector(*out[k]), 1e-6, True)]
+        proud = len(left)
+        if outside is None and corner_radius is not None:
+            zones = corner_zones(part, corner_radius)
+            outside = sum(not _in_zone(Part.Vertex(App.Vector(*points[k])), zones)
+                          for k in left)
         suspects = np.flatnonzero(~in_result(inward, deposits, sweeps))
         sunk = sum(part.isInside(App.Vector(*inward[k]), 1e-6, False) for k in suspects)
         by_offset[offset] = (proud, sunk)
@@ -147,4 +160,30 @@ def check_material(part, deposits: Sequence[Prism], sweeps: Sequence[Prism],
     first = by_offset[offsets[0]]
     return MaterialCheck(deposited=float(sum(p.volume for p in deposits)), points=len(points),
                          uncut_points=first[0], gouge_points=first[1], max_uncut=max_uncut,
-                         max_gouge=max_gouge, by_offset=by_offset)
+                         max_gouge=max_gouge, by_offset=by_offset,
+                         uncut_outside_corners=outside)
+
+
+#: A point counts as in a corner's zone to this (mm) past its depth: the sample grid's
+#: points sit on faces, the zone's edge is where the cutter's circle touches them.
+ZONE_SLACK = 0.1
+
+
+def corner_zones(part, radius: float) -> list[tuple[object, float]]:
+    """(edge, depth) of each concave edge of `part`: a cylinder of `radius` in the edge's
+    wedge (opening 2π − inner angle) touches the faces `radius · cot(opening / 2)` from the
+    edge at the nearest, so stock within that distance stays whatever the cutter's axis
+    in planes across the edge (a 45° wedge and a 6 mm cutter: 7.24 mm)."""
+    from freecad_conformal.geometry.concave_edges import concave_edges
+
+    zones = []
+    for found in concave_edges(part):
+        opening = 2.0 * math.pi - found.inner_angle
+        if opening <= 0:
+            continue
+        zones.append((found.edge, radius / math.tan(0.5 * opening)))
+    return zones
+
+
+def _in_zone(vertex, zones) -> bool:
+    return any(edge.distToShape(vertex)[0] <= depth + ZONE_SLACK for edge, depth in zones)

@@ -86,6 +86,7 @@ class HybridReport:
             "tolerance_mm": OFFSETS[0], "uncut_points": self.check.uncut_points,
             "gouge_points": self.check.gouge_points, "max_uncut_mm": self.check.max_uncut,
             "max_gouge_mm": self.check.max_gouge,
+            "uncut_points_outside_corners": self.check.uncut_outside_corners,
             "by_offset_mm": {f"{k:g}": {"uncut_points": v[0], "gouge_points": v[1]}
                              for k, v in self.check.by_offset.items()}}
         return {"switches": self.switches, "naive_switches": self.naive_switches,
@@ -305,7 +306,8 @@ def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
     check = None
     if options.hybrid.material_check:
         sweeps = [p.sweep for s in sequence.sessions for p in s.passes]
-        check = check_material(part_placed, sequence.deposits, sweeps)
+        check = check_material(part_placed, sequence.deposits, sweeps,
+                               corner_radius=0.5 * mills[0].diameter)
     # the peer: the part as modelled (or turned to the root given), built planar along +Z
     planar = layered_support_volume(solid, root / np.linalg.norm(root))
     # ours: under the layers as deposited (3-D layers turn the overhang away)

@@ -72,6 +72,10 @@ def _hybrid_lines(hybrid) -> list[str]:
                      f"left at {check.uncut_points}, gouged or missing at {check.gouge_points}; "
                      f"stock stands up to {check.max_uncut:g} mm proud, gouges reach "
                      f"{check.max_gouge:g} mm in (sampled offsets)")
+        if check.uncut_points and check.uncut_outside_corners is not None:
+            lines.append(f"of the points with stock left, {check.uncut_outside_corners} lie "
+                         "outside the concave corners the finishing cutter's radius cannot "
+                         "reach into")
     return lines
 
 

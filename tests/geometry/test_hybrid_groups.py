@@ -77,6 +77,8 @@ def test_branch_3d_layers_are_faced_once_per_run_and_the_part_is_whole():
     # nothing of the part is missing (the runs' deposits reach every faced plane) and the
     # facing cut nothing of it
     assert check.gouge_points == 0, check
+    # what stock is left lies in the acute corners no 6 mm cutter reaches into
+    assert check.uncut_outside_corners == 0, check
 
 
 def test_layered_support_agrees_with_the_exact_one_on_planar_builds():
@@ -104,3 +106,13 @@ def test_a_branch_leaning_55_degrees_is_followed_and_saves_most_support():
     assert hybrid.switches * 3 <= hybrid.naive_switches
     assert hybrid.check.gouge_points == 0
 
+
+def test_corner_zone_depth_is_the_cutter_circle_touching_both_faces():
+    from freecad_conformal.geometry.stock import corner_zones
+
+    zones = corner_zones(samples.t_block(), 3.0)
+    # the T's two concave edges where the arms meet the stem: 90° wedges, r·cot 45° = r
+    assert len(zones) >= 2 and all(depth == pytest.approx(3.0) for _, depth in zones)
+    branch = corner_zones(samples.branch45(), 3.0)
+    # the 45° wedge under the branch: 3 · cot 22.5° = 7.24 mm
+    assert max(depth for _, depth in branch) == pytest.approx(3.0 / math.tan(math.radians(22.5)))
