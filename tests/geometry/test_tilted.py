@@ -99,3 +99,25 @@ def test_a_section_growing_on_one_side_is_no_bend(App, Part):
     assert not any(layer.tilted for layer in layers)
     assert tilted._shape_change(layers[0], layers[10]) > tilted.BEND_SHAPE_CHANGE
     assert layers[10].area / layers[0].area < tilted.BEND_AREA_RATIO
+
+
+def _stack(shifts, thickness=0.2) -> list[Layer]:
+    """Layers of a 4 × 4 mm bar whose section is moved sideways (x) by `shifts[k]` at layer k."""
+    frame = LayerFrame.for_direction(Z)
+    return [Layer(subpart=0, index=k, frame=frame, section_height=(k + 0.5) * thickness,
+                  region=MultiPolygon([box(-2 + s, -2, 2 + s, 2)]),
+                  top_point=(k + 1) * thickness * Z, top_normal=Z, thickness_min=thickness,
+                  thickness_max=thickness) for k, s in enumerate(shifts)]
+
+
+def test_a_bend_leans_over_two_windows_a_step_aside_is_no_bend():
+    bounds = LayerSettings().bounds
+    # leaning 14° all the way: a bend
+    assert tilted.axis_bends(_stack([0.05 * k for k in range(60)]), bounds)
+    # straight, stepping 0.5 mm aside over one 2 mm window (a thread's end, a fillet): the
+    # window alone leans 14°, the next not at all
+    steps = [0.0] * 20 + [0.05 * k for k in range(1, 11)] + [0.5] * 30
+    assert not tilted.axis_bends(_stack(steps), bounds)
+    # aside and back (the centroid of a helix's end): no bend either
+    wobble = [0.0] * 20 + [0.05 * k for k in range(1, 11)] + [0.5 - 0.05 * k for k in range(1, 11)]
+    assert not tilted.axis_bends(_stack(wobble + [0.0] * 20), bounds)
