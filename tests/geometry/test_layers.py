@@ -154,15 +154,37 @@ def test_layer_larger_than_the_part_is_refused():
         LayerSettings(thickness=80.0).validate(part_size=62.0)
 
 
-def test_layers_are_the_same_on_two_processes_as_on_one():
+def _loft(App, Part):
+    """A solid with B-spline faces: lofted through a circle and two ellipses."""
+    V = App.Vector
+    wires = [Part.Wire(Part.makeCircle(6.0, V(0, 0, 0))),
+             Part.Wire(Part.Ellipse(V(1, 0, 8), 7.0, 4.0).toShape()),
+             Part.Wire(Part.makeCircle(5.0, V(2, 0, 16)))]
+    return Part.makeLoft(wires, True, False)
+
+
+def test_layers_are_the_same_on_two_processes_as_on_one(App, Part):
     """The plan's sections spread over worker processes (`LayerSettings.workers`) give the
-    same layers, in the same order, as one process."""
-    jack = samples.jack()
-    one = plan_layers(_sub(jack, (1, 0, 0)), LayerSettings(thickness=1.0, tilt=False, workers=1))
-    two = plan_layers(_sub(jack, (1, 0, 0)), LayerSettings(thickness=1.0, tilt=False, workers=2))
-    assert [layer.section_height for layer in one] == [layer.section_height for layer in two]
-    for a, b in zip(one, two):
-        assert a.region.symmetric_difference(b.region).area < 1e-9 * max(a.region.area, 1.0)
+    same layers, in the same order, to the last bit as one process (inside FreeCAD plans
+    are cut in one process, on the command line in several: the G-code must not differ)."""
+    for shape, direction in ((samples.jack(), (1, 0, 0)), (_loft(App, Part), (0, 0, 1))):
+        one = plan_layers(_sub(shape, direction), LayerSettings(thickness=1.0, tilt=False, workers=1))
+        two = plan_layers(_sub(shape, direction), LayerSettings(thickness=1.0, tilt=False, workers=2))
+        assert [layer.section_height for layer in one] == [layer.section_height for layer in two]
+        for a, b in zip(one, two):
+            assert a.region.equals_exact(b.region, 0.0)
+
+
+def test_freeform_faces_weigh_more_in_the_work_that_calls_for_workers(App, Part):
+    from freecad_conformal.geometry import section_pool as pool
+    from freecad_conformal.geometry.sections import PlanarSlicer
+
+    assert pool.section_work(PlanarSlicer(Part.makeBox(1, 1, 1))) == 6
+    loft = _loft(App, Part)
+    freeform = sum(type(f.Surface).__name__ not in pool.ANALYTIC_SURFACES for f in loft.Faces)
+    assert freeform >= 1
+    assert pool.section_work(PlanarSlicer(loft)) == (
+        len(loft.Faces) - freeform + freeform * pool.FREEFORM_FACE_WORK)
 
 
 def test_a_negative_worker_count_is_refused_by_name():
