@@ -234,8 +234,8 @@ def _or_as_modelled(solid_filled, plan, layers, rotation, shift, fixed, options,
     mine, theirs = _support(plan, layers), _support(other, other_layers)
     if theirs >= mine - SUPPORT_TIE:
         return plan, layers, rotation, shift, notes
-    notes.append(f"planned as modelled: its 3-D layers need {theirs:.1f} mm³ of support, the "
-                 f"plan search's choice {mine:.1f} mm³")
+    notes.append(f"planned as modelled: in its layers (3-D ones one by one) it needs "
+                 f"{theirs:.1f} mm³ of support, the plan search's choice {mine:.1f} mm³")
     turn, move = placed_like(solid_filled, other)
     return other, other_layers, turn, move, notes
 

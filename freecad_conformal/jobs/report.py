@@ -31,6 +31,12 @@ def summary_text(result) -> str:
     plan = result.plan
     support = ("none" if plan.support_area <= 0 else f"{plan.support_area:.1f} mm2 of overhang "
                "beyond the allowed angle left (no cut found removes it: it needs support)")
+    if plan.support_area > 0 and any(sub.tilted_layers for sub in result.subparts):
+        # the decomposition measures its sub-parts as built in planar layers
+        where = ("; the hybrid support line below has what the deposited layers need"
+                 if result.hybrid is not None else "")
+        support = (f"{plan.support_area:.1f} mm2 of overhang beyond the allowed angle as if "
+                   f"built in planar layers (the 3-D layers print some of it unsupported{where})")
     lines += [
         "",
         f"build order: {' -> '.join(str(i) for i in plan.order)}",

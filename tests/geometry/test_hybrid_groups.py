@@ -105,6 +105,12 @@ def test_a_branch_leaning_55_degrees_is_followed_and_saves_most_support():
     assert hybrid.support_planar_mm3 > 1000 and hybrid.support_saved >= 0.8, hybrid.to_json()
     assert hybrid.switches * 3 <= hybrid.naive_switches
     assert hybrid.check.gouge_points == 0
+    # the decomposition's overhang is for planar layers: the summary says so
+    from freecad_conformal.jobs.report import summary_text
+
+    text = summary_text(result)
+    assert result.plan.support_area > 0 and "as if built in planar layers" in text
+    assert f"support: {hybrid.support_hybrid_mm3:.1f} mm3" in text
 
 
 def test_corner_zone_depth_is_the_cutter_circle_touching_both_faces():
