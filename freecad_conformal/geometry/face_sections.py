@@ -82,12 +82,21 @@ class _FaceData:
 @dataclass
 class _EdgeData:
     edge: object
-    crosser: object
+    #: the cutter's normal: the crosser is made for it on first use (a 3-D layer's cutter
+    #: cuts one to three planes, which cross few of the solid's edges)
+    normal: np.ndarray
     low: float
     high: float
     faces: list[int]
     #: how far (mm) a crossing on this edge may lie from a face's intersection curve
     reach: float = ON_CURVE
+    _crosser: object = None
+
+    @property
+    def crosser(self):
+        if self._crosser is None:
+            self._crosser = edge_crosser(self.edge, self.normal)
+        return self._crosser
 
     @property
     def seam(self) -> bool:
@@ -121,7 +130,7 @@ class FaceCutter:
                 key = edge.hashCode()
                 if key not in index_of:
                     index_of[key] = len(self.edges)
-                    self.edges.append(_EdgeData(edge, edge_crosser(edge, self.n),
+                    self.edges.append(_EdgeData(edge, self.n,
                                                 *self._span(edge, ("edge", key)), [],
                                                 crossing_reach(edge)))
                 data = self.edges[index_of[key]]
@@ -141,13 +150,16 @@ class FaceCutter:
             data.domain.prepare()
 
     def _span(self, shape, key) -> tuple[float, float]:
-        box = self._shared.get(("box", key))
-        if box is None:
-            box = self._shared[("box", key)] = optimal_box(shape)  # not `BoundBox`: boxes.py
-        corners = np.array([[x, y, z] for x in (box.XMin, box.XMax) for y in (box.YMin, box.YMax)
-                            for z in (box.ZMin, box.ZMax)]) @ self.n
-        slack = shape.getTolerance(1) + VERTEX_CLEARANCE
-        return float(corners.min()) - slack, float(corners.max()) + slack
+        corners_slack = self._shared.get(("corners", key))
+        if corners_slack is None:
+            box = optimal_box(shape)  # not `BoundBox`: boxes.py
+            corners = np.array([[x, y, z] for x in (box.XMin, box.XMax)
+                                for y in (box.YMin, box.YMax) for z in (box.ZMin, box.ZMax)])
+            corners_slack = self._shared[("corners", key)] = (
+                corners, shape.getTolerance(1) + VERTEX_CLEARANCE)
+        corners, slack = corners_slack
+        heights = corners @ self.n
+        return float(heights.min()) - slack, float(heights.max()) + slack
 
     def section_faces(self, height: float) -> list[SectionFace] | None:
         """Section faces at `height`, or None when the layer needs the Boolean."""
