@@ -62,6 +62,10 @@ class HybridReport:
     support_hybrid_mm3: float
     check: MaterialCheck | None
     notes: list[str] = field(default_factory=list)
+    #: the deposits' volume (each layer's region widened by the stock, as deposited) and
+    #: the part's: the mill removes the difference
+    deposited_mm3: float = 0.0
+    part_mm3: float = 0.0
     #: the motion from the part as modelled to the machine frame: p -> rotation @ p + shift
     rotation: np.ndarray = field(default_factory=lambda: np.eye(3))
     shift: np.ndarray = field(default_factory=lambda: np.zeros(3))
@@ -72,6 +76,10 @@ class HybridReport:
         back[:, :3] = self.rotation.T
         back[:, 3] = -self.rotation.T @ self.shift
         return back.ravel().tolist()
+
+    @property
+    def stock_removed_mm3(self) -> float:
+        return self.deposited_mm3 - self.part_mm3
 
     @property
     def support_saved(self) -> float:
@@ -95,7 +103,9 @@ class HybridReport:
                 "mill_tools": self.mill_tools, "holes_filled": self.holes_filled,
                 "support_planar_mm3": self.support_planar_mm3,
                 "support_hybrid_mm3": self.support_hybrid_mm3,
-                "support_saved": self.support_saved, "material_check": check,
+                "support_saved": self.support_saved, "deposited_mm3": self.deposited_mm3,
+                "part_mm3": self.part_mm3, "stock_removed_mm3": self.stock_removed_mm3,
+                "material_check": check,
                 "sessions": self.sessions, "notes": self.notes}
 
 
@@ -322,6 +332,8 @@ def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
         holes_filled=[f"{h.diameter:g} mm x {h.length:.2f} mm along "
                       f"{np.round(h.direction, 4).tolist()}" for h in holes],
         support_planar_mm3=planar, support_hybrid_mm3=own, check=check, notes=sequence.notes,
+        deposited_mm3=float(sum(prism.volume for prism in sequence.deposits)),
+        part_mm3=float(part_placed.Volume),
         rotation=rotation, shift=shift)
     assembly = Assembly(program.toolpath, program.deposits, program.travels, 0, program.cuts)
     summaries = [subpart_summary(sub, layers[sub.index], assembly, width,

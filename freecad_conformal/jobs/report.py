@@ -66,6 +66,8 @@ def _hybrid_lines(hybrid) -> list[str]:
              f"{format_duration(hybrid.travel_s)}, {hybrid.switches} switches "
              f"({format_duration(hybrid.switch_s)}; milling after every layer: "
              f"{hybrid.naive_switches})",
+             f"stock: {hybrid.deposited_mm3:.0f} mm3 deposited for a part of "
+             f"{hybrid.part_mm3:.0f} mm3: the mill removes {hybrid.stock_removed_mm3:.0f} mm3",
              f"support: {hybrid.support_hybrid_mm3:.1f} mm3; a planar build along the root "
              f"direction needs {hybrid.support_planar_mm3:.1f} mm3 "
              f"({100 * hybrid.support_saved:.0f} % saved)"]

@@ -134,6 +134,12 @@ def test_cross_hole_block_plans_verifies_and_matches_the_part(tmp_path):
     assert hybrid.support_planar_mm3 > 600 and hybrid.support_hybrid_mm3 == 0
     # one milling session: the block is lower than the cutter's flutes
     assert hybrid.switches == 1 and hybrid.naive_switches == 2 * 32 - 1
+    # the deposits hold the filled hole and the stock round the walls: more than the part,
+    # and what the mill removes is the difference
+    part = samples.cross_hole_block().Volume
+    assert hybrid.part_mm3 == pytest.approx(part)
+    assert hybrid.deposited_mm3 > part + 6.0 ** 2 * math.pi / 4 * 30.0 * 0.9
+    assert hybrid.to_json()["stock_removed_mm3"] == pytest.approx(hybrid.deposited_mm3 - part)
     check = hybrid.check
     # no surface point 0.05 mm out is material, none 0.05 mm in is missing: the hole's
     # wall included (it was filled, then cut)
