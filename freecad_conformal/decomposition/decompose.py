@@ -12,12 +12,12 @@ section 4's partition (decomposition/members.py).
 """
 from __future__ import annotations
 
-import math
 from typing import Sequence
 
 import numpy as np
 
 from freecad_conformal.errors import GeometryError, PlanError
+from freecad_conformal.geometry.frames import angle_between
 from freecad_conformal.geometry.solids import solids_of
 from freecad_conformal.geometry.splitting_faces import SplitCandidate, repaired
 from freecad_conformal.decomposition.cuts import (LazyAxis)
@@ -105,7 +105,7 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
                 if worth_a_trial(solid) and can_start_child():
                     trial = Trial()  # starting up while the direction is found
                 direction, area = best_single_direction(solid, overhang_angle)
-                turn = _angle(direction, root) > SAME_DIRECTION
+                turn = angle_between(direction, root) > SAME_DIRECTION
                 if (trial is not None and turn
                         and overhang_area(solid, root, overhang_angle) > area + MIN_SAVING):
                     # The as-placed plan may keep more overhang than turning the solid
@@ -185,10 +185,6 @@ def _label(axis: LazyAxis, pieces: list[Piece]):
 
 def _total(pieces: list[Piece]) -> float:
     return float(sum(p.overhang for p in pieces))
-
-
-def _angle(a: np.ndarray, b: np.ndarray) -> float:
-    return math.acos(float(np.clip(np.asarray(a) @ np.asarray(b), -1.0, 1.0)))
 
 
 def _text(vector) -> str:

@@ -1,6 +1,7 @@
 """Layer frames: an orthonormal (u, v, n) basis for a build direction n (pure numpy)."""
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Sequence
 
@@ -21,6 +22,12 @@ def unit(vector: Sequence[float], what: str = "direction") -> np.ndarray:
     if length < MIN_DIRECTION_LENGTH:
         raise GeometryError(f"{what} must not be the zero vector, got {list(vector)!r}")
     return array / length
+
+
+def angle_between(a: Sequence[float], b: Sequence[float]) -> float:
+    """Angle (rad) between two unit vectors (their dot product clipped to [-1, 1])."""
+    return math.acos(float(np.clip(np.asarray(a, dtype=float) @ np.asarray(b, dtype=float),
+                                   -1.0, 1.0)))
 
 
 @dataclass(frozen=True)

@@ -188,7 +188,7 @@ def _moved_hole(hole: Hole, rotation: np.ndarray, shift: np.ndarray) -> Hole:
 
 
 def _additive_plan(solid_filled, options: PlanOptions, root: np.ndarray, checked):
-    """(plan, layers the choice already sliced, rotation, shift, notes) of the filled part:
+    """(plan, every sub-part's layers, rotation, shift, notes) of the filled part:
     with the root left to "auto" the additive plan search chooses (whole orientations,
     decompositions); a choice that turns the part other than by a quarter turn is not
     followed (the holes and the check need the motion), and the part is then planned as
@@ -207,7 +207,7 @@ def _additive_plan(solid_filled, options: PlanOptions, root: np.ndarray, checked
             notes.append(f"the chosen plan ({exc}) is not followed: the part is planned as "
                          "modelled, along +Z")
         else:
-            layers = choice.layers or _sliced(choice.plan, options)
+            layers = _sliced(choice.plan, options, choice.layers)
             if np.allclose(rotation, np.eye(3)):
                 return choice.plan, layers, rotation, shift, notes
             return _or_as_modelled(solid_filled, choice.plan, layers, rotation, shift, fixed,
@@ -215,11 +215,15 @@ def _additive_plan(solid_filled, options: PlanOptions, root: np.ndarray, checked
     _, plan = machine_plan(solid_filled, fixed)
     check_reach(checked[4], plan)
     rotation, shift = placed_like(solid_filled, plan)
-    return plan, {}, rotation, shift, notes
+    return plan, _sliced(plan, options), rotation, shift, notes
 
 
-def _sliced(plan, options: PlanOptions) -> dict:
-    return {sub.index: plan_layers(sub, options.layers) for sub in plan.ordered()}
+def _sliced(plan, options: PlanOptions, known: dict | None = None) -> dict:
+    """Every sub-part's layers: those the plan search sliced already (`known`), the
+    others now."""
+    known = known or {}
+    return {sub.index: known[sub.index] if sub.index in known else plan_layers(sub, options.layers)
+            for sub in plan.ordered()}
 
 
 def _support(plan, layers: dict) -> float:
@@ -269,16 +273,12 @@ def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
     limit = 2.0 * width if limit is None else limit
     fill = holes_to_fill(solid, root / np.linalg.norm(root), limit)
     solid_filled = filled(solid, fill)
-    plan, sliced, rotation, shift, notes = _additive_plan(solid_filled, options, root, checked)
+    plan, layers, rotation, shift, notes = _additive_plan(solid_filled, options, root, checked)
     part_placed = _moved_shape(solid, rotation, shift)
     holes = [_moved_hole(h, rotation, shift) for h in fill]
-    layers = {}
-    for sub in plan.ordered():
-        # the plan search sliced its choice already: not again
-        layers[sub.index] = (sliced[sub.index] if sub.index in sliced
-                             else plan_layers(sub, options.layers))
-        if layers[sub.index]:
-            check_thickness(layers[sub.index], options.layers)
+    for stack in layers.values():
+        if stack:
+            check_thickness(stack, options.layers)
     d_max = options.layers.bounds[1]
     faces, grouped = {}, []
     for sub in plan.ordered():
@@ -321,8 +321,7 @@ def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
     # the peer: the part as modelled (or turned to the root given), built planar along +Z
     planar = layered_support_volume(solid, root / np.linalg.norm(root))
     # ours: under the layers as deposited (3-D layers turn the overhang away)
-    own = sum(layered_support_volume(sub.shape, sub.build_direction, layers[sub.index])
-              for sub in plan.subparts if layers.get(sub.index))
+    own = _support(plan, layers)
     report = HybridReport(
         switches=sequence.switches, naive_switches=sequence.naive_switches,
         sessions=[{"sub_part": s.subpart, "after_layer": s.last, "from_layer": s.first,

@@ -32,7 +32,7 @@ from shapely import affinity
 from shapely.geometry import MultiPolygon
 
 from freecad_conformal.errors import PlanError
-from freecad_conformal.geometry.frames import unit
+from freecad_conformal.geometry.frames import angle_between, unit
 from freecad_conformal.geometry.sections import PlanarSection, PlanarSlicer, extent_along
 from freecad_conformal.layers.model import (BOUNDARY_INSET, SHRINK, Layer, LayerSettings,
                                             as_multipolygon)
@@ -115,23 +115,27 @@ def axis_bends(layers: list[Layer], bounds: tuple[float, float] | None = None) -
                           for layer in layers])
     areas = np.array([layer.area for layer in layers])
     islands = np.array([len(layer.region.geoms) for layer in layers])
-    for k in range(len(layers) - window):
-        if islands[k] != 1 or islands[k + window] != 1:
+    # per window from layer k: the centroids' drift, its lean from n, and whether both ends
+    # are one island
+    drifts = centroids[window:] - centroids[:-window]
+    lengths = np.linalg.norm(drifts, axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        leans = np.arccos(np.clip(drifts @ n / lengths, -1.0, 1.0))
+    single = (islands[:-window] == 1) & (islands[window:] == 1) & (lengths > 0.0)
+    sides = drifts - np.outer(drifts @ n, n)
+    for k in range(len(drifts)):
+        if not single[k]:
             continue
         ratio = areas[k + window] / areas[k]
         if not 1.0 / BEND_AREA_RATIO <= ratio <= BEND_AREA_RATIO:
             continue
-        drift = centroids[k + window] - centroids[k]
-        length = float(np.linalg.norm(drift))
-        if length == 0.0:
-            continue
-        angle = math.acos(float(np.clip(drift @ n / length, -1.0, 1.0)))
-        if not BEND_MIN_ANGLE <= angle <= BEND_MAX_ANGLE:
+        if not BEND_MIN_ANGLE <= leans[k] <= BEND_MAX_ANGLE:
             continue
         if _shape_change(layers[k], layers[k + window]) > BEND_SHAPE_CHANGE:
             continue
-        if not all(_leans_on(centroids, islands, n, k + j * window, window, drift)
-                   for j in range(1, BEND_WINDOWS)):
+        later = [k + j * window for j in range(1, BEND_WINDOWS)]
+        if not all(m < len(drifts) and single[m] and leans[m] >= BEND_MIN_ANGLE
+                   and _same_side(sides[k], sides[m]) for m in later):
             continue
         if bounds is None:
             return True
@@ -140,21 +144,10 @@ def axis_bends(layers: list[Layer], bounds: tuple[float, float] | None = None) -
     return False
 
 
-def _leans_on(centroids: np.ndarray, islands: np.ndarray, n: np.ndarray, k: int, window: int,
-              drift: np.ndarray) -> bool:
-    """Whether the window from layer k leans at least `BEND_MIN_ANGLE` to the side
-    `drift` leans to (`BEND_SAME_SIDE_COS`)."""
-    if k + window >= len(centroids) or islands[k] != 1 or islands[k + window] != 1:
-        return False
-    after = centroids[k + window] - centroids[k]
-    length = float(np.linalg.norm(after))
-    if length == 0.0:
-        return False
-    if math.acos(float(np.clip(after @ n / length, -1.0, 1.0))) < BEND_MIN_ANGLE:
-        return False
-    side, side_after = drift - (drift @ n) * n, after - (after @ n) * n
-    sizes = float(np.linalg.norm(side) * np.linalg.norm(side_after))
-    return sizes > 0.0 and float(side @ side_after) / sizes >= BEND_SAME_SIDE_COS
+def _same_side(a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether two sideways drifts point within `BEND_SAME_SIDE_COS` of each other."""
+    sizes = float(np.linalg.norm(a) * np.linalg.norm(b))
+    return sizes > 0.0 and float(a @ b) / sizes >= BEND_SAME_SIDE_COS
 
 
 def _shape_change(lower: Layer, upper: Layer) -> float:
@@ -225,10 +218,6 @@ def _thickness_over(points: np.ndarray, plane_point: np.ndarray, normal: np.ndar
     return float(down.min()), float(down.max())
 
 
-def _angle(a: np.ndarray, b: np.ndarray) -> float:
-    return math.acos(float(np.clip(a @ b, -1.0, 1.0)))
-
-
 def tilted_layers(subpart: SubPart, slicer: PlanarSlicer, low: float, high: float,
                   settings: LayerSettings) -> list[Layer]:
     """3-D layers of a sub-part whose centroidal axis bends (see the module docstring)."""
@@ -284,10 +273,10 @@ def _next_plane(sections: _Sections, lower: PlanarSection, plane_point: np.ndarr
             return None
         drift = ahead - centroid
         direction = unit(drift, "centroidal axis") if np.linalg.norm(drift) > 1e-12 else normal
-        if _angle(direction, normal) > BEND_MAX_ANGLE:
+        if angle_between(direction, normal) > BEND_MAX_ANGLE:
             direction = normal
         for _ in range(MAX_BISECTIONS):
-            if _angle(direction, build) < PARALLEL_ANGLE:
+            if angle_between(direction, build) < PARALLEL_ANGLE:
                 direction = build
             point = centroid + thickness * direction
             thin, thick = _thickness_over(below, point, direction)
@@ -303,7 +292,7 @@ def _next_plane(sections: _Sections, lower: PlanarSection, plane_point: np.ndarr
             if np.array_equal(direction, normal):
                 break
             direction = unit(direction + normal, "bisected axis direction")
-            if _angle(direction, normal) < PARALLEL_ANGLE:
+            if angle_between(direction, normal) < PARALLEL_ANGLE:
                 direction = normal      # the last try is exactly parallel: it fits any Δ in bounds
         thickness -= SHRINK * thickness
     thin, thick = worst if worst is not None else (float("nan"), float("nan"))

@@ -27,6 +27,7 @@ from typing import Callable, Sequence
 import numpy as np
 from shapely.geometry import MultiPolygon, Polygon
 
+from freecad_conformal.geometry.frames import angle_between
 from freecad_conformal.geometry.sections import PlanarSlicer
 from freecad_conformal.layers.model import Layer, as_multipolygon
 
@@ -120,18 +121,15 @@ def _self_supporting(layers: Sequence[Layer], angle: float) -> bool:
     return True
 
 
-def _angle(a: np.ndarray, b: np.ndarray) -> float:
-    return math.acos(float(np.clip(np.asarray(a) @ np.asarray(b), -1.0, 1.0)))
-
-
 def group_tilted(shape, stack: Sequence[Layer], d_max: float, reach: float,
                  overhang_angle: float,
                  slicer_for: Callable[[np.ndarray], PlanarSlicer] | None = None) -> GroupedStack:
     """The sub-part's stack with runs of 3-D layers grouped (see the module docstring);
     `reach` is the finishing tool's flute length, `overhang_angle` in radians."""
-    if slicer_for is None:
-        def slicer_for(normal: np.ndarray) -> PlanarSlicer:
-            return PlanarSlicer(shape, normal)
+    if slicer_for is None and stack:
+        # one validated slicer, turned per run (checking a B-spline solid again per normal
+        # costs more than its sections: layers/tilted.py)
+        slicer_for = PlanarSlicer(shape, stack[0].frame.n).turned
     out: list[Layer] = []
     faces: dict[int, tuple[np.ndarray, np.ndarray, int]] = {}
     replaced = runs = 0
@@ -149,7 +147,7 @@ def group_tilted(shape, stack: Sequence[Layer], d_max: float, reach: float,
         end = i
         while end < len(stack) and stack[end].tilted:
             last = stack[end]
-            if _angle(normal_a, last.top_normal) > GROUP_TURN:
+            if angle_between(normal_a, last.top_normal) > GROUP_TURN:
                 break
             height = wedge_height(stack[i:end + 1], point_a, normal_a,
                                   np.asarray(last.top_point), np.asarray(last.top_normal))
@@ -173,11 +171,6 @@ def group_tilted(shape, stack: Sequence[Layer], d_max: float, reach: float,
         replaced += end - i + 1
         runs += 1
         i = end + 1
-    for k, layer in enumerate(out):
-        if layer.index != k:
-            out[k] = _reindexed(layer, k)
+    out = [layer if layer.index == k else dataclasses.replace(layer, index=k)
+           for k, layer in enumerate(out)]
     return GroupedStack(out, faces, (replaced, runs))
-
-
-def _reindexed(layer: Layer, index: int) -> Layer:
-    return dataclasses.replace(layer, index=index)
