@@ -107,6 +107,20 @@ class Assembly:
     cuts: list[np.ndarray] = field(default_factory=list)
 
 
+def in_layer_travel(position: np.ndarray, start: np.ndarray, axis: np.ndarray,
+                    new_layer: bool) -> np.ndarray:
+    """Travel points (tool along `axis`) from `position` to a path's `start` within one
+    sub-part: to a new layer's first path, up along the axis to its top plane first (never
+    through the layer just laid), then across; inside a layer, straight (none when already
+    there)."""
+    if new_layer:
+        rise = position + float((start - position) @ axis) * axis
+        return np.array([rise, start])
+    if np.linalg.norm(start - position) > COINCIDENT_POINTS:
+        return start[None]
+    return np.zeros((0, 3))
+
+
 def solid_areas(layers: Sequence[Layer], settings: PathSettings,
                 rests_on_parent: bool) -> tuple[list, list]:
     """Per layer, its skin (the solid area) and the part of it over sparse infill filled
@@ -253,11 +267,10 @@ def assemble(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSett
                                     f"move to sub-part {path.subpart}", ", ".join(names))
                     checked += 1
                     travel(points, axes)
-                elif k == 0:
-                    rise = position + float((path.points[0] - position) @ new_axis) * new_axis
-                    travel(np.array([rise, start]), np.array([new_axis, new_axis]))
-                elif np.linalg.norm(start - position) > COINCIDENT_POINTS:
-                    travel(start[None], new_axis[None])
+                else:
+                    points = in_layer_travel(position, start, new_axis, k == 0)
+                    if len(points):
+                        travel(points, np.tile(new_axis, (len(points), 1)))
                 first = False
                 builder.event("extruder_on")
                 builder.add_segment(path.points[1:], new_axis, kind="deposit", feed=feed, tool=tool,

@@ -15,13 +15,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from freecad_conformal.paths.approach import SAFE_MARGIN, exit_distance, transition
-from freecad_conformal.paths.assemble import Feeds
+from freecad_conformal.paths.assemble import Feeds, in_layer_travel
 from freecad_conformal.paths.bead import bead_area
 from freecad_conformal.paths.hybrid import HybridSequence
 from freecad_conformal.paths.map3d import Path3D
 from freecad_conformal.paths.milling import MillPass
 from freecad_conformal.toolpath import Toolpath, ToolpathBuilder
-from freecad_conformal.tolerances import COINCIDENT_POINTS
 
 
 @dataclass
@@ -93,11 +92,10 @@ class _Writer:
             start, axis = path.points[0], path.axis
             if new_session or self.axis is None or not np.allclose(axis, self.axis):
                 self.safely_to(start, axis)
-            elif k == 0:
-                rise = self.position + float((start - self.position) @ axis) * axis
-                self.travel(np.array([rise, start]), np.array([axis, axis]))
-            elif np.linalg.norm(start - self.position) > COINCIDENT_POINTS:
-                self.travel(start[None], axis[None])
+            else:
+                points = in_layer_travel(self.position, start, axis, k == 0)
+                if len(points):
+                    self.travel(points, np.tile(axis, (len(points), 1)))
             new_session = False
             if process.laser_power is not None:
                 self.builder.event("laser_on", power=process.laser_power)
