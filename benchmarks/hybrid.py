@@ -33,8 +33,11 @@ from freecad_conformal.geometry.samples import load_part  # noqa: E402
 from freecad_conformal.jobs.job import plan_job  # noqa: E402
 from freecad_conformal.jobs.options import plan_options  # noqa: E402
 
-PARTS = {"branch45": {}, "branch45 planar": {"tilt": False},
-         "branch55": {}, "t_block": {},
+#: The V-bit after the end mill runs pencil passes along sharp concave edges.
+VBIT = {"mill_tool": "endmill_6mm,vbit_30deg_6mm"}
+
+PARTS = {"branch45": {}, "branch45 +V-bit": VBIT, "branch45 planar": {"tilt": False},
+         "branch55": {}, "branch55 +V-bit": VBIT, "t_block": {},
          "cross_hole_block": {}, "nozzle": {"mill_tool": "endmill_6mm,drill_0p5"}}
 
 #: Parts made here rather than by name: the branch leaning 55° (past the 45° rule).

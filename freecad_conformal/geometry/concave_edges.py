@@ -57,7 +57,7 @@ def _normal_at(face, point) -> np.ndarray:
     return _vec(face.normalAt(u, v))
 
 
-def _into_face(face, point: np.ndarray, tangent: np.ndarray, normal: np.ndarray,
+def into_face(face, point: np.ndarray, tangent: np.ndarray, normal: np.ndarray,
                probe: float) -> np.ndarray:
     """Unit direction leaving the edge point into `face`, tangent to it."""
     App, Part = import_freecad()
@@ -128,7 +128,7 @@ def _inner_angle(App, edge, face1, face2) -> float:
     # Which side of the edge face 1 lies on is found once, in the middle: n1 × t turns
     # continuously along the edge, so the same sign holds at every sample.
     p, t, n1, _ = samples[len(samples) // 2]
-    sign = 1.0 if _into_face(face1, p, t, n1, probe) @ np.cross(n1, t) > 0 else -1.0
+    sign = 1.0 if into_face(face1, p, t, n1, probe) @ np.cross(n1, t) > 0 else -1.0
     angles = []
     for p, t, n1, n2 in samples:
         b1 = sign * np.cross(n1, t)

@@ -138,7 +138,13 @@ def mill_tools(ids, material: str, library) -> list[MillTool]:
             holder_length=tool.envelope.body_length, feed=feed,
             plunge_feed=number_of("plunge_mm_min", feed / 3.0),
             rpm=number_of("spindle_rpm", 10000.0),
-            stepover=number_of("stepover_mm", 0.5 * tool.diameter)))
+            stepover=number_of("stepover_mm", 0.5 * tool.diameter),
+            taper_deg=tool.spec.taper_deg, tip_diameter=tool.spec.tip_diameter,
+            reach=tool.envelope.tip_length))
+    if tools and tools[0].tapered:
+        raise PlanError(f"mill tool {tools[0].id!r} is tapered: the first --mill-tool finishes "
+                        "walls and faces layers and must be a flat end mill (list a V-bit "
+                        "after it for the corners)")
     return tools
 
 
@@ -292,7 +298,7 @@ def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
                            f"planar layers in {stack.replaced[1]} runs, each faced once")
     notes += grouped
     sequence = hybrid_sequence(plan, layers, path_settings, holes, mills,
-                               options.hybrid.stock, d_max, progress, faces)
+                               options.hybrid.stock, d_max, progress, faces, part_placed)
     centre, radius = bounding_sphere([sub.shape for sub in plan.subparts])
     power = None
     if tool.kind == "laser_nozzle":

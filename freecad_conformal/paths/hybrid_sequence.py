@@ -8,6 +8,7 @@ import numpy as np
 from freecad_conformal.decomposition.subparts import BuildPlan
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.holes import Hole
+from freecad_conformal.geometry.stock import surface_samples
 from freecad_conformal.layers.model import Layer
 from freecad_conformal.paths.assemble import PathSettings, plan_paths
 from freecad_conformal.paths.hybrid import (DRILL_OVERLAP, SHADOW_STEP, HybridSequence, Session, Shadows, Step,
@@ -17,6 +18,7 @@ from freecad_conformal.paths.hybrid import (DRILL_OVERLAP, SHADOW_STEP, HybridSe
                                             finishing_passes, grows_out, layer_bottom,
                                             nominal_paths, session_drills)
 from freecad_conformal.paths.milling import MillTool
+from freecad_conformal.paths.pencil import pencil_passes
 
 
 def _flat_walls(shape, layer: Layer, stack: Sequence[Layer], k: int) -> bool:
@@ -86,10 +88,12 @@ def _break(stack: Sequence[Layer], first: int, k: int, holes: Sequence[Hole],
 def hybrid_sequence(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSettings,
                     holes: Sequence[Hole], tools: Sequence[MillTool], stock: float,
                     d_max: float, progress: Callable[[str], None] | None = None,
-                    faces: dict[int, dict] | None = None) -> HybridSequence:
+                    faces: dict[int, dict] | None = None, part=None) -> HybridSequence:
     """Deposition and milling steps for the whole plan (`tools[0]` finishes the walls and
-    faces 3-D layers; every tool may cut holes). `faces[sub][k]`: after layer k, face to
-    the plane (point, normal) what was deposited since layer `first` (a GroupedStack's)."""
+    faces 3-D layers; every untapered tool may cut holes; tapered ones run along the sharp
+    concave edges of `part`, the finished part as placed, at the end). `faces[sub][k]`:
+    after layer k, face to the plane (point, normal) what was deposited since layer `first`
+    (a GroupedStack's)."""
     faces = faces or {}
     steps: list[Step] = []
     deposits = []
@@ -159,6 +163,8 @@ def hybrid_sequence(plan: BuildPlan, layers: dict[int, list[Layer]], settings: P
     extra = finishing_axes(built, normals, normals[0])[len(normals):] if built else []
     drills = final_finishing(built, extra, tools[0], SHADOW_STEP) if extra else []
     drills += final_drills(holes, normals, tools, notes)
+    if part is not None and any(t.tapered for t in tools):
+        drills += pencil_passes(part, tools, *surface_samples(part), notes)
     if drills:
         if not sessions:
             sessions.append(Session(-1, 0, 0, "holes"))

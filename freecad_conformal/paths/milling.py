@@ -53,7 +53,9 @@ MIN_RING = 1e-3
 
 @dataclass(frozen=True)
 class MillTool:
-    """A flat end mill as the passes use it (mm, mm/min, rpm); `number` is its T word."""
+    """A flat end mill as the passes use it (mm, mm/min, rpm); `number` is its T word.
+    A tapered cutter (`taper_deg` > 0, a V-bit) has a cone from a flat of `tip_diameter`
+    to `diameter`, and its shank stands `reach` out of the holder (0: the flute length)."""
 
     number: int
     id: str
@@ -65,10 +67,22 @@ class MillTool:
     plunge_feed: float
     rpm: float
     stepover: float
+    taper_deg: float = 0.0
+    tip_diameter: float = 0.0
+    reach: float = 0.0
 
     @property
     def radius(self) -> float:
         return 0.5 * self.diameter
+
+    @property
+    def tapered(self) -> bool:
+        return self.taper_deg > 0.0
+
+    @property
+    def stick_out(self) -> float:
+        """Where the holder begins, from the tip (mm)."""
+        return max(self.reach, self.flute_length)
 
 
 @dataclass

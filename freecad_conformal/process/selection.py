@@ -107,7 +107,9 @@ def choose_tool(tools: Iterable[Tool], rs: float, cd: float, theta: float,
         else:
             fitting.append(tool)
     resolving = [t for t in fitting if t.id not in reasons]
-    recommended = max(resolving, key=lambda t: (t.diameter, t.head == "straight", t.id),
+    # a V-bit's diameter is its shank's: at equal diameters the straight cutter works wider
+    recommended = max(resolving, key=lambda t: (t.diameter, t.head == "straight",
+                                                not getattr(t.spec, "taper_deg", 0.0), t.id),
                       default=None)
     fitting.sort(key=lambda t: (-t.diameter, t.id))
     return ToolChoice(fitting, recommended, reasons, reach, rotation)

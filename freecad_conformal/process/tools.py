@@ -180,22 +180,45 @@ class LaserNozzle:
 
 @dataclass
 class Cutter:
-    """Milling cutter: flute count and length, corner radius (0 for a flat end mill)."""
+    """Milling cutter: flute count and length, corner radius (0 for a flat end mill); a
+    tapered cutter (a V-bit) has the included angle of its cone, `taper_deg`, and the flat
+    at its point, `tip_diameter`: its cone widens from the tip to the tool's diameter."""
 
     flutes: int
     flute_length: float
     corner_radius: float = 0.0
+    taper_deg: float = 0.0
+    tip_diameter: float = 0.0
 
     @classmethod
     def from_dict(cls, data: dict, where: str) -> "Cutter":
-        schema.check_keys(data, ("flutes", "flute_length", "corner_radius"), where)
-        return cls(schema.integer(data, "flutes", where, minimum=1),
-                   schema.number(data, "flute_length", where, minimum=0, exclusive_minimum=True),
-                   schema.number(data, "corner_radius", where, default=0.0, minimum=0))
+        schema.check_keys(data, ("flutes", "flute_length", "corner_radius", "taper_deg",
+                                 "tip_diameter"), where)
+        cutter = cls(schema.integer(data, "flutes", where, minimum=1),
+                     schema.number(data, "flute_length", where, minimum=0, exclusive_minimum=True),
+                     schema.number(data, "corner_radius", where, default=0.0, minimum=0),
+                     schema.number(data, "taper_deg", where, default=0.0, minimum=0, maximum=179),
+                     schema.number(data, "tip_diameter", where, default=0.0, minimum=0))
+        if cutter.tip_diameter and not cutter.taper_deg:
+            raise ProcessError(f"{where}: tip_diameter {cutter.tip_diameter:g} is for a tapered "
+                               "cutter; give taper_deg too")
+        if cutter.taper_deg and cutter.corner_radius:
+            raise ProcessError(f"{where}: a tapered cutter takes tip_diameter, not corner_radius")
+        return cutter
+
+    def cone_length(self, diameter: float) -> float:
+        """How far (mm) from the tip a tapered cutter's cone reaches `diameter` (0 when not
+        tapered)."""
+        if not self.taper_deg:
+            return 0.0
+        return 0.5 * (diameter - self.tip_diameter) / math.tan(math.radians(0.5 * self.taper_deg))
 
     def to_dict(self) -> dict:
-        return {"flutes": self.flutes, "flute_length": self.flute_length,
+        data = {"flutes": self.flutes, "flute_length": self.flute_length,
                 "corner_radius": self.corner_radius}
+        if self.taper_deg:
+            data.update(taper_deg=self.taper_deg, tip_diameter=self.tip_diameter)
+        return data
 
 
 #: kind -> (JSON key of its kind-specific block, class of that block)
@@ -290,6 +313,15 @@ class Tool:
             head=head, bend_angle=math.radians(bend), settings=settings,
             notes=schema.text(data, "notes", where, default="", non_empty=False),
         )
+        if isinstance(tool.spec, Cutter) and tool.spec.taper_deg:
+            cone = tool.spec.cone_length(tool.diameter)
+            if tool.spec.tip_diameter >= tool.diameter:
+                raise ProcessError(f"{where}: tip_diameter {tool.spec.tip_diameter:g} must be "
+                                   f"smaller than the tool diameter {tool.diameter:g}")
+            if cone > tool.spec.flute_length + 1e-9:
+                raise ProcessError(f"{where}: the {tool.spec.taper_deg:g}° cone reaches the "
+                                   f"diameter {tool.diameter:g} {cone:.2f} mm from the tip, past "
+                                   f"the flute_length {tool.spec.flute_length:g}")
         if tool.envelope.tip_diameter < tool.diameter:
             raise ProcessError(f"{where}: envelope tip_diameter {tool.envelope.tip_diameter:g} is "
                                f"smaller than the tool diameter {tool.diameter:g}")

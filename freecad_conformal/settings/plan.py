@@ -57,7 +57,9 @@ PLAN_SETTINGS: tuple[Setting, ...] = (
             "section 6)", group="hybrid", choices=PROCESSES),
     Setting("mill_tool", "text", "endmill_6mm", "mill tools",
             "end mill id(s) in the tool library, comma-separated: the first finishes walls "
-            "and faces 3-D layers, any of them may cut holes (the widest that fits)",
+            "and faces 3-D layers, any flat one may cut holes (the widest that fits); a "
+            "V-bit (e.g. vbit_30deg_6mm) runs along sharp concave edges the first leaves "
+            "stock in",
             group="hybrid", only_when=HYBRID_ONLY),
     Setting("stock_allowance", "length", 0.5, "stock allowance",
             "how much wider than the part each layer is deposited, for the mill to finish",

@@ -14,6 +14,7 @@ from freecad_conformal.process.library import ToolLibrary, read_tool_file, tools
 from freecad_conformal.process.tools import Tool
 
 SHIPPED = {"uv_large", "uv_small", "uv_large_angled45", "fdm_0p4", "laser_powder", "endmill_6mm", "ball_endmill_6mm", "endmill_2mm", "drill_0p5",
+           "vbit_30deg_6mm",
            "uv_mask_disk", "uv_mask_square", "uv_mask_star", "uv_mask_heart"}
 
 
@@ -103,6 +104,28 @@ def test_bad_values_are_rejected_with_a_message(changes, message):
     with pytest.raises(ProcessError, match=message) as info:
         Tool.from_dict(uv_tool(**changes), "test.json")
     assert "test.json" in str(info.value) or "uv_test" in str(info.value) or "Bad Id" in str(info.value)
+
+
+def vbit(**mill) -> dict:
+    data = json.loads((library_module.DEFAULT_TOOL_DIR / "vbit_30deg_6mm.json").read_text())
+    tool = data["tools"][0]
+    tool["mill"].update(mill)
+    return tool
+
+
+def test_a_v_bit_has_its_cone_and_tip_and_they_must_fit():
+    tool = Tool.from_dict(vbit())
+    # 30° included: the cone widens from 0.05 mm to 6 mm over (6 - 0.05) / 2 / tan 15°
+    assert tool.spec.cone_length(6.0) == pytest.approx(2.975 / math.tan(math.radians(15)))
+    assert Tool.from_dict(json.loads(json.dumps(tool.to_dict()))) == tool
+    with pytest.raises(ProcessError, match="past the flute_length 8"):
+        Tool.from_dict(vbit(flute_length=8.0))
+    with pytest.raises(ProcessError, match="smaller than the tool diameter"):
+        Tool.from_dict(vbit(tip_diameter=6.0))
+    with pytest.raises(ProcessError, match="give taper_deg too"):
+        Tool.from_dict(vbit(taper_deg=0.0))
+    with pytest.raises(ProcessError, match="not corner_radius"):
+        Tool.from_dict(vbit(corner_radius=1.0))
 
 
 def test_kind_block_is_required():
