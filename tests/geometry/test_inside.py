@@ -1,0 +1,31 @@
+"""Point-in-solid many at once: the mesh's ray parity against the exact answer."""
+from __future__ import annotations
+
+import numpy as np
+
+from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.inside import DEFLECTION, MeshInside, inside_test
+
+
+def test_mesh_parity_agrees_with_the_sphere_and_a_hollow_box_off_the_surface():
+    App, Part = import_freecad()
+    rng = np.random.default_rng(7)
+    sphere = Part.makeSphere(10.0)
+    points = rng.uniform(-12, 12, size=(20000, 3))
+    radius = np.linalg.norm(points, axis=1)
+    clear = np.abs(radius - 10.0) > 2 * DEFLECTION
+    assert (MeshInside(sphere)(points)[clear] == (radius < 10.0)[clear]).all()
+    # a box with a box-shaped void: rays cross four faces, two, or none
+    hollow = Part.makeBox(20, 20, 20).cut(Part.makeBox(10, 10, 10, App.Vector(5, 5, 5)))
+    points = rng.uniform(-2, 22, size=(20000, 3))
+    exact = np.array([hollow.isInside(App.Vector(*p), 1e-9, True) for p in points])
+    assert (MeshInside(hollow)(points) == exact).all()
+
+
+def test_the_exact_classifier_serves_where_it_is_quick():
+    App, Part = import_freecad()
+    box = Part.makeBox(10, 10, 10)
+    inside = inside_test(box)
+    on_face = np.array([[5.0, 5.0, 10.0]])
+    # only OCC tells a point on the surface apart (the flag): so it is OCC here
+    assert inside(on_face, True)[0] and not inside(on_face, False)[0]
