@@ -1,7 +1,8 @@
 """Hybrid deposition + milling benchmark (issue: hybrid plans, METHODS section 6).
 
 For each part (built-in samples made for it: the 45° branch on a block, a block with a
-hole across the build, a nozzle with a 0.5 mm hole; or files given), plan it with
+hole across the build, a nozzle with a 0.5 mm hole, a domed cylinder; or files given; "+V-bit"
+and "+ball" rows list that tool after the end mill), plan it with
 `--process hybrid` and print, against the peers measured in the same run:
 - switches between deposition and milling, against a plan that mills after every layer
   (the naive plan: same layers, same passes);
@@ -38,7 +39,8 @@ VBIT = {"mill_tool": "endmill_6mm,vbit_30deg_6mm"}
 
 PARTS = {"branch45": {}, "branch45 +V-bit": VBIT, "branch45 planar": {"tilt": False},
          "branch55": {}, "branch55 +V-bit": VBIT, "t_block": {},
-         "cross_hole_block": {}, "nozzle": {"mill_tool": "endmill_6mm,drill_0p5"}}
+         "cross_hole_block": {}, "nozzle": {"mill_tool": "endmill_6mm,drill_0p5"},
+         "domed_cylinder": {}, "domed_cylinder +ball": {"mill_tool": "endmill_6mm,ball_endmill_6mm"}}
 
 #: Parts made here rather than by name: the branch leaning 55° (past the 45° rule).
 MADE = {"branch55": lambda: samples.branch45(lean_deg=55.0)}

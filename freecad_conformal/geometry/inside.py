@@ -8,7 +8,8 @@ with the triangles binned on an XY grid. Its answer can differ from the exact on
 within the tessellation's deflection of the surface.
 
 `inside_test(solid)` gives the exact classifier where it is cheap and the mesh where it
-is not.
+is not. `RayGrid` serves other rays along one direction too (support columns,
+`geometry/support.py`).
 """
 from __future__ import annotations
 
@@ -28,15 +29,20 @@ EXACT_BUDGET = 2e-4
 NUDGE = 1e-7 * np.array([0.5 ** 0.5, 3.0 ** -0.5])
 
 
-class MeshInside:
-    """Point-in-solid by ray parity against the tessellation of `solid`."""
+class RayGrid:
+    """Triangles (m, 3, 3) binned on a grid across `axis`, for rays along it: which
+    triangles a ray through a point crosses, and at what height along the axis."""
 
-    def __init__(self, solid, deflection: float = DEFLECTION) -> None:
-        vertices, faces = solid.tessellate(deflection)
-        v = np.array([tuple(p) for p in vertices], dtype=float)
-        self.triangles = v[np.array(faces, dtype=np.int64).reshape(-1, 3)]
-        xy = self.triangles[:, :, :2]
-        low, high = xy.min(axis=1), xy.max(axis=1)
+    def __init__(self, triangles: np.ndarray, axis=(0.0, 0.0, 1.0)) -> None:
+        n = np.asarray(axis, dtype=float)
+        n = n / np.linalg.norm(n)
+        seed = np.eye(3)[int(np.argmin(np.abs(n)))]
+        u = seed - (seed @ n) * n
+        u /= np.linalg.norm(u)
+        self.basis = np.stack([u, np.cross(n, u), n])          # rows: u, v, n
+        self.triangles = np.asarray(triangles, dtype=float) @ self.basis.T
+        uv = self.triangles[:, :, :2]
+        low, high = uv.min(axis=1), uv.max(axis=1)
         self.origin = low.min(axis=0)
         # cells about four times a typical triangle's footprint
         footprint = float(np.median(np.maximum(high - low, 1e-6).max(axis=1)))
@@ -44,55 +50,84 @@ class MeshInside:
         first = np.floor((low - self.origin) / self.cell).astype(np.int64)
         last = np.floor((high - self.origin) / self.cell).astype(np.int64)
         self.columns = int(last[:, 1].max()) + 1
-        spans = (last - first + 1)
+        spans = last - first + 1
         counts = spans[:, 0] * spans[:, 1]
         tri = np.repeat(np.arange(len(first)), counts)
         within = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
-        i = first[tri, 0] + within // spans[tri, 1]
-        j = first[tri, 1] + within % spans[tri, 1]
-        keys = i * self.columns + j
+        keys = (first[tri, 0] + within // spans[tri, 1]) * self.columns \
+            + first[tri, 1] + within % spans[tri, 1]
         order = np.argsort(keys, kind="stable")
         self.keys, self.cell_triangles = keys[order], tri[order]
 
-    def __call__(self, points: np.ndarray) -> np.ndarray:
-        """(n,) whether each point (n, 3) is inside the solid."""
-        points = np.asarray(points, dtype=float).reshape(-1, 3)
-        if not len(points):
-            return np.zeros(0, dtype=bool)
-        xy = points[:, :2] + NUDGE
-        cell = np.floor((xy - self.origin) / self.cell).astype(np.int64)
+    def crossings(self, points: np.ndarray, chunk_pairs: int = 2_000_000):
+        """Yield (owner, height, point height) for every triangle the line along the axis
+        through each point (n, 3) crosses: `owner` indexes `points`."""
+        local = np.asarray(points, dtype=float).reshape(-1, 3) @ self.basis.T
+        if not len(local):
+            return
+        uv = local[:, :2] + NUDGE
+        cell = np.floor((uv - self.origin) / self.cell).astype(np.int64)
         valid = (cell >= 0).all(axis=1) & (cell[:, 1] < self.columns)
         keys = np.where(valid, cell[:, 0] * self.columns + cell[:, 1], -1)
         start = np.searchsorted(self.keys, keys, side="left")
-        stop = np.searchsorted(self.keys, keys, side="right")
-        counts = np.where(valid, stop - start, 0)
-        crossings = np.zeros(len(points), dtype=np.int64)
-        chunk = max(1, 2_000_000 // max(1, int(counts.mean()) + 1))
-        for a in range(0, len(points), chunk):
-            b = min(a + chunk, len(points))
+        counts = np.where(valid, np.searchsorted(self.keys, keys, side="right") - start, 0)
+        step = max(1, chunk_pairs // max(1, int(counts.mean()) + 1))
+        for a in range(0, len(local), step):
+            b = min(a + step, len(local))
             n = counts[a:b]
             owner = np.repeat(np.arange(a, b), n)
             pos = np.repeat(start[a:b], n) + (np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n))
             tri = self.triangles[self.cell_triangles[pos]]
-            hit = _above(tri, xy[owner], points[owner, 2])
-            crossings += np.bincount(owner[hit], minlength=len(points))
+            covered, height = _covering(tri, uv[owner])
+            yield owner[covered], height[covered], local[owner[covered], 2]
+
+
+class MeshInside:
+    """Point-in-solid by ray parity against the tessellation of `solid`."""
+
+    def __init__(self, solid, deflection: float = DEFLECTION) -> None:
+        vertices, faces = solid.tessellate(deflection)
+        v = np.array([tuple(p) for p in vertices], dtype=float)
+        self.grid = RayGrid(v[np.array(faces, dtype=np.int64).reshape(-1, 3)])
+
+    @property
+    def triangles(self) -> np.ndarray:
+        return self.grid.triangles
+
+    def __call__(self, points: np.ndarray) -> np.ndarray:
+        """(n,) whether each point (n, 3) is inside the solid."""
+        points = np.asarray(points, dtype=float).reshape(-1, 3)
+        crossings = np.zeros(len(points), dtype=np.int64)
+        for owner, height, z in self.grid.crossings(points):
+            crossings += np.bincount(owner[height > z], minlength=len(points))
         return crossings % 2 == 1
 
 
-def _above(tri: np.ndarray, xy: np.ndarray, z: np.ndarray) -> np.ndarray:
-    """Whether each triangle (k, 3, 3) covers its point's XY (k, 2) above height z."""
+def first_hits_below(grid: RayGrid, points: np.ndarray) -> np.ndarray:
+    """Distance (mm) from each point down the grid's axis to the first triangle (inf if
+    none)."""
+    points = np.asarray(points, dtype=float).reshape(-1, 3)
+    out = np.full(len(points), np.inf)
+    for owner, height, z in grid.crossings(points):
+        below = height < z
+        np.minimum.at(out, owner[below], (z - height)[below])
+    return out
+
+
+def _covering(tri: np.ndarray, uv: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Whether each triangle (k, 3, 3; grid coordinates) covers its point's (u, v) (k, 2),
+    and the triangle's height there."""
     p0, p1, p2 = tri[:, 0], tri[:, 1], tri[:, 2]
     d1 = p1[:, :2] - p0[:, :2]
     d2 = p2[:, :2] - p0[:, :2]
-    r = xy - p0[:, :2]
+    r = uv - p0[:, :2]
     det = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
     ok = np.abs(det) > 1e-18
     safe = np.where(ok, det, 1.0)
     s = (r[:, 0] * d2[:, 1] - r[:, 1] * d2[:, 0]) / safe
     t = (d1[:, 0] * r[:, 1] - d1[:, 1] * r[:, 0]) / safe
     inside = ok & (s >= 0) & (t >= 0) & (s + t <= 1)
-    height = p0[:, 2] + s * (p1[:, 2] - p0[:, 2]) + t * (p2[:, 2] - p0[:, 2])
-    return inside & (height > z)
+    return inside, p0[:, 2] + s * (p1[:, 2] - p0[:, 2]) + t * (p2[:, 2] - p0[:, 2])
 
 
 def inside_test(solid):

@@ -140,7 +140,19 @@ def branch45(block: tuple[float, float, float] = (40.0, 30.0, 10.0), branch: flo
     return solid.removeSplitter().Solids[0]
 
 
-SAMPLES.update({"cross_hole_block": cross_hole_block, "nozzle": nozzle, "branch45": branch45})
+def domed_cylinder(radius: float = 10.0, height: float = 10.0):
+    """A cylinder under a hemispherical dome: planar layers leave the dome stepped, so a
+    hybrid plan finishes it with a ball end mill."""
+    App, Part = import_freecad()
+    body = Part.makeCylinder(radius, height)
+    dome = Part.makeSphere(radius, App.Vector(0, 0, height))
+    above = Part.makeBox(4 * radius, 4 * radius, 2 * radius + height,
+                         App.Vector(-2 * radius, -2 * radius, 0))
+    return body.fuse(dome).common(above).removeSplitter().Solids[0]
+
+
+SAMPLES.update({"cross_hole_block": cross_hole_block, "nozzle": nozzle, "branch45": branch45,
+                "domed_cylinder": domed_cylinder})
 
 
 #: Names a built-in sample explicitly (`sample:jack`), even when a file of that name exists.

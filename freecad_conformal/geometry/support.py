@@ -147,23 +147,17 @@ def _layer_normals(points: np.ndarray, layers: Sequence) -> np.ndarray:
     return normals[index]
 
 
-def _first_hits(starts: np.ndarray, directions: np.ndarray, triangles: np.ndarray,
-                chunk: int = 256) -> np.ndarray:
-    """Distance along each ray to the first triangle it crosses (inf if none):
-    Möller–Trumbore over all triangles, `chunk` rays at a time."""
-    a, e1, e2 = triangles[:, 0], triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0]
+def _first_hits(starts: np.ndarray, directions: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """Distance along each ray to the first triangle it crosses (inf if none): the rays of
+    one direction at a time, against the triangles binned across it (`RayGrid`)."""
+    from freecad_conformal.geometry.inside import RayGrid, first_hits_below
+
     out = np.full(len(starts), np.inf)
-    for k in range(0, len(starts), chunk):
-        o, d = starts[k:k + chunk, None, :], directions[k:k + chunk, None, :]
-        p = np.cross(d, e2[None])
-        det = np.einsum("rmk,mk->rm", p, e1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            inv = 1.0 / det
-            s = o - a[None]
-            u = np.einsum("rmk,rmk->rm", s, p) * inv
-            q = np.cross(s, e1[None])
-            v = np.einsum("rmk,rmk->rm", np.broadcast_to(d, q.shape), q) * inv
-            t = np.einsum("rmk,mk->rm", q, e2) * inv
-            ok = (np.abs(det) > 1e-12) & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
-        out[k:k + chunk] = np.where(ok, t, np.inf).min(axis=1)
+    if not len(starts) or not len(triangles):
+        return out
+    kinds, which = np.unique(np.round(directions, 12), axis=0, return_inverse=True)
+    for k, direction in enumerate(kinds):
+        rays = np.flatnonzero(which.reshape(-1) == k)
+        # the rays run down the grid's axis: the grid stands along their reverse
+        out[rays] = first_hits_below(RayGrid(triangles, -direction), starts[rays])
     return out

@@ -22,9 +22,11 @@ from freecad_conformal.geometry.stock import OFFSETS, MaterialCheck, check_mater
 from freecad_conformal.geometry.support import layered_support_volume
 from freecad_conformal.jobs.plan import (JobResult, PlanOptions, subpart_summary, check_options,
                                          check_reach, machine_plan)
+from freecad_conformal.layers.covering import covering_stack
 from freecad_conformal.layers.model import check_thickness
 from freecad_conformal.layers.plan import plan_layers
 from freecad_conformal.paths.approach import bounding_sphere
+from freecad_conformal.paths.ball_finish import finish_faces
 from freecad_conformal.paths.assemble import Assembly
 from freecad_conformal.paths.hybrid_groups import group_tilted
 from freecad_conformal.paths.hybrid_sequence import hybrid_sequence
@@ -140,11 +142,17 @@ def mill_tools(ids, material: str, library) -> list[MillTool]:
             rpm=number_of("spindle_rpm", 10000.0),
             stepover=number_of("stepover_mm", 0.5 * tool.diameter),
             taper_deg=tool.spec.taper_deg, tip_diameter=tool.spec.tip_diameter,
-            reach=tool.envelope.tip_length))
-    if tools and tools[0].tapered:
-        raise PlanError(f"mill tool {tools[0].id!r} is tapered: the first --mill-tool finishes "
-                        "walls and faces layers and must be a flat end mill (list a V-bit "
-                        "after it for the corners)")
+            reach=tool.envelope.tip_length, corner_radius=tool.spec.corner_radius))
+    for tool in tools:
+        if not (tool.flat or tool.ball or tool.tapered):
+            raise PlanError(f"mill tool {tool.id!r}: a corner radius of {tool.corner_radius:g} "
+                            f"mm on a {tool.diameter:g} mm cutter; hybrid plans take flat and "
+                            "ball end mills and V-bits")
+    if tools and not tools[0].flat:
+        shape = "tapered" if tools[0].tapered else "not flat"
+        raise PlanError(f"mill tool {tools[0].id!r} is {shape}: the first --mill-tool finishes "
+                        "walls and faces layers and must be a flat end mill (list a V-bit or "
+                        "a ball end mill after it, for corners and curved faces)")
     return tools
 
 
@@ -224,6 +232,25 @@ def _additive_plan(solid_filled, options: PlanOptions, root: np.ndarray, checked
     return plan, _sliced(plan, options), rotation, shift, notes
 
 
+def _finishing_hints(check: MaterialCheck, mills: list[MillTool], part, plan,
+                     holes: list[Hole]) -> list[str]:
+    """What to add to --mill-tool when stock is left that a V-bit or a ball would take."""
+    if not check.uncut_points:
+        return []
+    hints = []
+    first = mills[0].id
+    in_corners = check.uncut_points - (check.uncut_outside_corners or 0)
+    if in_corners > 0 and not any(m.tapered for m in mills):
+        hints.append(f"stock is left at {in_corners} points in concave corners the {first} "
+                     f"cannot reach: list a V-bit after it (--mill-tool {first},vbit_30deg_6mm) "
+                     "to pencil straight ones")
+    directions = [np.asarray(sub.build_direction, dtype=float) for sub in plan.ordered()]
+    if not any(m.ball for m in mills) and finish_faces(part, directions, holes):
+        hints.append(f"curved faces keep the layers' steps under the {first}: list a ball end "
+                     f"mill after it (--mill-tool {first},ball_endmill_6mm) to finish them")
+    return hints
+
+
 def _sliced(plan, options: PlanOptions, known: dict | None = None) -> dict:
     """Every sub-part's layers: those the plan search sliced already (`known`), the
     others now."""
@@ -282,9 +309,11 @@ def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
     plan, layers, rotation, shift, notes = _additive_plan(solid_filled, options, root, checked)
     part_placed = _moved_shape(solid, rotation, shift)
     holes = [_moved_hole(h, rotation, shift) for h in fill]
-    for stack in layers.values():
-        if stack:
-            check_thickness(stack, options.layers)
+    for sub in plan.ordered():
+        if layers[sub.index]:
+            check_thickness(layers[sub.index], options.layers)
+            # the mill only removes: deposit all the part holds, sloped tops included
+            layers[sub.index] = covering_stack(sub, layers[sub.index], options.layers.workers)
     d_max = options.layers.bounds[1]
     faces, grouped = {}, []
     for sub in plan.ordered():
@@ -324,6 +353,7 @@ def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
         sweeps = [p.sweep for s in sequence.sessions for p in s.passes]
         check = check_material(part_placed, sequence.deposits, sweeps,
                                corner_radius=0.5 * mills[0].diameter)
+        notes += _finishing_hints(check, mills, part_placed, plan, holes)
     # the peer: the part as modelled (or turned to the root given), built planar along +Z
     planar = layered_support_volume(solid, root / np.linalg.norm(root))
     # ours: under the layers as deposited (3-D layers turn the overhang away)

@@ -261,7 +261,7 @@ def face_to(prisms: Sequence[Prism], point: np.ndarray, normal: np.ndarray, shad
 
 def drill_tool(hole: Hole, tools: Sequence[MillTool]) -> MillTool | None:
     """The widest tool that fits the hole (None when none does)."""
-    fitting = [t for t in tools if t.radius <= hole.radius + 1e-9 and not t.tapered]
+    fitting = [t for t in tools if t.radius <= hole.radius + 1e-9 and t.flat]
     return max(fitting, key=lambda t: t.diameter) if fitting else None
 
 

@@ -17,6 +17,7 @@ from freecad_conformal.paths.hybrid import (DRILL_OVERLAP, SHADOW_STEP, HybridSe
                                             final_finishing, finishing_axes,
                                             finishing_passes, grows_out, layer_bottom,
                                             nominal_paths, session_drills)
+from freecad_conformal.paths.ball_finish import ball_passes, finish_faces
 from freecad_conformal.paths.milling import MillTool
 from freecad_conformal.paths.pencil import pencil_passes
 
@@ -85,13 +86,29 @@ def _break(stack: Sequence[Layer], first: int, k: int, holes: Sequence[Hole],
     return ""
 
 
+def _rest_finishing(part, tools: Sequence[MillTool], directions: Sequence[np.ndarray],
+                    holes: Sequence[Hole], notes: list[str]) -> list:
+    """Last passes with the V-bit (sharp concave edges) and the ball end mill (curved
+    faces the flat end mill leaves stepped), when listed."""
+    balls = [t for t in tools if t.ball]
+    faces = finish_faces(part, directions, holes) if balls else []
+    if not faces and not any(t.tapered for t in tools):
+        return []
+    points, normals = surface_samples(part)
+    passes = pencil_passes(part, tools, points, normals, notes)
+    if faces:
+        passes += ball_passes(part, faces, balls[0], directions, points, normals, notes)
+    return passes
+
+
 def hybrid_sequence(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSettings,
                     holes: Sequence[Hole], tools: Sequence[MillTool], stock: float,
                     d_max: float, progress: Callable[[str], None] | None = None,
                     faces: dict[int, dict] | None = None, part=None) -> HybridSequence:
     """Deposition and milling steps for the whole plan (`tools[0]` finishes the walls and
-    faces 3-D layers; every untapered tool may cut holes; tapered ones run along the sharp
-    concave edges of `part`, the finished part as placed, at the end). `faces[sub][k]`:
+    faces 3-D layers; every flat tool may cut holes; at the end a V-bit runs along the sharp
+    concave edges of `part`, the finished part as placed, and a ball end mill over its
+    curved faces). `faces[sub][k]`:
     after layer k, face to the plane (point, normal) what was deposited since layer `first`
     (a GroupedStack's)."""
     faces = faces or {}
@@ -163,8 +180,7 @@ def hybrid_sequence(plan: BuildPlan, layers: dict[int, list[Layer]], settings: P
     extra = finishing_axes(built, normals, normals[0])[len(normals):] if built else []
     drills = final_finishing(built, extra, tools[0], SHADOW_STEP) if extra else []
     drills += final_drills(holes, normals, tools, notes)
-    if part is not None and any(t.tapered for t in tools):
-        drills += pencil_passes(part, tools, *surface_samples(part), notes)
+    drills += _rest_finishing(part, tools, normals, holes, notes) if part is not None else []
     if drills:
         if not sessions:
             sessions.append(Session(-1, 0, 0, "holes"))

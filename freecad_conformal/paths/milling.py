@@ -55,7 +55,8 @@ MIN_RING = 1e-3
 class MillTool:
     """A flat end mill as the passes use it (mm, mm/min, rpm); `number` is its T word.
     A tapered cutter (`taper_deg` > 0, a V-bit) has a cone from a flat of `tip_diameter`
-    to `diameter`, and its shank stands `reach` out of the holder (0: the flute length)."""
+    to `diameter`; a ball end mill's `corner_radius` is its radius; the shank stands `reach`
+    out of the holder (0: the flute length)."""
 
     number: int
     id: str
@@ -70,6 +71,7 @@ class MillTool:
     taper_deg: float = 0.0
     tip_diameter: float = 0.0
     reach: float = 0.0
+    corner_radius: float = 0.0
 
     @property
     def radius(self) -> float:
@@ -78,6 +80,16 @@ class MillTool:
     @property
     def tapered(self) -> bool:
         return self.taper_deg > 0.0
+
+    @property
+    def ball(self) -> bool:
+        """A ball end mill: its corner radius is its radius."""
+        return self.corner_radius >= self.radius - 1e-9
+
+    @property
+    def flat(self) -> bool:
+        """A flat end mill, the geometry contour, facing and drilling passes assume."""
+        return not self.tapered and self.corner_radius == 0.0
 
     @property
     def stick_out(self) -> float:

@@ -58,8 +58,8 @@ PLAN_SETTINGS: tuple[Setting, ...] = (
     Setting("mill_tool", "text", "endmill_6mm", "mill tools",
             "end mill id(s) in the tool library, comma-separated: the first finishes walls "
             "and faces 3-D layers, any flat one may cut holes (the widest that fits); a "
-            "V-bit (e.g. vbit_30deg_6mm) runs along sharp concave edges the first leaves "
-            "stock in",
+            "V-bit (vbit_30deg_6mm) runs along sharp concave edges the first leaves stock "
+            "in, a ball end mill (ball_endmill_6mm) finishes curved faces",
             group="hybrid", only_when=HYBRID_ONLY),
     Setting("stock_allowance", "length", 0.5, "stock allowance",
             "how much wider than the part each layer is deposited, for the mill to finish",

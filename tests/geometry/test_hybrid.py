@@ -182,6 +182,8 @@ def test_hybrid_refuses_a_deposition_tool_as_mill_and_a_material_without_setting
     assert [(t.number, t.rpm, t.feed) for t in tools] == [(2, 3200, 300), (3, 24000, 30)]
     with pytest.raises(PlanError, match="'vbit_30deg_6mm' is tapered"):
         mill_tools(["vbit_30deg_6mm", "endmill_6mm"], "316L", library)
+    with pytest.raises(PlanError, match="'ball_endmill_6mm' is not flat"):
+        mill_tools(["ball_endmill_6mm"], "316L", library)
     tools = mill_tools(["endmill_6mm", "vbit_30deg_6mm", "drill_0p5"], "316L", library)
     assert tools[1].tapered and tools[1].stick_out == 30.0 and not tools[0].tapered
     # a V-bit never drills: the hole takes the 0.5 mm mill though the V-bit's tip is finer
@@ -210,6 +212,25 @@ def test_v_bit_pencil_passes_leave_the_45_degree_branch_within_tolerance(tmp_pat
         program = tmp_path / "branch.ngc"
         program.write_text(text)
         assert len(canonical_moves(program)[0]) > 500
+
+
+def test_ball_end_mill_finishes_the_dome_the_flat_one_leaves_stepped():
+    dome = samples.domed_cylinder()
+    flat = plan_job(dome, plan_options(HYBRID), part="dome")
+    # planar layers leave steps on the dome a flat end mill cannot take off (a quarter of
+    # a 0.5 mm layer and more), and the plan says which tool would
+    assert flat.hybrid.check.max_uncut >= 0.25
+    assert any("endmill_6mm,ball_endmill_6mm" in note for note in flat.plan.notes)
+    # the top slab is deposited whole: nothing of the part is missing under the dome's top
+    assert flat.hybrid.check.gouge_points == 0
+    options = plan_options({**HYBRID, "mill_tool": "endmill_6mm,ball_endmill_6mm"})
+    result = plan_job(dome, options, part="dome")
+    check = result.hybrid.check
+    assert check.points > 1000 and all(c == (0, 0) for c in check.by_offset.values()), check
+    assert "T3 M6" in result.post.text
+    deviation = verify_program(result.post.text, load_machine("hybrid_ac"),
+                               result.assembly.toolpath)
+    assert deviation.position < 0.01 and deviation.angle < 1e-3, deviation.report()
 
 
 def test_plan_command_takes_process_and_mill_tool(tmp_path, capsys):

@@ -79,6 +79,7 @@ def test_branch_3d_layers_are_faced_once_per_run_and_the_part_is_whole():
     assert check.gouge_points == 0, check
     # what stock is left lies in the acute corners no 6 mm cutter reaches into
     assert check.uncut_outside_corners == 0, check
+    assert any("endmill_6mm,vbit_30deg_6mm" in note for note in result.plan.notes)
 
 
 def test_layered_support_agrees_with_the_exact_one_on_planar_builds():
