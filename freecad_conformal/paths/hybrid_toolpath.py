@@ -132,9 +132,16 @@ class _Writer:
                 self.travel(near[None], axis[None])
             self.builder.add_segment(start[None], axis, kind="cut", feed=tool.plunge_feed,
                                      tool=tool.number)
-            if len(cut.points) > 1:
-                self.builder.add_segment(cut.points[1:], axis, kind="cut", feed=cut.feed,
+            lead = cut.lead if len(cut.points) > 2 * cut.lead + 1 else 0
+            if lead:
+                self.travel(cut.points[1:1 + lead], np.repeat(axis[None], lead, axis=0))
+            cutting = cut.points[1 + lead:len(cut.points) - lead]
+            if len(cutting):
+                self.builder.add_segment(cutting, axis, kind="cut", feed=cut.feed,
                                          tool=tool.number)
+            if lead:
+                self.travel(cut.points[len(cut.points) - lead:],
+                            np.repeat(axis[None], lead, axis=0))
             self.cuts.append(cut.points)
             self.position, self.axis = cut.points[-1], axis
             up = self.position + (self.clearance(axis) - float(self.position @ axis)) * axis

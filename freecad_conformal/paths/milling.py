@@ -110,6 +110,8 @@ class MillPass:
     #: the volume the pass removes (the region the tool centre's path widened by its
     #: radius, from the tip up the flute length)
     sweep: Prism
+    #: moves at each end that run through air, at travel speed (a pencil pass's run-up)
+    lead: int = 0
 
     @property
     def length(self) -> float:

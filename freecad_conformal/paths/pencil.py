@@ -40,6 +40,10 @@ GOUGE_PROBE = 0.005
 #: A pass starts and ends this far (mm) beyond the part along the edge, past the holder.
 END_CLEARANCE = 2.0
 
+#: A pass cuts at its feed from this far (mm) before its flutes reach the edge's end to as
+#: far past the other: stock lies along the edge only.
+LEAD_MARGIN = 1.0
+
 
 def cutter_outline(tool: MillTool) -> tuple[np.ndarray, np.ndarray]:
     """(flutes, body): the tapered cutter across its axis as (r, h) polygons, the tip's
@@ -137,14 +141,14 @@ def pencil_passes(part, tools: Sequence[MillTool], points: np.ndarray, normals: 
         corner = _wedge(part, found)
         if corner is None:
             continue
-        point, face_a, face_b, opening = corner
+        point, face_a, face_b, opening, ends = corner
         tool = next((t for t in tapered
                      if math.radians(t.taper_deg) + TAPER_CLEARANCE < opening), None)
         if tool is None:
             skipped += 1
             continue
         for pose in wedge_poses(opening, tool):
-            made = _pass(tool, point, face_a, face_b, pose, box, probes)
+            made = _pass(tool, point, face_a, face_b, pose, box, probes, ends)
             if made is None:
                 skipped += 1
             else:
@@ -156,7 +160,8 @@ def pencil_passes(part, tools: Sequence[MillTool], points: np.ndarray, normals: 
 
 
 def _wedge(part, found) -> tuple | None:
-    """(a point on the edge, unit directions leaving it into each face, the opening)
+    """(a point on the edge, unit directions leaving it into each face, the opening, the
+    edge's two ends)
     of a straight concave edge between two planes; None for any other edge."""
     from freecad_conformal.geometry.concave_edges import into_face
 
@@ -178,13 +183,15 @@ def _wedge(part, found) -> tuple | None:
     opening = math.acos(float(np.clip(into[0] @ into[1], -1.0, 1.0)))
     if not 0.0 < opening < math.pi:
         return None
-    return middle, into[0], into[1], opening
+    return middle, into[0], into[1], opening, np.array([start, end])
 
 
 def _pass(tool: MillTool, point: np.ndarray, along: np.ndarray, other: np.ndarray,
-          pose: tuple, box: np.ndarray, probes: np.ndarray) -> MillPass | None:
+          pose: tuple, box: np.ndarray, probes: np.ndarray, ends: np.ndarray) -> MillPass | None:
     """The pass at `pose` in the wedge whose faces leave the edge `point` lies on along
-    `along` and `other`, or None if it would reach into the part."""
+    `along` and `other`, or None if it would reach into the part. It cuts at its feed
+    where its flutes meet the edge (`ends`) and moves at travel speed through the air
+    before and after."""
     side = other - float(other @ along) * along
     side /= np.linalg.norm(side)
     normal = np.cross(along, side)                 # right-handed: along × side = normal
@@ -201,7 +208,11 @@ def _pass(tool: MillTool, point: np.ndarray, along: np.ndarray, other: np.ndarra
     if sweep.holds(probes).any() or shank.holds(probes).any():
         return None
     tip = frame.to_3d((corner + origin)[None], 0.0)[0]
-    tip_points = np.array([tip + low * normal, tip + high * normal])
+    spans = sorted(float(e @ normal) for e in ends)
+    cut_low = max(low, spans[0] - tool.radius - LEAD_MARGIN)
+    cut_high = min(high, spans[1] + tool.radius + LEAD_MARGIN)
+    heights = [low, cut_low, cut_high, high] if low < cut_low < cut_high < high else [low, high]
     tool_axis = axis[0] * along + axis[1] * side
-    return MillPass(tip_points, tool_axis / np.linalg.norm(tool_axis), "pencil", tool,
-                    tool.feed, sweep)
+    return MillPass(np.array([tip + h * normal for h in heights]),
+                    tool_axis / np.linalg.norm(tool_axis), "pencil", tool, tool.feed, sweep,
+                    lead=1 if len(heights) == 4 else 0)

@@ -214,6 +214,29 @@ def test_v_bit_pencil_passes_leave_the_45_degree_branch_within_tolerance(tmp_pat
         assert len(canonical_moves(program)[0]) > 500
 
 
+def test_pencil_passes_cut_along_the_edges_and_run_up_through_air():
+    from freecad_conformal.geometry.concave_edges import concave_edges
+    from freecad_conformal.geometry.stock import surface_samples
+    from freecad_conformal.paths.pencil import pencil_passes
+
+    branch = samples.branch45()
+    vbit = mill_tools(["endmill_6mm", "vbit_30deg_6mm"], "316L", ToolLibrary.load())[1]
+    notes: list[str] = []
+    passes = pencil_passes(branch, [vbit], *surface_samples(branch), notes)
+    # four straight concave edges: two 45° wedges (two passes each), two 90° (four each)
+    assert len(concave_edges(branch)) == 4 and len(passes) == 12 and not notes
+    for cut in passes:
+        along = cut.points[-1] - cut.points[0]
+        along /= np.linalg.norm(along)
+        assert cut.lead == 1 and len(cut.points) == 4
+        assert abs(float(cut.axis @ along)) < 1e-9          # the cutter square to the edge
+        # the cutting stretch spans an edge of the branch (10 mm wide, 7.07 mm at its foot)
+        # and a tool radius and a millimetre beyond each end, no more
+        span = float(np.linalg.norm(cut.points[2] - cut.points[1]))
+        assert any(span == pytest.approx(length + 2 * (3.0 + 1.0), abs=1e-6)
+                   for length in (10.0, 10.0 / math.sqrt(2.0)))
+
+
 def test_ball_end_mill_finishes_the_dome_the_flat_one_leaves_stepped():
     dome = samples.domed_cylinder()
     flat = plan_job(dome, plan_options(HYBRID), part="dome")
