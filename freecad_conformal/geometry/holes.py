@@ -58,6 +58,13 @@ class Hole:
         """The axis point at the hole's 'low' or 'high' end."""
         return self.point + (self.low if which == "low" else self.high) * self.direction
 
+    def has_wall(self, cylinder) -> bool:
+        """Whether a cylindrical surface lies on this hole's line with its radius (the
+        test `find_holes` groups a hole's faces by)."""
+        axis = np.array(tuple(cylinder.Axis), dtype=float)
+        return _key(np.array(tuple(cylinder.Center), dtype=float), axis / np.linalg.norm(axis),
+                    float(cylinder.Radius)) == _key(self.point, self.direction, self.radius)
+
     def across(self, build_direction: np.ndarray, limit: float) -> bool:
         """True when the axis leans more than `limit` (rad) from the build direction."""
         cosine = abs(float(np.dot(self.direction, build_direction)))

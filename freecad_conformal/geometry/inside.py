@@ -90,10 +90,6 @@ class MeshInside:
         v = np.array([tuple(p) for p in vertices], dtype=float)
         self.grid = RayGrid(v[np.array(faces, dtype=np.int64).reshape(-1, 3)])
 
-    @property
-    def triangles(self) -> np.ndarray:
-        return self.grid.triangles
-
     def __call__(self, points: np.ndarray) -> np.ndarray:
         """(n,) whether each point (n, 3) is inside the solid."""
         points = np.asarray(points, dtype=float).reshape(-1, 3)

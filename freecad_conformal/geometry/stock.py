@@ -27,6 +27,7 @@ import numpy as np
 import shapely
 
 from freecad_conformal.geometry.frames import LayerFrame
+from freecad_conformal.geometry.shape_cache import ShapeCache
 
 #: Distances (mm) each surface point is moved out and in: the finishing tolerance first,
 #: then coarser steps that say how far stock or a gouge reaches.
@@ -108,7 +109,14 @@ def in_result(points: np.ndarray, deposits: Sequence[Prism], sweeps: Sequence[Pr
 
 
 def surface_samples(part, spacing: float = SAMPLE_SPACING) -> tuple[np.ndarray, np.ndarray]:
-    """(points, outward unit normals) on a grid across every face of `part`."""
+    """(points, outward unit normals) on a grid across every face of `part` (read-only:
+    a hybrid plan's last passes and its check sample the same part, once)."""
+    if spacing != SAMPLE_SPACING:
+        return _sampled(part, spacing)
+    return _SAMPLES.get((part,), lambda: _sampled(part, spacing))
+
+
+def _sampled(part, spacing: float) -> tuple[np.ndarray, np.ndarray]:
     points, normals = [], []
     for face in part.Faces:
         u0, u1, v0, v1 = face.ParameterRange
@@ -123,7 +131,13 @@ def surface_samples(part, spacing: float = SAMPLE_SPACING) -> tuple[np.ndarray, 
                 normals.append(tuple(face.normalAt(u, v)))
     n = np.array(normals, dtype=float).reshape(-1, 3)
     n /= np.maximum(np.linalg.norm(n, axis=1), 1e-12)[:, None]
-    return np.array(points, dtype=float).reshape(-1, 3), n
+    p = np.array(points, dtype=float).reshape(-1, 3)
+    p.flags.writeable = n.flags.writeable = False
+    return p, n
+
+
+#: Samples of the last parts asked, by shape.
+_SAMPLES: ShapeCache[tuple[np.ndarray, np.ndarray]] = ShapeCache(limit=8, oriented=True)
 
 
 def check_material(part, deposits: Sequence[Prism], sweeps: Sequence[Prism],

@@ -64,7 +64,6 @@ def covering_layers(layers: list[Layer], slicer: PlanarSlicer, low: float, high:
     return out
 
 
-
 def covering_stack(subpart: SubPart, layers: list[Layer], workers: int = 1) -> list[Layer]:
     """`covering_layers` of one sub-part's stack, for each direction its planar layers
     take (past a bend the planes follow the axis, parallel again)."""

@@ -104,7 +104,7 @@ def finish_faces(part, directions: Sequence[np.ndarray], holes: Sequence = ()) -
         if along is not None and any(abs(float(along @ d)) > PARALLEL
                                      for d in directions):
             continue
-        if kind == "Cylinder" and any(_is_wall_of(surface, hole) for hole in holes):
+        if kind == "Cylinder" and any(hole.has_wall(surface) for hole in holes):
             continue
         found.append(index)
     return found
@@ -125,18 +125,6 @@ def _generator(surface) -> np.ndarray | None:
         return None
     d = np.array([v.x, v.y, v.z])
     return d / np.linalg.norm(d)
-
-
-def _is_wall_of(cylinder, hole) -> bool:
-    """Whether a cylinder is a hole's wall: same radius, same axis line."""
-    if abs(cylinder.Radius - hole.radius) > 1e-6:
-        return False
-    axis = _generator(cylinder)
-    if abs(float(axis @ hole.direction)) < PARALLEL:
-        return False
-    c = cylinder.Center
-    off = np.array([c.x, c.y, c.z]) - hole.point
-    return float(np.linalg.norm(off - (off @ axis) * axis)) < 1e-6
 
 
 def ball_passes(part, faces: Sequence[int], tool: MillTool, axes: Sequence[np.ndarray],
