@@ -18,7 +18,8 @@ import numpy as np
 from freecad_conformal.errors import GeometryError
 from freecad_conformal.geometry.sections import PlanarSlicer, extent_along
 from freecad_conformal.geometry.splitting_faces import SplitCandidate, interior_regions
-from freecad_conformal.geometry.surface_mesh import below_fraction, mesh_deflection, surface_mesh
+from freecad_conformal.geometry.surface_mesh import (mesh_deflection, sorted_below_fraction,
+                                                    surface_mesh)
 from freecad_conformal.tolerances import PARALLEL_COS_SLACK
 
 #: Sections per axis when `d` is not given (the jump test only needs to see the steps).
@@ -70,9 +71,10 @@ class MeshProfile:
         """Section area at each height along `axis`: A(h) = −Σ (n·axis) area(t ∩ {x·axis < h})."""
         projected = self.area_vectors @ axis
         g = np.sort((self.points @ axis)[self.triangles], axis=1)
+        g0, g1, g2 = (np.ascontiguousarray(g[:, k]) for k in range(3))
         result = np.zeros(len(heights))
         for k, h in enumerate(heights):
-            result[k] = -float(projected @ below_fraction(g - h))
+            result[k] = -float(projected @ sorted_below_fraction(g0 - h, g1 - h, g2 - h))
         return result
 
 
