@@ -32,7 +32,7 @@ from freecad_conformal.paths.assemble import (PERIMETER_ROLES, SIMPLIFY_FRACTION
                                               SMALL_PERIMETER_LENGTH, PathSettings, solid_areas,
                                               together)
 from freecad_conformal.paths.bead import bead_area, bead_spacing
-from freecad_conformal.paths.fill2d import (LINE_END_INSET, MITRE_LIMIT, fewest_turns_angle,
+from freecad_conformal.paths.fill2d import (fewest_turns_angle, fill_area,
                                             infill_areas, perimeter_rings, polygons_of,
                                             scan_pieces, valid_region)
 from freecad_conformal.paths.timing import DEFAULT_JERK, junction_speeds, move_times
@@ -187,9 +187,7 @@ def _infill(island: Polygon, depth_count: int, solid, settings: PathSettings, sp
             layer_index: int, motion: Motion, tally: _Tally, bridge=None) -> None:
     fill = settings.fill
     width = fill.bead_width
-    inset = 0.5 * width + (depth_count - 0.5 - fill.infill_overlap + LINE_END_INSET) * spacing
-    inner = (island.buffer(-inset, join_style="mitre", mitre_limit=MITRE_LIMIT)
-             if depth_count else island)
+    inner = fill_area(island, depth_count, width, spacing, fill.infill_overlap)
     if inner.is_empty:
         return
     for area, pitch, role in infill_areas(inner, solid, bridge, fill, spacing):

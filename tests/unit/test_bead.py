@@ -56,13 +56,25 @@ def test_small_sparse_regions_are_printed_solid():
     assert "solid_infill" not in big
 
 
+def test_the_small_area_rule_measures_the_fill_area_not_where_lines_end():
+    """A 9.9 mm square's fill area (inside the perimeters, reaching 25 % into them) is 71
+    mm², over the 70 mm² threshold: sparse, as PrusaSlicer's fill surface; where its lines
+    end (half a spacing further in) it is 64 mm², which must not count."""
+    spacing = bead_spacing(0.45, 0.2)
+    side = 9.9 - 2 * (0.225 + 1.25 * spacing)
+    assert side * side > 70.0 > (side - spacing) ** 2
+    assert "solid_infill" not in _infill_length(box(0, 0, 9.9, 9.9))
+
+
 def test_infill_reaches_into_the_perimeters_by_the_overlap():
     inner = fill_layer(box(0, 0, 30, 30), FillSettings(bead_width=0.45, perimeters=2, density=1.0,
                                                        angle=0.0, alternate=False), height=0.2)
     lines = np.vstack([p.points for p in inner if p.role == "infill"])
     spacing = bead_spacing(0.45, 0.2)
-    # innermost perimeter's inner edge at w/2 + 1.5 spacing; lines end 0.05 spacing past it
-    edge = 0.225 + 1.5 * spacing - 0.05 * spacing
+    # The innermost perimeter's inner edge lies at w/2 + 1.5 spacing; a line's bead ends
+    # half a spacing past its end point and reaches 25 % of a spacing into that perimeter,
+    # as its sides do (PrusaSlicer's line ends: 0.75 spacing inside the ring's centre line).
+    edge = 0.225 + 1.5 * spacing + 0.25 * spacing
     assert lines[:, 0].min() == pytest.approx(edge, abs=1e-6)
     none = fill_layer(box(0, 0, 30, 30), FillSettings(bead_width=0.45, perimeters=2, density=1.0,
                                                       angle=0.0, alternate=False, infill_overlap=0.0),
