@@ -452,8 +452,9 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
         if not isinstance(root, str):
             root = tuple(float(c) for c in placement.rotate(root))
         if split:
+            # The job builds the plan; it shows no centroidal axis (the Analysis does).
             plan = decompose(placed, tool=options.tool, root_direction=root,
-                             check_collisions=not several)
+                             check_collisions=not several, with_axes=False)
         else:
             plan = single_plan(placed, (0.0, 0.0, 1.0) if isinstance(root, str) else root)
         laid = lay_out(plan, gap)
