@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from typing import Sequence
 
 import numpy as np
+import shapely
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.paths.bead import bead_area
@@ -138,15 +139,28 @@ def plan_paths(layers: Sequence[Layer], settings: PathSettings, rests_on_parent:
     tolerance = settings.fill.bead_width * SIMPLIFY_FRACTION
     skins, bridges = solid_areas(layers, settings, rests_on_parent)
     result = []
+    filled: dict[tuple, list] = {}
     for layer, skin, bridge in zip(layers, skins, bridges):
         here = layer.frame.to_2d(position[None])[0] if position is not None else None
         region = layer.region.simplify(tolerance)
-        paths = map_paths(layer, fill_layer(region, settings.fill, layer.index, skin, here,
-                                            height=layer.thickness, bridge=bridge))
+        # A prism's layers repeat, and from the same start the fill repeats too (after a
+        # layer or two the start alternates between two points): filled once.
+        key = (wkb_key(region), wkb_key(skin), wkb_key(bridge),
+               None if here is None else here.tobytes(),
+               layer.thickness, layer.index % 2)
+        if key not in filled:
+            filled[key] = fill_layer(region, settings.fill, layer.index, skin, here,
+                                     height=layer.thickness, bridge=bridge)
+        paths = map_paths(layer, filled[key])
         if paths:
             position = paths[-1].points[-1]
         result.append(paths)
     return result
+
+
+def wkb_key(geometry) -> bytes | None:
+    """A region as a dictionary key: its exact coordinates (WKB); None stays None."""
+    return None if geometry is None else shapely.to_wkb(geometry)
 
 
 #: Two layer tops closer than this (mm) along the build direction are one level.

@@ -18,6 +18,7 @@ The estimate is calibrated against the full plan's own estimate (`paths.timing`)
 from __future__ import annotations
 
 import math
+import dataclasses
 from dataclasses import dataclass, field
 from typing import Sequence
 
@@ -30,7 +31,7 @@ from freecad_conformal.layers.model import Layer
 from freecad_conformal.paths.approach import SAFE_MARGIN, bounding_sphere, transition
 from freecad_conformal.paths.assemble import (PERIMETER_ROLES, SIMPLIFY_FRACTION,
                                               SMALL_PERIMETER_LENGTH, PathSettings, solid_areas,
-                                              together)
+                                              together, wkb_key)
 from freecad_conformal.paths.bead import bead_area, bead_spacing
 from freecad_conformal.paths.fill2d import (fewest_turns_angle, fill_area,
                                             infill_areas, perimeter_rings, polygons_of,
@@ -223,7 +224,7 @@ def layer_cost(layer: Layer, skin, settings: PathSettings, motion: Motion,
                     bridge)
         except shapely.errors.GEOSException:
             continue   # the fill raises a named error for this island; the estimate skips it
-    level = float(layer.top_point @ layer.top_normal)
+    level = _level(layer)
     if tally.length <= 0:
         return LayerCost(level, 0.0, 0.0, 0.0, 0.0, 0.0)   # nothing a bead can follow
     # From island to island, and from the last path to the next layer's first one.
@@ -248,8 +249,27 @@ def subpart_cost(index: int, layers: Sequence[Layer], settings: PathSettings, mo
                  rests_on_parent: bool) -> SubPartCost:
     """Every layer's cost of one sub-part (skins as the fill sees them)."""
     skins, bridges = solid_areas(layers, settings, rests_on_parent)
-    return SubPartCost(index, [layer_cost(layer, skin, settings, motion, bridge)
-                               for layer, skin, bridge in zip(layers, skins, bridges)])
+    known: dict[tuple, LayerCost] = {}
+    costs = []
+    for layer, skin, bridge in zip(layers, skins, bridges):
+        # A prism's layers repeat (the table's legs: one region for hundreds of layers):
+        # a layer the same as one costed already, in everything the fill reads, costs the
+        # same at its own level.
+        key = (wkb_key(layer.region), wkb_key(skin), wkb_key(bridge), layer.thickness,
+               layer.index % 2)
+        same = known.get(key)
+        if same is None:
+            same = known[key] = layer_cost(layer, skin, settings, motion, bridge)
+            costs.append(same)
+        else:
+            costs.append(dataclasses.replace(same, level=_level(layer)))
+    return SubPartCost(index, costs)
+
+
+def _level(layer: Layer) -> float:
+    """Where a layer's top lies along its own normal (levels are compared across
+    sub-parts built together)."""
+    return float(layer.top_point @ layer.top_normal)
 
 
 #: Layer tops of concurrent sub-parts closer than this (mm) are one level (paths.assemble).

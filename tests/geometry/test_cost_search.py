@@ -272,3 +272,65 @@ def test_a_decomposition_occ_cannot_slice_gives_way_to_the_whole_part(monkeypatc
     assert [c.sub_parts for c in found] == [1] and found[0].exact
     assert any("the decomposition could not be sliced (the section at height 24.4 mm" in note
                for note in found[0].plan.notes)
+
+
+def test_repeated_layers_are_costed_once_and_cost_the_same(monkeypatch):
+    """A prism's layers repeat: each distinct layer (region, solid areas, thickness, infill
+    direction's parity) is costed once, and every layer's cost equals its own costing."""
+    from freecad_conformal.paths import cost as cost_module
+    from freecad_conformal.paths.assemble import solid_areas
+
+    plan = single_plan(samples.t_block())
+    sub = plan.subparts[0]
+    layers = plan_layers(sub, LayerSettings())
+    options = plan_options({})
+    checked = check_options(samples.t_block(), options, None)
+    settings, motion = checked[3], Motion.of(checked[4], options.jerk)
+    calls = []
+    original = cost_module.layer_cost
+
+    def counted(layer, *args, **kwargs):
+        calls.append(layer.index)
+        return original(layer, *args, **kwargs)
+
+    monkeypatch.setattr(cost_module, "layer_cost", counted)
+    memo = cost_module.subpart_cost(sub.index, layers, settings, motion, False)
+    assert len(calls) < len(layers) // 4
+    skins, bridges = solid_areas(layers, settings, False)
+    each = [original(layer, skin, settings, motion, bridge)
+            for layer, skin, bridge in zip(layers, skins, bridges)]
+    assert memo.layers == each
+
+
+def test_repeated_layers_are_filled_once_and_give_the_same_paths(monkeypatch):
+    """The paths of a prism's repeated layers come from one fill per distinct layer and
+    start, and are the paths each layer's own fill gives, in order."""
+    from freecad_conformal.paths import assemble
+    from freecad_conformal.paths.map3d import map_paths
+
+    plan = single_plan(samples.t_block())
+    sub = plan.subparts[0]
+    layers = plan_layers(sub, LayerSettings())
+    # Seams nearest the nozzle: each layer's paths depend on where the last one ended.
+    settings = check_options(samples.t_block(), plan_options({"seam": "nearest"}), None)[3]
+    calls = []
+    original = assemble.fill_layer
+
+    def counted(*args, **kwargs):
+        calls.append(1)
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(assemble, "fill_layer", counted)
+    start = np.array([0.0, 0.0, 0.0])
+    memo = assemble.plan_paths(layers, settings, False, start)
+    assert len(calls) < len(layers) // 4
+    skins, bridges = assemble.solid_areas(layers, settings, False)
+    position, tolerance = start, settings.fill.bead_width * assemble.SIMPLIFY_FRACTION
+    for layer, skin, bridge, got in zip(layers, skins, bridges, memo):
+        here = layer.frame.to_2d(position[None])[0]
+        own = map_paths(layer, original(layer.region.simplify(tolerance), settings.fill,
+                                        layer.index, skin, here, height=layer.thickness,
+                                        bridge=bridge))
+        assert [p.role for p in got] == [p.role for p in own]
+        assert all(np.array_equal(a.points, b.points) for a, b in zip(got, own))
+        position = own[-1].points[-1] if own else position
