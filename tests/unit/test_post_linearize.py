@@ -109,3 +109,37 @@ def test_leaving_the_pole_turns_c_first():
     assert np.all(np.abs(a[turning]) < 1e-9) and np.all(np.abs(a[turning + 1]) < 1e-9)
     tip, _ = forward(machine, blocks.joints[turning + 1])
     assert np.abs(tip - [20, 0, 10]).max() < 1e-9
+
+
+@pytest.mark.parametrize("name", ["trunnion_ac", "head_a_table_c"])
+def test_moves_that_turn_no_rotary_joint_follow_their_chord(name):
+    """The deviation check skips moves whose rotary joints and designed axis stay: their
+    tip follows the chord. Those read 0, the others as the full forward check reads them,
+    and the skipped moves' full check is indeed within rounding of 0."""
+    from freecad_conformal.post import linearize as module
+
+    machine = load_machine(name)
+    rng = np.random.default_rng(5)
+    points = rng.uniform(-20, 20, size=(9, 3))
+    axes = np.repeat([[0.0, 0.0, 1.0]], 9, axis=0)
+    axes[5:] = [0.0, math.sin(0.3), math.cos(0.3)]      # one reorientation: into row 5
+    joints, _ = inverse(machine, points, axes, lambda i: f"row {i}", with_undefined=True)
+    joints = joints.copy()
+    ratio = module._deviation_ratio(machine, points, axes, joints, TOL, ATOL)
+    turning = np.any(joints[1:, 3:] != joints[:-1, 3:], axis=1) | np.any(axes[1:] != axes[:-1], axis=1)
+    assert turning[4] and not turning[:4].any() and not turning[5:].any()
+    assert np.all(ratio[~turning] == 0.0) and ratio[4] > 0.0
+    # The full check, every move: what the skipped moves would have read.
+    full = np.zeros(len(points) - 1)
+    chord = points[1:] - points[:-1]
+    for s in module.CHECK_PARAMETERS:
+        tip, axis = forward(machine, joints[:-1] + s * (joints[1:] - joints[:-1]))
+        t = np.clip(np.einsum("ij,ij->i", tip - points[:-1], chord)
+                    / np.einsum("ij,ij->i", chord, chord), 0.0, 1.0)
+        position = np.linalg.norm(tip - (points[:-1] + t[:, None] * chord), axis=1)
+        designed = slerp(axes[:-1], axes[1:], t)
+        angle = np.arccos(np.clip(np.einsum("ij,ij->i", axis, designed), -1.0, 1.0))
+        full = np.maximum(full, np.maximum(position / TOL, angle / ATOL))
+    full /= module.CHECK_MARGIN
+    assert np.all(full[~turning] < 1e-3)
+    assert ratio[4] == pytest.approx(full[4], rel=1e-9)
