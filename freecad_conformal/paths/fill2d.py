@@ -260,16 +260,40 @@ class _Boundary:
                 coords = np.asarray(ring.coords)
                 along = np.concatenate(([0.0], np.cumsum(np.linalg.norm(np.diff(coords, axis=0), axis=1))))
                 self.rings.append((LineString(coords), coords[:-1], along[:-1], float(along[-1])))
+        #: point -> (distance to each ring, position along each ring), read in batches
+        self._located: dict[tuple[float, float], tuple[np.ndarray, np.ndarray]] = {}
+
+    def locate(self, points: list[tuple[float, float]]) -> None:
+        """Read the rings' distance and position of many points in one GEOS call each (the
+        same functions `path` would call one point at a time: CrankArm's zigzags asked
+        34,000 times)."""
+        if not points or not self.rings:
+            return
+        geometry = shapely.points(np.asarray(points, dtype=float))
+        lines = np.array([line for line, *_ in self.rings], dtype=object)[:, None]
+        distance = shapely.distance(lines, geometry[None, :])
+        position = shapely.line_locate_point(lines, geometry[None, :])
+        for k, point in enumerate(points):
+            self._located[point] = (distance[:, k], position[:, k])
+
+    def _where(self, point: tuple[float, float]) -> tuple[np.ndarray, np.ndarray]:
+        found = self._located.get(point)
+        if found is None:
+            geometry = shapely.Point(point)
+            found = (np.array([line.distance(geometry) for line, *_ in self.rings]),
+                     np.array([line.project(geometry) for line, *_ in self.rings]))
+            self._located[point] = found
+        return found
 
     def path(self, p: tuple[float, float], q: tuple[float, float],
              limit: float) -> list[tuple[float, float]] | None:
         """Points from p to q along the ring both lie on, the shorter way round, or None when
         they lie on no common ring or that way is longer than `limit`."""
-        a, b = shapely.Point(p), shapely.Point(q)
-        for line, vertices, along, length in self.rings:
-            if line.distance(a) > ON_BOUNDARY or line.distance(b) > ON_BOUNDARY:
+        (p_distance, p_position), (q_distance, q_position) = self._where(p), self._where(q)
+        for k, (_, vertices, along, length) in enumerate(self.rings):
+            if p_distance[k] > ON_BOUNDARY or q_distance[k] > ON_BOUNDARY:
                 continue
-            start, end = line.project(a), line.project(b)
+            start, end = float(p_position[k]), float(q_position[k])
             ahead = (end - start) % length
             way = min(ahead, length - ahead)
             if way > limit:
@@ -291,6 +315,8 @@ def zigzag(area, spacing: float, angle: float, width: float, role: str) -> list[
     guard = area.buffer(CONNECTOR_SLACK * width)
     shapely.prepare(guard)
     boundary = _Boundary(affinity.rotate(area, -angle, origin=(0.0, 0.0), use_radians=True))
+    # Links run between row ends only.
+    boundary.locate([(x, y) for row in rows for x0, x1, y in row for x in (x0, x1)])
     used = [[False] * len(row) for row in rows]
     chains: list[list[tuple[float, float]]] = []
     for r, row in enumerate(rows):

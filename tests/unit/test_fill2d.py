@@ -239,3 +239,21 @@ def test_scan_pieces_stay_inside_an_area_that_turning_makes_self_intersecting():
     points = shapely.points(middle * cos - y * sin, middle * sin + y * cos)
     assert len(pieces) == 97 and shapely.contains(area, points).all()
     assert (pieces[:, 2] - pieces[:, 1]).sum() == pytest.approx(area.area / spacing, rel=0.02)
+
+
+def test_boundary_paths_read_in_a_batch_are_the_ones_read_point_by_point():
+    """Zigzag links along the boundary: the rings' distances and positions read for all
+    row ends at once give the same links as reading each point when it is needed."""
+    from freecad_conformal.paths.fill2d import _Boundary
+
+    area = box(0, 0, 20, 10).difference(Point(10, 5).buffer(3, 16))
+    rng = np.random.default_rng(2)
+    rings = [area.exterior, *area.interiors]
+    points = [tuple(np.asarray(ring.interpolate(t, normalized=True).coords[0]).tolist())
+              for ring in rings for t in rng.uniform(0, 1, 12)]
+    batch, single = _Boundary(area), _Boundary(area)
+    batch.locate(points)
+    pairs = [(p, q) for p in points for q in points if p != q]
+    assert any(single.path(p, q, 100.0) is not None for p, q in pairs)
+    for p, q in pairs:
+        assert batch.path(p, q, 6.0) == single.path(p, q, 6.0)
