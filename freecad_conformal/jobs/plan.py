@@ -409,7 +409,8 @@ def subpart_summary(sub, layers: list[Layer], assembly: Assembly, width: float,
                      bead_model: str) -> SubPartSummary:
     mine = [p for p in assembly.paths if p.subpart == sub.index]
     length = float(sum(p.length for p in mine))
-    material = float(sum(p.length * bead_area(width, p.thickness, bead_model) for p in mine))
+    material = float(sum(p.length * bead_area(p.width or width, p.thickness, bead_model)
+                         for p in mine))
     return SubPartSummary(
         index=sub.index, name=sub.name or f"sub-part {sub.index}",
         direction=np.asarray(sub.build_direction, dtype=float), layers=len(layers),

@@ -288,7 +288,8 @@ def assemble(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSett
                 first = False
                 builder.event("extruder_on")
                 builder.add_segment(path.points[1:], new_axis, kind="deposit", feed=feed, tool=tool,
-                                    flow=bead_area(width, path.thickness, settings.fill.bead_model))
+                                    flow=bead_area(path.width or width, path.thickness,
+                                                   settings.fill.bead_model))
                 builder.event("extruder_off")
                 position, axis = path.points[-1], new_axis
                 all_paths.append(path)

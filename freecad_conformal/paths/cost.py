@@ -33,9 +33,9 @@ from freecad_conformal.paths.assemble import (PERIMETER_ROLES, SIMPLIFY_FRACTION
                                               SMALL_PERIMETER_LENGTH, PathSettings, solid_areas,
                                               together, wkb_key)
 from freecad_conformal.paths.bead import bead_area, bead_spacing
-from freecad_conformal.paths.fill2d import (fewest_turns_angle, fill_area,
+from freecad_conformal.paths.fill2d import (SOLID_ROLES, fewest_turns_angle, fill_area,
                                             infill_areas, perimeter_rings, polygons_of,
-                                            scan_pieces, valid_region)
+                                            scan_pieces, solid_rows, valid_region)
 from freecad_conformal.paths.timing import DEFAULT_JERK, junction_speeds, move_times
 
 #: The estimate's promise: within 10 % of the full plan's time and material (issue 16).
@@ -134,11 +134,14 @@ class _Tally:
     length: float = 0.0
     travel_count: int = 0
     travel_length: float = 0.0
+    #: Σ length × width over the bead width (mm²): beads spread wider carry more per mm
+    wider_area: float = 0.0
 
-    def work(self, length: float, seconds: float, feed_mm_s: float) -> None:
+    def work(self, length: float, seconds: float, feed_mm_s: float, wider: float = 0.0) -> None:
         self.seconds += seconds
         self.nominal += length / feed_mm_s
         self.length += length
+        self.wider_area += length * wider
 
     def travel(self, length: float) -> None:
         self.travel_count += 1
@@ -163,11 +166,11 @@ def _perimeters(island: Polygon, settings: PathSettings, spacing: float, motion:
 
 
 def _rows(area, pitch: float, angle: float, speed: float, motion: Motion,
-          tally: _Tally) -> None:
+          tally: _Tally, phase: float = 0.5, wider: float = 0.0) -> None:
     """The zigzag rows of `area`: each row accelerates from and brakes to the turn speed;
     the connectors between rows are one pitch each; a piece that does not follow on one of
     the row before (more pieces than there, or a row skipped) starts a chain: a travel."""
-    pieces, _ = scan_pieces(area, pitch, angle)
+    pieces, _ = scan_pieces(area, pitch, angle, phase)
     if not len(pieces):
         return
     lengths = pieces[:, 2] - pieces[:, 1]
@@ -179,7 +182,7 @@ def _rows(area, pitch: float, angle: float, speed: float, motion: Motion,
     links = len(pieces) - chains
     seconds = _segments_time(lengths, speed, turn, motion).sum()
     seconds += links * float(_segments_time(np.array([pitch]), speed, turn, motion)[0])
-    tally.work(float(lengths.sum()) + links * pitch, float(seconds), speed)
+    tally.work(float(lengths.sum()) + links * pitch, float(seconds), speed, wider)
     for _ in range(chains):
         tally.travel(math.sqrt(max(area.area, 0.0)) * 0.5)
 
@@ -191,13 +194,19 @@ def _infill(island: Polygon, depth_count: int, solid, settings: PathSettings, sp
     inner = fill_area(island, depth_count, width, spacing, fill.infill_overlap)
     if inner.is_empty:
         return
-    for area, pitch, role in infill_areas(inner, solid, bridge, fill, spacing):
+    for area, pitch, role, part in infill_areas(inner, solid, bridge, fill, spacing):
         if area.is_empty or pitch <= 0 or area.area < width * width:
             continue
         angle = fill.angle if fill.angle is not None else fewest_turns_angle(area, pitch)
         if fill.alternate and layer_index % 2:
             angle += math.pi / 2
-        _rows(area, pitch, angle, motion.work_speed(settings.feeds.for_role(role)), motion, tally)
+        phase, wider = 0.5, 0.0
+        if role in SOLID_ROLES:
+            # Spread as the fill spreads them: fewer lines, each carrying its wider pitch.
+            pitch, phase = solid_rows(part, spacing, angle)
+            wider = pitch - spacing
+        _rows(area, pitch, angle, motion.work_speed(settings.feeds.for_role(role)), motion, tally,
+              phase, wider)
 
 
 def _travel_seconds(length: float, motion: Motion, feed: float) -> float:
@@ -240,7 +249,9 @@ def layer_cost(layer: Layer, skin, settings: PathSettings, motion: Motion,
     travel_seconds = tally.travel_count * _travel_seconds(
         tally.travel_length / max(tally.travel_count, 1), motion, travel_feed)
     travel_nominal = 60.0 * tally.travel_length / travel_feed
-    material = tally.length * bead_area(width, layer.thickness, settings.fill.bead_model)
+    # A bead wider by Δw at the same height carries Δw·h more per mm (either bead model).
+    material = (tally.length * bead_area(width, layer.thickness, settings.fill.bead_model)
+                + tally.wider_area * layer.thickness)
     return LayerCost(level, tally.seconds + travel_seconds, tally.nominal + travel_nominal,
                      travel_nominal, material, tally.length)
 

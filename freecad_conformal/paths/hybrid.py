@@ -113,7 +113,8 @@ def nominal_paths(paths: list[Path3D], lower_point: np.ndarray, lower_normal: np
     for path in paths:
         points = path.points + np.outer(level - path.points @ n, n)
         out.append(Path3D(points=points, axis=n.copy(), role=path.role, subpart=path.subpart,
-                          layer=path.layer, thickness=d_max, closed=path.closed))
+                          layer=path.layer, thickness=d_max, closed=path.closed,
+                          width=path.width))
     return out
 
 

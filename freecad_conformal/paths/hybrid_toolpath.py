@@ -103,7 +103,8 @@ class _Writer:
             self.builder.add_segment(path.points[1:] if len(path.points) > 1 else path.points,
                                      axis, kind="deposit", feed=process.feeds.for_path(path),
                                      tool=process.tool,
-                                     flow=bead_area(process.width, path.thickness, process.bead_model))
+                                     flow=bead_area(path.width or process.width, path.thickness,
+                                                    process.bead_model))
             self.builder.event("extruder_off")
             if process.laser_power is not None:
                 self.builder.event("laser_off")

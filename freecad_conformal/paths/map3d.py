@@ -35,6 +35,8 @@ class Path3D:
     layer: int
     thickness: float
     closed: bool = False
+    #: bead width where it is not the settings' (`Path2D.width`)
+    width: float | None = None
 
     @property
     def length(self) -> float:
@@ -45,7 +47,7 @@ def map_paths(layer: Layer, paths: Sequence[Path2D]) -> list[Path3D]:
     """Map a layer's ordered 2D paths onto its top plane with the tool along the top normal."""
     return [Path3D(points=layer.to_3d(path.points), axis=np.array(layer.top_normal, dtype=float),
                    role=path.role, subpart=layer.subpart, layer=layer.index,
-                   thickness=layer.thickness, closed=path.closed)
+                   thickness=layer.thickness, closed=path.closed, width=path.width)
             for path in paths]
 
 

@@ -119,3 +119,30 @@ def test_cooling_caps_feeds_so_the_layer_takes_the_minimum_time():
 def test_bad_fill_rules_are_refused(field, value, message):
     with pytest.raises(PlanError, match=message):
         fill_layer(box(0, 0, 10, 10), FillSettings(**{field: value}))
+
+
+def test_solid_lines_spread_over_the_fill_area_with_wider_beads():
+    """Solid infill (PrusaSlicer's adjusted solid spacing): as many whole spacings as fit
+    the fill area's width, widened to span it exactly, each bead as much wider; the first
+    and last rows lie half a pitch inside the fill area, and the beads carry its area x h."""
+    from freecad_conformal.paths.fill2d import fill_area
+
+    settings = FillSettings(bead_width=0.45, perimeters=2, density=0.2, angle=0.0,
+                            alternate=False)
+    region = box(0, 0, 30, 9.3)
+    spacing = bead_spacing(0.45, 0.2)
+    fill = fill_area(region, 2, 0.45, spacing, settings.infill_overlap)
+    low, high = fill.bounds[1], fill.bounds[3]
+    count = int((high - low) // spacing)
+    pitch = (high - low) / count
+    assert spacing < pitch < 1.2 * spacing          # this width does need spreading
+    lines = [p for p in fill_layer(region, settings, solid=region, height=0.2)
+             if p.role == "solid_infill"]
+    rows = np.unique(np.round(np.concatenate([p.points[:, 1] for p in lines]), 9))
+    assert len(rows) == count
+    assert np.allclose(np.diff(rows), pitch)
+    assert rows[0] == pytest.approx(low + pitch / 2) and rows[-1] == pytest.approx(high - pitch / 2)
+    assert all(p.width == pytest.approx(0.45 + pitch - spacing) for p in lines)
+    along = sum(p.length for p in lines)
+    carried = along * bead_area(lines[0].width, 0.2)
+    assert carried == pytest.approx(fill.area * 0.2, rel=0.02)
