@@ -33,9 +33,9 @@ from freecad_conformal.paths.assemble import (PERIMETER_ROLES, SIMPLIFY_FRACTION
                                               SMALL_PERIMETER_LENGTH, PathSettings, solid_areas,
                                               together, wkb_key)
 from freecad_conformal.paths.bead import bead_area, bead_spacing
-from freecad_conformal.paths.fill2d import (SOLID_ROLES, fewest_turns_angle, fill_area,
-                                            infill_areas, perimeter_rings, polygons_of,
-                                            scan_pieces, solid_rows, valid_region)
+from freecad_conformal.paths.fill2d import (fewest_turns_angle, fill_area, infill_areas,
+                                            perimeter_rings, polygons_of, scan_pieces,
+                                            solid_rows, spread, valid_region)
 from freecad_conformal.paths.timing import DEFAULT_JERK, junction_speeds, move_times
 
 #: The estimate's promise: within 10 % of the full plan's time and material (issue 16).
@@ -201,7 +201,7 @@ def _infill(island: Polygon, depth_count: int, solid, settings: PathSettings, sp
         if fill.alternate and layer_index % 2:
             angle += math.pi / 2
         phase, wider = 0.5, 0.0
-        if role in SOLID_ROLES:
+        if spread(role, fill.density):
             # Spread as the fill spreads them: fewer lines, each carrying its wider pitch.
             pitch, phase = solid_rows(part, spacing, angle)
             wider = pitch - spacing

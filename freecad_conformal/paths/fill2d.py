@@ -33,6 +33,13 @@ from freecad_conformal.paths.bead import BEAD_MODELS, bead_spacing
 ROLES = ("external_perimeter", "perimeter", "infill", "solid_infill")
 #: Infill roles laid at one spacing (solid areas and bridges over sparse infill).
 SOLID_ROLES = ("solid_infill", "bridge_infill")
+
+
+def spread(role: str, density: float) -> bool:
+    """Whether lines of this role are spread over their area (`solid_rows`): solid and
+    bridge lines, and infill at 100 % (PrusaSlicer's full infill); sparse lines stay on the
+    global grid so they stack."""
+    return role in SOLID_ROLES or (role == "infill" and density >= 1.0)
 SEAMS = ("aligned", "nearest", "sharpest")
 
 #: Mitre limit of the perimeter offsets: keeps 90° corners sharp (ratio √2) while a very
@@ -586,7 +593,7 @@ def _island_paths(island: Polygon, settings: FillSettings, spacing: float, layer
         if settings.alternate and layer_index % 2:
             angle += math.pi / 2
         phase, line_width = 0.5, None
-        if role in SOLID_ROLES:
+        if spread(role, settings.density):
             pitch, phase = solid_rows(fill, spacing, angle)
             line_width = width + (pitch - spacing)     # the bead that fills the wider pitch
         infill += zigzag(area, pitch, angle, width, role, phase, line_width)

@@ -146,3 +146,16 @@ def test_solid_lines_spread_over_the_fill_area_with_wider_beads():
     along = sum(p.length for p in lines)
     carried = along * bead_area(lines[0].width, 0.2)
     assert carried == pytest.approx(fill.area * 0.2, rel=0.02)
+
+
+def test_infill_at_full_density_is_spread_like_solid_and_sparse_is_not():
+    """100 % infill spreads its rows over the area as solid infill does (PrusaSlicer's full
+    infill); sparse rows keep the global grid (no bead width of their own)."""
+    region = box(0, 0, 30, 9.3)
+    full = fill_layer(region, FillSettings(bead_width=0.45, perimeters=2, density=1.0,
+                                           angle=0.0, alternate=False), height=0.2)
+    lines = [p for p in full if p.role == "infill"]
+    assert lines and all(p.width is not None and p.width > 0.45 for p in lines)
+    sparse = fill_layer(box(0, 0, 30, 30), FillSettings(bead_width=0.45, perimeters=2,
+                                                        density=0.2, angle=0.0), height=0.2)
+    assert all(p.width is None for p in sparse if p.role == "infill")
