@@ -33,9 +33,9 @@ from freecad_conformal.paths.assemble import (PERIMETER_ROLES, SIMPLIFY_FRACTION
                                               SMALL_PERIMETER_LENGTH, PathSettings, solid_areas,
                                               together, wkb_key)
 from freecad_conformal.paths.bead import bead_area, bead_spacing
-from freecad_conformal.paths.fill2d import (fewest_turns_angle, fill_area, infill_areas,
+from freecad_conformal.paths.fill2d import (Rows, fill_area, infill_areas, infill_rows,
                                             perimeter_rings, polygons_of, scan_pieces,
-                                            solid_rows, spread, valid_region)
+                                            valid_region)
 from freecad_conformal.paths.timing import DEFAULT_JERK, junction_speeds, move_times
 
 #: The estimate's promise: within 10 % of the full plan's time and material (issue 16).
@@ -165,12 +165,12 @@ def _perimeters(island: Polygon, settings: PathSettings, spacing: float, motion:
     return len(depths)
 
 
-def _rows(area, pitch: float, angle: float, speed: float, motion: Motion,
-          tally: _Tally, phase: float = 0.5, wider: float = 0.0) -> None:
+def _rows(area, laid: Rows, speed: float, motion: Motion, tally: _Tally) -> None:
     """The zigzag rows of `area`: each row accelerates from and brakes to the turn speed;
     the connectors between rows are one pitch each; a piece that does not follow on one of
     the row before (more pieces than there, or a row skipped) starts a chain: a travel."""
-    pieces, _ = scan_pieces(area, pitch, angle, phase)
+    pitch = laid.pitch
+    pieces, _ = scan_pieces(area, pitch, laid.angle, laid.phase)
     if not len(pieces):
         return
     lengths = pieces[:, 2] - pieces[:, 1]
@@ -182,7 +182,7 @@ def _rows(area, pitch: float, angle: float, speed: float, motion: Motion,
     links = len(pieces) - chains
     seconds = _segments_time(lengths, speed, turn, motion).sum()
     seconds += links * float(_segments_time(np.array([pitch]), speed, turn, motion)[0])
-    tally.work(float(lengths.sum()) + links * pitch, float(seconds), speed, wider)
+    tally.work(float(lengths.sum()) + links * pitch, float(seconds), speed, laid.wider)
     for _ in range(chains):
         tally.travel(math.sqrt(max(area.area, 0.0)) * 0.5)
 
@@ -197,16 +197,8 @@ def _infill(island: Polygon, depth_count: int, solid, settings: PathSettings, sp
     for area, pitch, role, part in infill_areas(inner, solid, bridge, fill, spacing):
         if area.is_empty or pitch <= 0 or area.area < width * width:
             continue
-        angle = fill.angle if fill.angle is not None else fewest_turns_angle(area, pitch)
-        if fill.alternate and layer_index % 2:
-            angle += math.pi / 2
-        phase, wider = 0.5, 0.0
-        if spread(role, fill.density):
-            # Spread as the fill spreads them: fewer lines, each carrying its wider pitch.
-            pitch, phase = solid_rows(part, spacing, angle)
-            wider = pitch - spacing
-        _rows(area, pitch, angle, motion.work_speed(settings.feeds.for_role(role)), motion, tally,
-              phase, wider)
+        rows = infill_rows(area, pitch, role, part, fill, spacing, layer_index)
+        _rows(area, rows, motion.work_speed(settings.feeds.for_role(role)), motion, tally)
 
 
 def _travel_seconds(length: float, motion: Motion, feed: float) -> float:

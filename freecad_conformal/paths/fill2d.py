@@ -33,13 +33,6 @@ from freecad_conformal.paths.bead import BEAD_MODELS, bead_spacing
 ROLES = ("external_perimeter", "perimeter", "infill", "solid_infill")
 #: Infill roles laid at one spacing (solid areas and bridges over sparse infill).
 SOLID_ROLES = ("solid_infill", "bridge_infill")
-
-
-def spread(role: str, density: float) -> bool:
-    """Whether lines of this role are spread over their area (`solid_rows`): solid and
-    bridge lines, and infill at 100 % (PrusaSlicer's full infill); sparse lines stay on the
-    global grid so they stack."""
-    return role in SOLID_ROLES or (role == "infill" and density >= 1.0)
 SEAMS = ("aligned", "nearest", "sharpest")
 
 #: Mitre limit of the perimeter offsets: keeps 90° corners sharp (ratio √2) while a very
@@ -529,6 +522,33 @@ def infill_areas(inner, solid, bridge, settings: FillSettings,
 SOLID_SPREAD_MAX = 1.2
 
 
+@dataclass(frozen=True)
+class Rows:
+    """How an infill area's lines are laid: direction, pitch, grid phase (`scan_pieces`)
+    and how much wider than the settings' their beads are."""
+
+    angle: float
+    pitch: float
+    phase: float = 0.5
+    wider: float = 0.0
+
+
+def infill_rows(area, pitch: float, role: str, fill, settings: FillSettings, spacing: float,
+                layer_index: int) -> Rows:
+    """The rows of one of `infill_areas`' parts (`area` where its lines end, `fill` its part
+    of the fill area): the fewest-turns direction (or the given one), turned 90° on odd
+    layers; solid and bridge lines, and infill at 100 % (PrusaSlicer's full infill), spread
+    over their area (`solid_rows`), sparse lines on the global grid so they stack. The
+    fill and the cost estimate (paths/cost.py) both lay rows by this."""
+    angle = settings.angle if settings.angle is not None else fewest_turns_angle(area, pitch)
+    if settings.alternate and layer_index % 2:
+        angle += math.pi / 2
+    if role in SOLID_ROLES or (role == "infill" and settings.density >= 1.0):
+        spread, phase = solid_rows(fill, spacing, angle)
+        return Rows(angle, spread, phase, spread - spacing)
+    return Rows(angle, pitch)
+
+
 def solid_rows(fill, spacing: float, angle: float) -> tuple[float, float]:
     """(row pitch, grid phase) of solid lines filling `fill` (its part of the fill area)
     at `angle`: as many whole spacings as fit its width across the lines, widened to span
@@ -544,9 +564,8 @@ def solid_rows(fill, spacing: float, angle: float) -> tuple[float, float]:
 
 def _extent_across(area, angle: float) -> tuple[float, float]:
     """(min, max) of `area` across scan lines along `angle` (the rotated frame's y)."""
-    coords = np.vstack([np.asarray(ring.coords) for poly in polygons_of(area)
-                        for ring in (poly.exterior, *poly.interiors)])
-    y = -coords[:, 0] * math.sin(angle) + coords[:, 1] * math.cos(angle)
+    starts, _ = _boundary_edges(area)
+    y = -starts[:, 0] * math.sin(angle) + starts[:, 1] * math.cos(angle)
     return float(y.min()), float(y.max())
 
 
@@ -589,14 +608,10 @@ def _island_paths(island: Polygon, settings: FillSettings, spacing: float, layer
     for area, pitch, role, fill in infill_areas(inner, solid, bridge, settings, spacing):
         if area.is_empty or pitch <= 0 or area.area < width * width:
             continue
-        angle = settings.angle if settings.angle is not None else fewest_turns_angle(area, pitch)
-        if settings.alternate and layer_index % 2:
-            angle += math.pi / 2
-        phase, line_width = 0.5, None
-        if spread(role, settings.density):
-            pitch, phase = solid_rows(fill, spacing, angle)
-            line_width = width + (pitch - spacing)     # the bead that fills the wider pitch
-        infill += zigzag(area, pitch, angle, width, role, phase, line_width)
+        rows = infill_rows(area, pitch, role, fill, settings, spacing, layer_index)
+        # The bead that fills the wider pitch of spread rows.
+        line_width = width + rows.wider if rows.wider else None
+        infill += zigzag(area, rows.pitch, rows.angle, width, role, rows.phase, line_width)
     while infill:
         k, flip = _nearest(infill, here, reversible=True)
         path = infill.pop(k)
