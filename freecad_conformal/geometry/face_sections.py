@@ -22,7 +22,8 @@ import numpy as np
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.boxes import optimal_box
 from freecad_conformal.geometry.plane_curves import (ON_CURVE, VERTEX_CLEARANCE, closed_piece,
-                                                     curve_spans, edge_crosser, surface_curves)
+                                                     curve_end, curve_spans, edge_crosser,
+                                                     surface_curves)
 from freecad_conformal.geometry.planar_faces import Piece, SectionFace, faces_from_pieces
 from freecad_conformal.geometry.uv_domain import FaceDomain
 
@@ -213,14 +214,24 @@ class FaceCutter:
         for pid in point_ids:
             point = self._App.Vector(*points[pid])
             best = None
+            ends: list[tuple[int, float]] = []
             for k, curve in enumerate(curves):
                 t = curve.parameter(point)
                 gap = float((curve.value(t) - point).Length)
-                if gap < owners[pid].reach and (best is None or gap < best[2]):
-                    best = (k, t, gap)
+                if gap < owners[pid].reach:
+                    if best is None or gap < best[2]:
+                        best = (k, t, gap)
+                    if curve_end(curve, t):
+                        ends.append((k, t))
             if best is None:
                 return None  # a crossing of the face's edges on no curve: not generic
             stops[best[0]].append((best[1], pid))
+            # OCC may end two walked curves at the crossing (the fan's hub: 45 of its 1,009
+            # sections went to the Boolean for it): the crossing ends each of them, and the
+            # piece outside the face is dropped below.
+            for k, t in ends:
+                if k != best[0]:
+                    stops[k].append((t, pid))
         spans = []
         for curve, on_curve in zip(curves, stops):
             for start, end, first, last in curve_spans(curve, sorted(on_curve)):

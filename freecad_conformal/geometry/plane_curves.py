@@ -168,6 +168,14 @@ def point_gap(curve, t0: float, t1: float) -> float:
     return float((curve.value(t0) - curve.value(t1)).Length)
 
 
+def curve_end(curve, t: float) -> bool:
+    """Whether parameter `t` is at an end of an open, bounded curve (within ON_CURVE)."""
+    lo, hi = curve.FirstParameter, curve.LastParameter
+    if curve.isPeriodic() or not (finite(lo) and finite(hi)) or closed_piece(curve, lo, hi):
+        return False
+    return point_gap(curve, t, lo) < ON_CURVE or point_gap(curve, t, hi) < ON_CURVE
+
+
 def closed_piece(curve, start: float, end: float) -> bool:
     return finite(start) and finite(end) and point_gap(curve, start, end) < ON_CURVE
 

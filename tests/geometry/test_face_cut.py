@@ -262,3 +262,64 @@ def test_sections_of_high_degree_splines_have_their_exact_area(App, Part, direct
         rings.append(Part.Wire([ellipse]))
     twisted = Part.makeLoft(rings, True, False)
     _assert_match(_compare(twisted, direction, spacing=0.7), least=1.0)
+
+
+def _two_face_blade(App, Part):
+    """A blade whose profile is two B-spline edges (front and back), so its side is two
+    faces meeting along span-wise edges that are not seams, trimmed to x 4..20 so that its
+    faces are parts of their surfaces (as a decomposition's cuts leave them)."""
+    wires = []
+    for x, twist, chord in ((0.0, 40.0, 10.0), (12.0, 20.0, 8.0), (24.0, 0.0, 6.0)):
+        t = math.radians(twist)
+        front = [App.Vector(x, chord * s * math.cos(t), chord * s * math.sin(t) + 1 - 4 * s * s)
+                 for s in (-0.5, -0.25, 0.0, 0.25, 0.5)]
+        back = [App.Vector(x, p.y, p.z - 1.5) for p in reversed(front)]
+        halves = []
+        for points in (front, [front[-1], *back, front[0]]):
+            curve = Part.BSplineCurve()
+            curve.interpolate(points)
+            halves.append(curve.toShape())
+        wires.append(Part.Wire(halves))
+    loft = Part.makeLoft(wires, True, False)
+    return loft.common(Part.makeBox(16, 40, 40, App.Vector(4, -20, -20))).Solids[0]
+
+
+def test_curves_ending_together_on_a_crossing_each_end_there(App, Part, monkeypatch):
+    """OCC may answer a plane ∩ B-spline face with two walked curves that both end on a
+    crossing of the face's edge (the fan's hub: 45 of its 1,009 sections went to the
+    Boolean). Here every curve through a crossing is split there, as OCC split those:
+    the crossing must end both, and the sections still match the Boolean."""
+    import freecad_conformal.geometry.face_sections as face_sections
+
+    blade = _two_face_blade(App, Part)
+    assert [type(f.Surface).__name__ for f in blade.Faces].count("BSplineSurface") == 2
+    occ_curves = face_sections.surface_curves
+    splits = []
+
+    def split_at_crossings(surface, parameter_range, plane, n, height):
+        curves = occ_curves(surface, parameter_range, plane, n, height)
+        if not curves:
+            return curves
+        disc = Part.Plane(App.Vector(*(height * np.asarray(n))), App.Vector(*n))
+        crossings = [p for edge in blade.Edges for p in edge.Curve.intersectCS(disc)[0]]
+        result = []
+        for curve in curves:
+            cut = curve
+            for point in crossings:
+                at = App.Vector(point.X, point.Y, point.Z)
+                t = cut.parameter(at)
+                inside = cut.FirstParameter + 1e-6 < t < cut.LastParameter - 1e-6
+                if (isinstance(cut, Part.BSplineCurve) and inside
+                        and (cut.value(t) - at).Length < 1e-7):
+                    first, second = cut.copy(), cut.copy()
+                    first.segment(cut.FirstParameter, t)
+                    second.segment(t, cut.LastParameter)
+                    result.append(first)
+                    splits.append(height)
+                    cut = second
+            result.append(cut)
+        return result
+
+    monkeypatch.setattr(face_sections, "surface_curves", split_at_crossings)
+    _assert_match(_compare(blade, (0, 0, 1), spacing=0.3), least=1.0)
+    assert len(set(splits)) >= 5    # the case was made
