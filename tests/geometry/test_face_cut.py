@@ -293,6 +293,8 @@ def test_curves_ending_together_on_a_crossing_each_end_there(App, Part, monkeypa
 
     blade = _two_face_blade(App, Part)
     assert [type(f.Surface).__name__ for f in blade.Faces].count("BSplineSurface") == 2
+    # whole surfaces, so that OCC's curves run through the crossings to be split there
+    monkeypatch.setattr(face_sections, "TRIM_SHARE", 0.0)
     occ_curves = face_sections.surface_curves
     splits = []
 
@@ -323,3 +325,17 @@ def test_curves_ending_together_on_a_crossing_each_end_there(App, Part, monkeypa
     monkeypatch.setattr(face_sections, "surface_curves", split_at_crossings)
     _assert_match(_compare(blade, (0, 0, 1), spacing=0.3), least=1.0)
     assert len(set(splits)) >= 5    # the case was made
+
+
+@pytest.mark.parametrize("direction", [(0, 0, 1), (0, 1, 0), (0.3, -0.5, 0.8)])
+def test_faces_covering_part_of_their_surface_are_cut_on_their_piece(App, Part, direction):
+    """The trimmed blade's faces cover 2/3 of their surfaces' span: the plane is intersected
+    with their pieces (OCC walks less), and the sections match the Boolean."""
+    blade = _two_face_blade(App, Part)
+    cutter = FaceCutter(blade, np.asarray(direction, dtype=float))
+    splines = [d for d in cutter.faces if type(d.face.Surface).__name__ == "BSplineSurface"]
+    assert len(splines) == 2
+    for data in splines:
+        assert data.cut_surface.bounds() == pytest.approx(data.face.ParameterRange, abs=1e-12)
+        assert data.face.Surface.bounds() != pytest.approx(data.face.ParameterRange, abs=1e-3)
+    _assert_match(_compare(blade, direction, spacing=0.3), least=1.0)
