@@ -49,15 +49,22 @@ def _compare(shape, direction, spacing):
     ("sliced_cylinder.step", (1, 0, 0)), ("revolved_sphere.step", (1, 0, 0)),
 ])
 def test_face_by_face_sections_match_the_boolean(parts_dir, name, direction):
-    rows = _compare(load_shape(parts_dir / name), direction, spacing=1.3)
-    _assert_match(rows, least=0.5)
+    shape = load_shape(parts_dir / name)
+    _assert_match(_compare(shape, direction, spacing=1.3), least=0.5, shape=shape)
 
 
-def _assert_match(rows, least: float) -> None:
-    """At least `least` of the layers cut face by face, each matching the Boolean."""
+def _assert_match(rows, least: float, shape=None) -> None:
+    """At least `least` of the layers cut face by face, each matching the Boolean; where
+    the two differ in faces, and `shape` is given, the fast one matches a fine mesh's
+    section (`_mesh_truth`: the Boolean errs too)."""
     done = [(h, fast, ref) for h, fast, ref in rows if fast is not None]
     assert len(done) >= least * len(rows), f"only {len(done)} of {len(rows)} layers face by face"
     for height, fast, reference in done:
+        if shape is not None and len(fast.faces) != len(reference.faces):
+            count, area = _mesh_truth(shape, fast.frame.n, height)
+            assert len(fast.faces) == count != len(reference.faces), height
+            assert fast.area == pytest.approx(area, rel=MESH_AREA_REL), height
+            continue
         assert len(fast.faces) == len(reference.faces), height
         if reference.area > 0:
             difference = fast.polygons().symmetric_difference(reference.polygons()).area
@@ -68,6 +75,43 @@ def _assert_match(rows, least: float) -> None:
             area, centroid = _dense_truth(reference)   # the Boolean's own integral may err
         assert fast.area == pytest.approx(area, rel=AREA_REL, abs=AREA_ABS), height
         assert _agree(fast, area, centroid), (height, fast.centroid, centroid)
+
+
+#: Deflection (mm) of the fine mesh that settles a disagreement, and how close its
+#: section's area comes (its chords cut the curved boundary: 111.64 at 0.01 mm, 111.62 at
+#: 0.003 on the bottle's 111.70 mm² section along X at 7.25).
+MESH_DEFLECTION = 0.003
+MESH_AREA_REL = 2e-3
+
+
+def _mesh_truth(shape, normal, height: float) -> tuple[int, float]:
+    """(polygons, area) of the plane n·p = height through a fine triangle mesh of `shape`:
+    each triangle's crossing segment, chained into loops, filled even-odd."""
+    from shapely import line_merge
+    from shapely.geometry import MultiLineString, Polygon
+
+    from freecad_conformal.geometry.frames import LayerFrame
+
+    points, triangles = shape.tessellate(MESH_DEFLECTION)
+    p = np.array([tuple(v) for v in points])
+    t = np.asarray(triangles, dtype=int)
+    frame = LayerFrame.for_direction(np.asarray(normal, dtype=float))
+    g = p @ frame.n - height
+    segments = []
+    for tri in t:
+        ends = []
+        for a, b in ((tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])):
+            if (g[a] < 0) != (g[b] < 0):
+                x = p[a] + (p[b] - p[a]) * (g[a] / (g[a] - g[b]))
+                ends.append((round(float(x @ frame.u), 9), round(float(x @ frame.v), 9)))
+        if len(ends) == 2 and ends[0] != ends[1]:
+            segments.append(ends)
+    region = None
+    merged = line_merge(MultiLineString(segments))
+    for loop in getattr(merged, "geoms", [merged]):
+        polygon = Polygon(loop.coords).buffer(0)
+        region = polygon if region is None else region.symmetric_difference(polygon)
+    return len(getattr(region, "geoms", [region])), float(region.area)
 
 
 def _agree(fast, area: float, centroid) -> bool:
@@ -173,7 +217,8 @@ def test_torus_segment_sections_match_the_boolean_in_a_mirrored_frame_too(App, P
 
 @pytest.mark.parts
 @pytest.mark.parametrize("name, direction, least", [
-    ("sliced_cylinder.step", (1, 0, 0), 0.85), ("bottle.brep", (1, 0, 0), 0.97),
+    ("sliced_cylinder.step", (1, 0, 0), 1.0), ("sliced_cylinder.step", (0, 1, 0), 1.0),
+    ("bottle.brep", (1, 0, 0), 0.97),
     ("revolved_sphere.step", (1, 0, 0), 1.0),
 ])
 def test_edges_off_their_faces_by_their_tolerance_are_cut_face_by_face(parts_dir, name, direction,
@@ -182,12 +227,23 @@ def test_edges_off_their_faces_by_their_tolerance_are_cut_face_by_face(parts_dir
     lie off the plane∩face curves by more than ON_CURVE (every sliced_cylinder layer along X
     and a quarter of the bottle's went to the Boolean). Spheres across their seam (OCC
     answers two arcs whose ends cross no edge: half the sphere's layers along X) and torus
-    curves outside faces that do not fill their (u, v) box (the bottle's side blends)."""
+    curves outside faces that do not fill their (u, v) box (the bottle's side blends).
+    Where the plane meets the face at a slant the crossing lies further off, tolerance /
+    sin θ (sliced_cylinder's leaning cylinders across their axis: 97 of 1,000 layers)."""
     shape = load_shape(parts_dir / name)
     slicer = PlanarSlicer(shape, direction)
     slicer.sections(uniform_heights(shape, slicer.frame.n, 0.3))
     done, total = slicer.counts["face_by_face"], sum(slicer.counts.values())
     assert done >= least * total, slicer.counts
+
+
+@pytest.mark.slow
+@pytest.mark.parts
+def test_crossings_of_slanted_faces_match_the_boolean(parts_dir):
+    """The sliced cylinder across its axis, where crossings lie off their curves by the
+    edge tolerance over the slant: every layer face by face, each the Boolean's."""
+    shape = load_shape(parts_dir / "sliced_cylinder.step")
+    _assert_match(_compare(shape, (0, 1, 0), spacing=1.3), least=1.0, shape=shape)
 
 
 def test_pieces_walked_from_their_far_end_join_into_a_closed_wire(App, Part):

@@ -73,7 +73,8 @@ def test_crankarm_two_solids_are_both_sectioned(parts_dir):
 def test_loops_of_an_open_sliver_wire_do_not_end_the_process(parts_dir):
     """bottle.brep cut along +X at this height: the Boolean returns a one-edge open wire, and
     OCC's Wire.discretize ended the whole process on it. Run in a child so a regression
-    fails this test instead of killing the suite."""
+    fails this test instead of killing the suite. (The face cut takes this layer now: the
+    Boolean is asked directly.)"""
     import subprocess
     import sys
     import textwrap
@@ -81,7 +82,8 @@ def test_loops_of_an_open_sliver_wire_do_not_end_the_process(parts_dir):
     code = textwrap.dedent(f"""
         from freecad_conformal.geometry.sections import PlanarSlicer
         from freecad_conformal.geometry.solids import load_shape
-        layer = PlanarSlicer(load_shape({str(parts_dir / 'bottle.brep')!r}), (1, 0, 0)).section(7.2100311900134315)
+        layer = PlanarSlicer(load_shape({str(parts_dir / 'bottle.brep')!r}), (1, 0, 0),
+                              face_by_face=False).section(7.2100311900134315)
         print(len(layer.loops), layer.polygons().area, layer.area)
     """)
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
