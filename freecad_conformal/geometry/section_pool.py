@@ -50,7 +50,7 @@ def slicer_spec(slicer) -> tuple:
             tuple(slicer.frame.n), slicer.chord_tolerance, slicer.face_by_face)
 
 
-def _slicer_from(spec: tuple):
+def slicer_from(spec: tuple):
     global _WORKER_SLICER
     if _WORKER_SLICER is None:
         _, Part = import_freecad()
@@ -113,7 +113,7 @@ def section_work(slicer) -> int:
     return work
 
 
-def _as_brep(items: list | None):
+def as_brep(items: list | None):
     """Faces as one BREP text with each face's (area, centroid); None stays None."""
     if items is None:
         return None
@@ -132,10 +132,10 @@ def _worker(jobs: list, boolean: bool, counter, results, spec: tuple | None = No
     build, for workers that did not inherit it)."""
     try:
         if spec is not None:
-            _slicer_from(spec)
+            slicer_from(spec)
         while (index := _claim(counter)) < len(jobs):
             solid_index, heights = jobs[index]
-            results.put((index, [_as_brep(items) for items in _cut(solid_index, heights, boolean)]))
+            results.put((index, [as_brep(items) for items in _cut(solid_index, heights, boolean)]))
         results.put((None, None))
     except BaseException as exc:  # noqa: BLE001 - reported to the parent, which raises it
         results.put((None, f"{type(exc).__name__}: {exc}"))
@@ -148,7 +148,7 @@ def _claim(counter) -> int:
     return index
 
 
-def _from_brep(text: str, props: list) -> list[SectionFace]:
+def from_brep(text: str, props: list) -> list[SectionFace]:
     if not text:
         return []
     _, Part = import_freecad()
@@ -201,7 +201,7 @@ def cut_sections(slicer, heights: Sequence[float], workers: int = 1,
     boolean = sum(len(indices) for indices in left.values())
     slicer.counts["boolean"] += boolean
     slicer.counts["face_by_face"] += sum(len(chunk) for _, chunk in jobs) - boolean
-    return [slicer._make_section(levels[k], list(faces_at[k])) for k in where]
+    return [slicer.make_section(levels[k], list(faces_at[k])) for k in where]
 
 
 #: Seconds between checks that the workers are still alive while waiting for their results.
@@ -225,7 +225,7 @@ def _shared(slicer, levels: np.ndarray, jobs: list, boolean: bool, workers: int,
                 # processes cut them (inside FreeCAD: one). A single job is cut here
                 # whatever the count (a 3-D layer's plane: 2,830 round trips, 1.4 s, on
                 # the connecting rod).
-                cut = [None if items is None else _from_brep(*_as_brep(items)) for items in cut]
+                cut = [None if items is None else from_brep(*as_brep(items)) for items in cut]
             results.append(cut)
             if report is not None:
                 report(done)
@@ -252,7 +252,7 @@ def _shared(slicer, levels: np.ndarray, jobs: list, boolean: bool, workers: int,
             # Through the same BREP text as the workers' results: which process cut a
             # job depends on timing, and a face read back from BREP is not bit for bit the
             # one cut (CrankArm's G-code differed from run to run in 4,500 lines).
-            results[index] = [None if items is None else _from_brep(*_as_brep(items))
+            results[index] = [None if items is None else from_brep(*as_brep(items))
                               for items in _cut(*work[index], boolean, slicer)]
             if report is not None:
                 report(index + 1)
@@ -269,7 +269,7 @@ def _shared(slicer, levels: np.ndarray, jobs: list, boolean: bool, workers: int,
                     raise GeometryError(f"a section worker failed: {payload}")
                 running -= 1
             else:
-                results[index] = [None if item is None else _from_brep(*item) for item in payload]
+                results[index] = [None if item is None else from_brep(*item) for item in payload]
     finally:
         _WORKER_SLICER = None
         for process in processes:

@@ -290,11 +290,11 @@ class PlanarSlicer:
             faces = [f for i in crossed for f in self.cut_boolean(i, np.array([h + nudge]))[0]]
             if faces:
                 self.repairs[h] = f"nudged {nudge:+.0e} mm"
-                return self._make_section(h, faces)
+                return self.make_section(h, faces)
         faces = [f for i in crossed for f in self._fuzzy_common(i, h)]
         if faces:
             self.repairs[h] = f"fuzzy Boolean ({FUZZY_VALUE:g} mm)"
-            return self._make_section(h, faces)
+            return self.make_section(h, faces)
         raise GeometryError(f"the section at height {h:.6g} mm came back empty although the plane "
                             f"crosses solid {crossed[0] + 1} of {len(self.solids)} (its extent "
                             f"{self.extent(crossed[0])[0]:.6g}..{self.extent(crossed[0])[1]:.6g} mm); "
@@ -354,7 +354,7 @@ class PlanarSlicer:
             result[int(order[slot])].append(face)
         return [[SectionFace.of(face) for face in _merge_touching(faces)] for faces in result]
 
-    def _make_section(self, height: float, items: list[SectionFace]) -> PlanarSection:
+    def make_section(self, height: float, items: list[SectionFace]) -> PlanarSection:
         area = float(sum(item.area for item in items))
         if items:
             centroid = sum((item.centroid * item.area for item in items), np.zeros(3)) / area

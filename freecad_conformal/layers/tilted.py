@@ -17,7 +17,8 @@ build direction snaps to it exactly.
 Cost: each tilted plane is its own OCC Boolean (planar layers share one per 32 planes), so
 a trial plane is first checked against the lower section's boundary alone (numpy: the
 slab's thickness over the lower section), and cut only when that fits; a layer then costs
-about three cuts (the probe, the upper plane, the middle plane). Slicers are kept for the
+about three cuts (the probe, the upper plane, the middle plane; the middle ones on a
+second core while the chain goes on, `geometry/plane_stream.py`). Slicers are kept for the
 last few normals only, so a long bend does not hold one slicer per layer. Centroids come
 from the section's polygons in its own frame; a section without a finite centroid (a
 plane grazing a face) ends the tilted stack there instead of passing NaN on.
@@ -33,6 +34,7 @@ from shapely.geometry import MultiPolygon
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry.frames import angle_between, unit
+from freecad_conformal.geometry.plane_stream import PlaneStream
 from freecad_conformal.geometry.sections import PlanarSection, PlanarSlicer, extent_along
 from freecad_conformal.layers.model import (BOUNDARY_INSET, SHRINK, Layer, LayerSettings,
                                             as_multipolygon)
@@ -83,7 +85,7 @@ PARALLEL_ANGLE = math.radians(0.1)
 MAX_BISECTIONS = 14
 
 #: Slicers kept (one per plane normal): the probe and the lower plane share the current
-#: normal, the trial and middle planes each bring a new one; older ones are not reused.
+#: normal, a trial plane brings a new one; older ones are not reused.
 SLICER_CACHE = 4
 
 
@@ -228,16 +230,26 @@ def tilted_layers(subpart: SubPart, slicer: PlanarSlicer, low: float, high: floa
     lower = _first_section(slicer, low, high, nominal)
     plane_point = lower.height * normal
     centroid = section_centroid(lower)
-    layers: list[Layer] = []
-    while centroid is not None:
-        step = _next_plane(sections, lower, plane_point, centroid, normal, slicer.frame.n, nominal,
-                           d_min, d_max, subpart.index, len(layers))
-        if step is None:
-            break
-        upper, upper_point, upper_normal, thin, thick, upper_centroid = step
-        layers.append(_layer(sections, subpart.index, len(layers), plane_point, normal, upper_point,
-                             upper_normal, thin, thick))
-        lower, plane_point, normal, centroid = upper, upper_point, upper_normal, upper_centroid
+    # Each layer's region is cut on its middle plane, which the chain does not read: those
+    # planes go to a second core as they are found (`plane_stream.py`).
+    middles = PlaneStream(slicer, int((high - low) / nominal) + 1, settings.workers)
+    slabs: list[tuple] = []
+    try:
+        while centroid is not None:
+            step = _next_plane(sections, lower, plane_point, centroid, normal, slicer.frame.n,
+                               nominal, d_min, d_max, subpart.index, len(slabs))
+            if step is None:
+                break
+            upper, upper_point, upper_normal, thin, thick, upper_centroid = step
+            slab = (plane_point, normal, upper_point, upper_normal, thin, thick)
+            middles.submit(*_middle_plane(subpart.index, *slab[:4]))
+            slabs.append(slab)
+            lower, plane_point, normal, centroid = upper, upper_point, upper_normal, upper_centroid
+        regions = middles.results()
+    finally:
+        middles.close()
+    layers = [_layer(section, subpart.index, index, *slab)
+              for index, (section, slab) in enumerate(zip(regions, slabs))]
     layers.extend(_planar_top(subpart, sections, plane_point, normal, nominal, d_min, len(layers)))
     if not layers:
         raise PlanError(f"sub-part {subpart.index}: no 3-D layer fits between {d_min:g} and {d_max:g} mm")
@@ -301,13 +313,22 @@ def _next_plane(sections: _Sections, lower: PlanarSection, plane_point: np.ndarr
                     "sharply for these bounds; widen them or split the sub-part")
 
 
-def _layer(sections: _Sections, subpart: int, index: int, lower_point: np.ndarray,
+def _middle_plane(subpart: int, lower_point: np.ndarray, lower_normal: np.ndarray,
+                  upper_point: np.ndarray, upper_normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(point, normal) of the plane bisecting a slab, halfway between its two planes: the
+    slab's region is cut there."""
+    point = 0.5 * (lower_point + upper_point)
+    normal = unit(lower_normal + upper_normal, "middle plane normal")
+    if not (np.all(np.isfinite(point)) and np.all(np.isfinite(normal))):
+        raise PlanError(f"sub-part {subpart}: a 3-D layer plane is not finite (point "
+                        f"{np.round(point, 4).tolist()}, normal {np.round(normal, 4).tolist()})")
+    return point, normal
+
+
+def _layer(section: PlanarSection, subpart: int, index: int, lower_point: np.ndarray,
            lower_normal: np.ndarray, upper_point: np.ndarray, upper_normal: np.ndarray,
            thin: float, thick: float) -> Layer:
-    """The slab's region is cut on the bisecting plane halfway between the two planes."""
-    mid_normal = unit(lower_normal + upper_normal, "middle plane normal")
-    mid_point = 0.5 * (lower_point + upper_point)
-    section = sections.at(mid_point, mid_normal)
+    """The slab's layer, its region the `section` on its middle plane."""
     region = as_multipolygon(section.polygons()) if not section.is_empty else MultiPolygon()
     return Layer(subpart=subpart, index=index, frame=section.frame, section_height=section.height,
                  region=region, top_point=upper_point, top_normal=upper_normal,

@@ -36,7 +36,7 @@ def _compare(shape, direction, spacing):
     for height, reference in zip(heights, boolean.sections(heights)):
         results = [cutter.section_faces(height) for cutter in cutters]
         items = None if any(r is None for r in results) else [i for r in results for i in r]
-        rows.append((height, None if items is None else fast._make_section(height, items), reference))
+        rows.append((height, None if items is None else fast.make_section(height, items), reference))
     return rows
 
 

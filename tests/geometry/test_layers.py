@@ -175,6 +175,34 @@ def test_layers_are_the_same_on_two_processes_as_on_one(App, Part):
             assert a.region.equals_exact(b.region, 0.0)
 
 
+def test_tilted_layers_are_the_same_with_their_middles_cut_on_a_worker(ring):
+    """3-D layers' regions (cut on each slab's middle plane) come from a worker process
+    when workers are asked for: the same layers, to the last bit, as cut here."""
+    layers = {}
+    for workers in (1, 2):
+        settings = LayerSettings(thickness=0.5, min_thickness=0.25, max_thickness=0.75,
+                                 tilt=True, workers=workers)
+        layers[workers] = plan_layers(_sub(ring), settings)
+    assert sum(layer.tilted for layer in layers[1]) > 10
+    assert len(layers[1]) == len(layers[2])
+    for a, b in zip(layers[1], layers[2]):
+        assert a.region.equals_exact(b.region, 0.0)
+        assert np.array_equal(a.top_point, b.top_point) and np.array_equal(a.top_normal, b.top_normal)
+
+
+def test_a_plane_stream_worker_that_fails_is_reported(App, Part):
+    """A worker's error reaches the caller as a GeometryError naming it, not a hang."""
+    from freecad_conformal.errors import GeometryError
+    from freecad_conformal.geometry.plane_stream import PlaneStream
+    from freecad_conformal.geometry.sections import PlanarSlicer
+
+    stream = PlaneStream(PlanarSlicer(Part.makeBox(10, 10, 10)), 10, workers=2)
+    stream.submit(np.array([5.0, 5.0, 5.0]), np.array([0.0, 0.0, 1.0]))
+    stream.submit(np.array([5.0, 5.0, 5.0]), np.array([0.0, 0.0, 0.0]))   # no normal
+    with pytest.raises(GeometryError, match="section worker failed"):
+        stream.results()
+
+
 def test_freeform_faces_weigh_more_in_the_work_that_calls_for_workers(App, Part):
     from freecad_conformal.geometry import section_pool as pool
     from freecad_conformal.geometry.sections import PlanarSlicer

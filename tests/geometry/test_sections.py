@@ -225,7 +225,7 @@ def test_sections_cut_on_several_processes_do_not_depend_on_which_process_cut_th
     BREP text, so the polygons are bit for bit those of a round trip of the faces cut
     here (without it CrankArm's G-code differed from run to run)."""
     from freecad_conformal.geometry.planar_faces import SectionFace
-    from freecad_conformal.geometry.section_pool import _as_brep, _from_brep
+    from freecad_conformal.geometry.section_pool import as_brep, from_brep
 
     rings = []      # a loft through turned ellipses: B-spline faces, whose sections' edges
     for z, turn in ((0, 0), (10, 40), (20, 80)):      # do not survive BREP bit for bit
@@ -235,7 +235,7 @@ def test_sections_cut_on_several_processes_do_not_depend_on_which_process_cut_th
     loft = Part.makeLoft(rings, True, False)
     heights = [-11.9 + 0.3 * k for k in range(80)]
     here = PlanarSlicer(loft, (1, 0, 0))
-    expected = [here._make_section(layer.height, _from_brep(*_as_brep(
+    expected = [here.make_section(layer.height, from_brep(*as_brep(
         [SectionFace.of(face) for face in layer.faces])) if layer.faces else [])
                 for layer in here.sections(heights)]
     pooled = PlanarSlicer(loft, (1, 0, 0)).sections(heights, workers=2)

@@ -1,0 +1,126 @@
+"""Sections by planes of any normal, cut on a second core while the caller goes on.
+
+3-D layers (`layers/tilted.py`) find each plane from the one below (a probe section, then
+the plane's own), a chain no second core can share; but each layer's region is cut on the
+plane halfway between its two, which nothing later reads: a third of the stack's sections
+(the fan's hub: 284 of 872, 4 of its 13 s). Those go to one worker process as the chain
+finds them, and come back at the end.
+
+The worker is forked where OCC survives it, else started from a fork server with the
+solids as BREP text (`section_pool.start_method`); inside FreeCAD, in a daemonic process
+or for small stacks the planes are cut here, at the end. Either way each section passes
+through BREP text, so the regions (and the G-code) do not depend on where they were cut.
+"""
+from __future__ import annotations
+
+import multiprocessing
+from queue import Empty
+
+import numpy as np
+
+from freecad_conformal.errors import GeometryError
+from freecad_conformal.geometry import section_pool
+from freecad_conformal.geometry.sections import PlanarSection, PlanarSlicer
+from freecad_conformal.geometry.planar_faces import SectionFace
+
+#: Seconds between checks that the worker is alive while waiting for its sections.
+WORKER_POLL = 0.5
+
+_STREAM_SLICER: PlanarSlicer | None = None  # fork: set just before forking, inherited
+
+
+def _section(slicer: PlanarSlicer, point: np.ndarray, normal: np.ndarray):
+    """(height, faces as BREP text with their areas and centroids) of one plane."""
+    turned = slicer.turned(normal)
+    height = float(point @ turned.frame.n)
+    section = turned.section(height)
+    return height, section_pool.as_brep([SectionFace.of(face) for face in section.faces])
+
+
+def _worker(jobs, results, spec) -> None:
+    """Cuts planes from `jobs` until None comes; `spec` builds the slicer where it was not
+    inherited."""
+    try:
+        slicer = section_pool.slicer_from(spec) if spec is not None else _STREAM_SLICER
+        while (job := jobs.get()) is not None:
+            index, point, normal = job
+            results.put((index, _section(slicer, point, normal)))
+        results.put((None, None))
+    except BaseException as exc:  # noqa: BLE001 - reported to the parent, which raises it
+        results.put((None, f"{type(exc).__name__}: {exc}"))
+
+
+class PlaneStream:
+    """Planes (point, normal) submitted one by one, their sections returned in order by
+    `results()`. `expected` planes decide whether a worker pays (`useful_workers`)."""
+
+    def __init__(self, slicer: PlanarSlicer, expected: int, workers: int = section_pool.AUTO):
+        global _STREAM_SLICER
+        self._slicer = slicer
+        self._planes: list[tuple[np.ndarray, np.ndarray]] = []
+        self._process = None
+        work = expected * section_pool.section_work(slicer)
+        if section_pool.useful_workers(workers, work) < 2:
+            return
+        method = section_pool.start_method()
+        context = multiprocessing.get_context(method)
+        self._jobs, self._results = context.Queue(), context.Queue()
+        spec = None
+        if method == "fork":
+            _STREAM_SLICER = slicer
+        else:
+            spec = section_pool.slicer_spec(slicer)
+            context.set_forkserver_preload(["freecad_conformal.geometry.sections"])
+        try:
+            self._process = context.Process(target=_worker, args=(self._jobs, self._results, spec),
+                                            daemon=True)
+            self._process.start()
+        finally:
+            _STREAM_SLICER = None
+
+    def submit(self, point: np.ndarray, normal: np.ndarray) -> None:
+        plane = (np.asarray(point, dtype=float), np.asarray(normal, dtype=float))
+        if self._process is not None:
+            self._jobs.put((len(self._planes), *plane))
+        self._planes.append(plane)
+
+    def results(self) -> list[PlanarSection]:
+        """Every submitted plane's section, in order (the worker, if any, then stops)."""
+        if self._process is None:
+            cut = [_section(self._slicer, *plane) for plane in self._planes]
+        else:
+            self._jobs.put(None)
+            cut = self._collect()
+        sections = []
+        for (_, normal), (height, brep) in zip(self._planes, cut):
+            items = section_pool.from_brep(*brep) if brep is not None else []
+            sections.append(self._slicer.turned(normal).make_section(height, items))
+        return sections
+
+    def _collect(self) -> list:
+        found: dict[int, tuple] = {}
+        try:
+            while True:
+                try:
+                    index, payload = self._results.get(timeout=WORKER_POLL)
+                except Empty:
+                    if not self._process.is_alive():
+                        raise GeometryError("the section worker process died before it "
+                                            "finished") from None
+                    continue
+                if index is None:
+                    if payload is not None:
+                        raise GeometryError(f"the section worker failed: {payload}")
+                    break
+                found[index] = payload
+        finally:
+            self.close()
+        return [found[k] for k in range(len(self._planes))]
+
+    def close(self) -> None:
+        """Stop the worker (idempotent)."""
+        if self._process is not None:
+            if self._process.is_alive():
+                self._process.terminate()
+            self._process.join()
+            self._process = None
