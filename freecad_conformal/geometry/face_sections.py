@@ -21,8 +21,8 @@ import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.boxes import optimal_box
-from freecad_conformal.geometry.plane_curves import (ON_CURVE, UNBOUNDED, VERTEX_CLEARANCE,
-                                                     closed_piece, curve_end, curve_spans, edge_crosser,
+from freecad_conformal.geometry.plane_curves import (ON_CURVE, VERTEX_CLEARANCE, closed_piece,
+                                                     curve_end, curve_spans, edge_crosser, finite,
                                                      surface_curves)
 from freecad_conformal.geometry.planar_faces import Piece, SectionFace, faces_from_pieces
 from freecad_conformal.geometry.uv_domain import FaceDomain
@@ -82,11 +82,26 @@ def _nearest_parameter(curve, point, reach: float) -> tuple[float, float]:
     gap = float((curve.value(t) - point).Length)
     if gap >= reach:
         for end in (curve.FirstParameter, curve.LastParameter):
-            if abs(end) < UNBOUNDED:
+            if finite(end):
                 end_gap = float((curve.value(end) - point).Length)
                 if end_gap < gap:
                     t, gap = end, end_gap
     return t, gap
+
+
+def _match(curves: list, point, reach: float) -> tuple[tuple | None, list[tuple[int, float]]]:
+    """The curve nearest `point` within `reach` as (index, parameter, distance), or None;
+    and (index, parameter) of every curve within reach that ends there."""
+    best = None
+    ends = []
+    for k, curve in enumerate(curves):
+        t, gap = _nearest_parameter(curve, point, reach)
+        if gap < reach:
+            if best is None or gap < best[2]:
+                best = (k, t, gap)
+            if curve_end(curve, t):
+                ends.append((k, t))
+    return best, ends
 
 
 #: A B-spline face whose (u, v) box covers less than this share of its surface's is
@@ -264,21 +279,9 @@ class FaceCutter:
         stops: list[list[tuple[float, int]]] = [[] for _ in curves]
         for pid in point_ids:
             point = self._App.Vector(*points[pid])
-            best = None
-            ends: list[tuple[int, float]] = []
-            for k, curve in enumerate(curves):
-                t, gap = _nearest_parameter(curve, point, owners[pid].reach)
-                if gap < owners[pid].reach:
-                    if best is None or gap < best[2]:
-                        best = (k, t, gap)
-                    if curve_end(curve, t):
-                        ends.append((k, t))
+            best, ends = _match(curves, point, owners[pid].reach)
             if best is None:
-                reach = self._slant_reach(data, point, owners[pid])
-                for k, curve in enumerate(curves):
-                    t, gap = _nearest_parameter(curve, point, reach)
-                    if gap < reach and (best is None or gap < best[2]):
-                        best = (k, t, gap)
+                best, _ = _match(curves, point, self._slant_reach(data, point, owners[pid]))
             if best is None:
                 return None  # a crossing of the face's edges on no curve: not generic
             stops[best[0]].append((best[1], pid))

@@ -9,39 +9,37 @@ finds them, and come back at the end.
 The worker is forked where OCC survives it, else started from a fork server with the
 solids as BREP text (`section_pool.start_method`); inside FreeCAD, in a daemonic process
 or for small stacks the planes are cut here, at the end. Either way each section passes
-through BREP text, so the regions (and the G-code) do not depend on where they were cut.
+through BREP text, so the regions (and the G-code) do not depend on where they were cut;
+its area and centroid travel with it (not integrated again).
 """
 from __future__ import annotations
 
 import multiprocessing
-from queue import Empty
 
 import numpy as np
 
-from freecad_conformal.errors import GeometryError
+from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry import section_pool
+from freecad_conformal.geometry.frames import LayerFrame
 from freecad_conformal.geometry.sections import PlanarSection, PlanarSlicer
-from freecad_conformal.geometry.planar_faces import SectionFace
-
-#: Seconds between checks that the worker is alive while waiting for its sections.
-WORKER_POLL = 0.5
-
-_STREAM_SLICER: PlanarSlicer | None = None  # fork: set just before forking, inherited
 
 
-def _section(slicer: PlanarSlicer, point: np.ndarray, normal: np.ndarray):
-    """(height, faces as BREP text with their areas and centroids) of one plane."""
+def _section(slicer: PlanarSlicer, point: np.ndarray, normal: np.ndarray) -> tuple:
+    """One plane's section as (height, its faces as one BREP text, area, centroid): what
+    `PlaneStream.results` rebuilds it from, wherever it was cut."""
+    _, Part = import_freecad()
     turned = slicer.turned(normal)
     height = float(point @ turned.frame.n)
     section = turned.section(height)
-    return height, section_pool.as_brep([SectionFace.of(face) for face in section.faces])
+    text = Part.Compound(section.faces).exportBrepToString() if section.faces else ""
+    return height, text, section.area, section.centroid
 
 
-def _worker(jobs, results, spec) -> None:
-    """Cuts planes from `jobs` until None comes; `spec` builds the slicer where it was not
-    inherited."""
+def _worker(jobs, results, source) -> None:
+    """Cuts planes from `jobs` until None comes. `source`: the slicer (forked: inherited,
+    not pickled) or its spec (`section_pool.slicer_spec`) to build it from."""
     try:
-        slicer = section_pool.slicer_from(spec) if spec is not None else _STREAM_SLICER
+        slicer = source if isinstance(source, PlanarSlicer) else section_pool.slicer_from(source)
         while (job := jobs.get()) is not None:
             index, point, normal = job
             results.put((index, _section(slicer, point, normal)))
@@ -55,7 +53,6 @@ class PlaneStream:
     `results()`. `expected` planes decide whether a worker pays (`useful_workers`)."""
 
     def __init__(self, slicer: PlanarSlicer, expected: int, workers: int = section_pool.AUTO):
-        global _STREAM_SLICER
         self._slicer = slicer
         self._planes: list[tuple[np.ndarray, np.ndarray]] = []
         self._process = None
@@ -65,18 +62,13 @@ class PlaneStream:
         method = section_pool.start_method()
         context = multiprocessing.get_context(method)
         self._jobs, self._results = context.Queue(), context.Queue()
-        spec = None
-        if method == "fork":
-            _STREAM_SLICER = slicer
-        else:
-            spec = section_pool.slicer_spec(slicer)
+        source = slicer
+        if method != "fork":
+            source = section_pool.slicer_spec(slicer)
             context.set_forkserver_preload(["freecad_conformal.geometry.sections"])
-        try:
-            self._process = context.Process(target=_worker, args=(self._jobs, self._results, spec),
-                                            daemon=True)
-            self._process.start()
-        finally:
-            _STREAM_SLICER = None
+        self._process = context.Process(target=_worker, args=(self._jobs, self._results, source),
+                                        daemon=True)
+        self._process.start()
 
     def submit(self, point: np.ndarray, normal: np.ndarray) -> None:
         plane = (np.asarray(point, dtype=float), np.asarray(normal, dtype=float))
@@ -91,28 +83,25 @@ class PlaneStream:
         else:
             self._jobs.put(None)
             cut = self._collect()
+        _, Part = import_freecad()
         sections = []
-        for (_, normal), (height, brep) in zip(self._planes, cut):
-            items = section_pool.from_brep(*brep) if brep is not None else []
-            sections.append(self._slicer.turned(normal).make_section(height, items))
+        for (_, normal), (height, text, area, centroid) in zip(self._planes, cut):
+            faces = []
+            if text:
+                shape = Part.Shape()
+                shape.importBrepFromString(text, False)
+                faces = shape.Faces
+            sections.append(PlanarSection(height=height, frame=LayerFrame.for_direction(normal),
+                                          faces=faces, area=area, centroid=centroid,
+                                          chord_tolerance=self._slicer.chord_tolerance))
         return sections
 
     def _collect(self) -> list:
         found: dict[int, tuple] = {}
         try:
-            while True:
-                try:
-                    index, payload = self._results.get(timeout=WORKER_POLL)
-                except Empty:
-                    if not self._process.is_alive():
-                        raise GeometryError("the section worker process died before it "
-                                            "finished") from None
-                    continue
-                if index is None:
-                    if payload is not None:
-                        raise GeometryError(f"the section worker failed: {payload}")
-                    break
-                found[index] = payload
+            while (result := section_pool.next_result(self._results, [self._process]))[0] \
+                    is not None:
+                found[result[0]] = result[1]
         finally:
             self.close()
         return [found[k] for k in range(len(self._planes))]

@@ -208,6 +208,21 @@ def cut_sections(slicer, heights: Sequence[float], workers: int = 1,
 WORKER_POLL = 0.5
 
 
+def next_result(queue, processes: list) -> tuple:
+    """The next (index, payload) a worker put on `queue`; (None, None) when one finished.
+    Raises GeometryError when a worker reported a failure or all died without a word."""
+    while True:
+        try:
+            index, payload = queue.get(timeout=WORKER_POLL)
+        except Empty:
+            if not any(process.is_alive() for process in processes):
+                raise GeometryError("a section worker process died before it finished") from None
+            continue
+        if index is None and payload is not None:
+            raise GeometryError(f"a section worker failed: {payload}")
+        return index, payload
+
+
 def _shared(slicer, levels: np.ndarray, jobs: list, boolean: bool, workers: int,
             report: Callable[[int], None] | None = None) -> list:
     """Each job's per-height results, cut by this process and `workers - 1` forked ones."""
@@ -258,15 +273,8 @@ def _shared(slicer, levels: np.ndarray, jobs: list, boolean: bool, workers: int,
                 report(index + 1)
         running = len(processes)
         while running:
-            try:
-                index, payload = queue.get(timeout=WORKER_POLL)
-            except Empty:
-                if not any(process.is_alive() for process in processes):
-                    raise GeometryError("a section worker process died before it finished") from None
-                continue
+            index, payload = next_result(queue, processes)
             if index is None:
-                if payload is not None:
-                    raise GeometryError(f"a section worker failed: {payload}")
                 running -= 1
             else:
                 results[index] = [None if item is None else from_brep(*item) for item in payload]

@@ -172,9 +172,7 @@ class _Sections:
         self._slicers: OrderedDict[tuple[float, ...], PlanarSlicer] = OrderedDict()
 
     def at(self, point: np.ndarray, normal: np.ndarray) -> PlanarSection:
-        if not (np.all(np.isfinite(point)) and np.all(np.isfinite(normal))):
-            raise PlanError(f"sub-part {self.subpart}: a 3-D layer plane is not finite (point "
-                            f"{np.round(point, 4).tolist()}, normal {np.round(normal, 4).tolist()})")
+        _check_finite(self.subpart, point, normal)
         key = tuple(np.round(normal, 12))
         slicer = self._slicers.get(key)
         if slicer is None:
@@ -319,10 +317,15 @@ def _middle_plane(subpart: int, lower_point: np.ndarray, lower_normal: np.ndarra
     slab's region is cut there."""
     point = 0.5 * (lower_point + upper_point)
     normal = unit(lower_normal + upper_normal, "middle plane normal")
+    _check_finite(subpart, point, normal)
+    return point, normal
+
+
+def _check_finite(subpart: int, point: np.ndarray, normal: np.ndarray) -> None:
+    """PlanError naming the sub-part unless the plane (point, normal) is finite."""
     if not (np.all(np.isfinite(point)) and np.all(np.isfinite(normal))):
         raise PlanError(f"sub-part {subpart}: a 3-D layer plane is not finite (point "
                         f"{np.round(point, 4).tolist()}, normal {np.round(normal, 4).tolist()})")
-    return point, normal
 
 
 def _layer(section: PlanarSection, subpart: int, index: int, lower_point: np.ndarray,

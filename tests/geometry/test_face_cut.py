@@ -282,15 +282,20 @@ def test_a_face_winding_twice_round_its_cylinder_holds_points_of_its_second_turn
     assert verdicts == {3: True, 5: False, 7: True, 9: False}
 
 
+def _profile(App, x: float, twist: float, chord: float) -> tuple[list, list]:
+    """A cambered blade section at `x`: its front points, then its back ones reversed."""
+    t = math.radians(twist)
+    front = [App.Vector(x, chord * s * math.cos(t), chord * s * math.sin(t) + 1 - 4 * s * s)
+             for s in (-0.5, -0.25, 0.0, 0.25, 0.5)]
+    return front, [App.Vector(x, p.y, p.z - 1.5) for p in reversed(front)]
+
+
 def _blade(App, Part, sections):
     """A closed cambered profile (one non-periodic B-spline, so one lateral face with a
     seam) lofted through (x, twist°, chord) sections."""
     wires = []
-    for x, twist, chord in sections:
-        t = math.radians(twist)
-        front = [App.Vector(x, chord * s * math.cos(t), chord * s * math.sin(t) + 1 - 4 * s * s)
-                 for s in (-0.5, -0.25, 0.0, 0.25, 0.5)]
-        back = [App.Vector(x, p.y, p.z - 1.5) for p in reversed(front)]
+    for section in sections:
+        front, back = _profile(App, *section)
         curve = Part.BSplineCurve()
         curve.interpolate(front + back + [front[0]], PeriodicFlag=False)
         wires.append(Part.Wire(curve.toShape()))
@@ -325,11 +330,8 @@ def _two_face_blade(App, Part):
     faces meeting along span-wise edges that are not seams, trimmed to x 4..20 so that its
     faces are parts of their surfaces (as a decomposition's cuts leave them)."""
     wires = []
-    for x, twist, chord in ((0.0, 40.0, 10.0), (12.0, 20.0, 8.0), (24.0, 0.0, 6.0)):
-        t = math.radians(twist)
-        front = [App.Vector(x, chord * s * math.cos(t), chord * s * math.sin(t) + 1 - 4 * s * s)
-                 for s in (-0.5, -0.25, 0.0, 0.25, 0.5)]
-        back = [App.Vector(x, p.y, p.z - 1.5) for p in reversed(front)]
+    for section in ((0.0, 40.0, 10.0), (12.0, 20.0, 8.0), (24.0, 0.0, 6.0)):
+        front, back = _profile(App, *section)
         halves = []
         for points in (front, [front[-1], *back, front[0]]):
             curve = Part.BSplineCurve()
