@@ -9,6 +9,7 @@ copies; when the triangulation is found broken anyway, a fresh copy is meshed wh
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -159,15 +160,45 @@ def _face_part(face, deflection: float) -> FacePart | None:
     p = np.array([tuple(v) for v in pts])
     t = np.asarray(tris, dtype=int)
     normal = plane_normal(face)
+    a, b, c = p[t[:, 0]], p[t[:, 1]], p[t[:, 2]]
+    doubled = np.cross(b - a, c - a)
+    areas = 0.5 * np.linalg.norm(doubled, axis=1)
     if normal is not None:
         corner = np.broadcast_to(normal, (len(t), 3, 3))
     else:
-        corner = node_normals(face, p, t)[t]
-    a, b, c = p[t[:, 0]], p[t[:, 1]], p[t[:, 2]]
-    areas = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+        corner = _flat_where_strained(node_normals(face, p, t)[t], doubled, areas)
     meshed = float(areas.sum())
     ratio = float(face.Area) / meshed if meshed > 0 else 1.0
     return FacePart(p, t, corner, normal is not None, areas * ratio, ratio)
+
+
+#: A curved face's triangle whose corner normals stray more than this (rad) from its own
+#: plane's normal reads its overhang from that plane instead. BRepMesh (FreeCAD asks for a
+#: 0.1 rad angular deflection) bounds how far the normal turns along the edges it splits,
+#: not across a triangle: on a lofted blade it kept long triangles reaching from the
+#: rounded trailing edge (normals sideways) to the flat of the blade (normals up), and
+#: interpolating their corners read 17 % less overhang along -Z than the surface has (729
+#: against 875 mm² on the fan's five blades; their planes read 891). Twice BRepMesh's
+#: angle: a triangle of a smooth patch stays within it.
+MAX_CORNER_STRAIN = 0.2
+
+
+def _flat_where_strained(corner: np.ndarray, doubled: np.ndarray,
+                         areas: np.ndarray) -> np.ndarray:
+    """`corner` normals (M, 3, 3) with each triangle whose corners stray more than
+    MAX_CORNER_STRAIN from its plane's normal given that normal at all three corners
+    (oriented as its corners; `doubled` are the triangles' unnormalised normals, `areas` half
+    their lengths)."""
+    flat = doubled / np.maximum(2.0 * areas, 1e-300)[:, None]
+    toward = np.einsum("ij,ij->i", flat, corner.sum(axis=1))
+    flat = flat * np.where(toward < 0, -1.0, 1.0)[:, None]
+    strained = (np.einsum("kij,kj->ki", corner, flat).min(axis=1) < math.cos(MAX_CORNER_STRAIN)) \
+        & (areas > 0)
+    if not strained.any():
+        return corner
+    corner = corner.copy()
+    corner[strained] = flat[strained, None, :]
+    return corner
 
 
 def _read(shape, deflection: float) -> SurfaceMesh | None:
