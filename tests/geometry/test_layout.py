@@ -105,9 +105,33 @@ def test_solids_set_side_by_side_past_the_travel_are_moved_back_over_the_platfor
     pin = Part.makeCylinder(3, 40, App.Vector(270, 0, 0))
     ring = Part.makeCylinder(10, 5, App.Vector(270, 0, 15)).cut(
         Part.makeCylinder(4, 5, App.Vector(270, 0, 15)))
+    from freecad_conformal.geometry.sections import extent_along
+
     _, plan = machine_plan(Part.Compound([pin, ring]), PlanOptions(decompose=False))
-    boxes = [sub.shape.BoundBox for sub in plan.subparts]
-    low, high = min(b.XMin for b in boxes), max(b.XMax for b in boxes)
+    # Exact extents (`BoundBox` reads a meshed cylinder's polygon, 0.5 µm short).
+    extents = [extent_along(sub.shape, np.array([1.0, 0.0, 0.0])) for sub in plan.subparts]
+    low, high = min(e[0] for e in extents), max(e[1] for e in extents)
     assert -300.0 <= low and high <= 300.0
     assert abs(0.5 * (low + high)) < 1e-6               # over the trunnion's pivot
     assert sum("laid out on the platform" in note for note in plan.notes) >= 3
+
+
+def test_a_solid_lands_in_one_place_whether_or_not_it_was_meshed(App, Part):
+    """`BoundBox` is read from a triangulation when the shape has one: the layout turned a
+    solid the decomposition had meshed about another centre than the same solid fresh (the
+    connecting rod's landed 1 mm apart). Its exact extents give one place."""
+    from freecad_conformal.decomposition.layout import lay_out
+    from freecad_conformal.jobs.plan import single_plan
+
+    sections = [Part.Wire(Part.Ellipse(App.Vector(0, 0, z), a, 3.0).toShape())
+                for z, a in ((0.0, 6.0), (15.0, 4.0), (30.0, 7.0))]
+    solid = Part.makeLoft(sections, True, False)
+    fresh = solid.BoundBox
+    meshed = solid.copy()
+    meshed.tessellate(0.05)
+    corners = [np.array([b.XMin, b.YMin, b.ZMin, b.XMax, b.YMax, b.ZMax]) for b in (fresh, meshed.BoundBox)]
+    assert np.abs(corners[0] - corners[1]).max() > 1.0     # the premise: 3.4 mm apart here
+    placed = [lay_out(single_plan(shape, (1.0, 0.0, 0.0)), 5.0).subparts[0].shape
+              for shape in (solid, meshed)]
+    centres = [np.array(tuple(shape.CenterOfMass)) for shape in placed]
+    assert np.allclose(centres[0], centres[1], atol=1e-6)
