@@ -157,8 +157,14 @@ def plan_candidates(solid, make_plan: Callable[[object, bool], tuple], layer_set
                 notes.append(f"no decomposition could be built ({exc}); built whole instead")
                 whole_along_best()
             continue
+        twin = next((c for c in candidates if c.exact and _same_build(c.plan, plan)), None)
         try:
-            if split or len(makers) == 1:
+            if twin is not None:
+                # The decomposition made no cut and built the solid whole along this very
+                # direction, where this one stands: the same layers and cost (the connecting
+                # rod sliced its 320 layers twice, 7 s each).
+                made = dataclasses.replace(twin, label=label, placed=placed, plan=plan, split=split)
+            elif split or len(makers) == 1:
                 made = _exact(label, placed, plan, split, layer_settings, path_settings, motion)
             else:
                 made = _coarse(label, placed, plan, layer_settings, path_settings, motion)
@@ -196,15 +202,21 @@ SAME_BUILD = 1e-6
 
 def _same_build(a: BuildPlan, b: BuildPlan) -> bool:
     """Whether two plans build the same single sub-part along the same direction, where
-    the layout put them: one box, one volume, one build direction."""
+    the layout put them: one volume, one build direction, one centre of mass and the same
+    vertices (OCC's exact values; boxes are not: `BoundBox` and the optimal box are read
+    from a triangulation when a shape has one)."""
     if len(a.subparts) != 1 or len(b.subparts) != 1:
         return False
     first, second = a.subparts[0], b.subparts[0]
-    boxes = [np.array([box.XMin, box.YMin, box.ZMin, box.XMax, box.YMax, box.ZMax])
-             for box in (first.shape.BoundBox, second.shape.BoundBox)]
-    return (np.allclose(first.build_direction, second.build_direction, atol=SAME_BUILD)
-            and np.allclose(boxes[0], boxes[1], atol=SAME_BUILD)
-            and math.isclose(first.shape.Volume, second.shape.Volume, rel_tol=SAME_BUILD))
+    if not (np.allclose(first.build_direction, second.build_direction, atol=SAME_BUILD)
+            and math.isclose(first.shape.Volume, second.shape.Volume, rel_tol=SAME_BUILD)
+            and np.allclose(tuple(first.shape.CenterOfMass), tuple(second.shape.CenterOfMass),
+                            atol=SAME_BUILD)):
+        return False
+    corners = [np.array(sorted(tuple(v.Point) for v in sub.shape.Vertexes)).reshape(-1, 3)
+               for sub in (first, second)]
+    return corners[0].shape == corners[1].shape and np.allclose(corners[0], corners[1],
+                                                                 atol=SAME_BUILD)
 
 
 def _exact(label: str, placed, plan: BuildPlan, split: bool, layer_settings,

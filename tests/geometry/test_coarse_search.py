@@ -136,3 +136,21 @@ def test_a_whole_orientation_the_decomposition_already_built_is_not_sliced_again
         assert result[1].exact and result[1].label == "whole"
         if not expected:
             assert result[1].layers is decomposed.layers and result[1].cost is decomposed.cost
+
+
+def test_the_decompositions_own_build_is_not_costed_again(Part, monkeypatch):
+    """A sphere's decomposition makes no cut and builds it along its best direction, the
+    direction the whole-part candidate then takes: that candidate is the same build and
+    takes its layers and cost at once, without a coarse slicing (the connecting rod sliced
+    its 320 layers twice, 7 s each)."""
+    def refuse(*args, **kwargs):
+        raise AssertionError("the twin was sliced again")
+
+    monkeypatch.setattr(search, "sampled_layers", refuse)
+    sphere = Part.makeSphere(10.0)
+    options = PlanOptions()
+    choice = choose_plan(sphere, options, check_options(sphere, options, None))
+    labels = [c.label for c in choice.candidates]
+    assert "decomposed" in labels and any(label.startswith("whole along") for label in labels)
+    first, second = choice.candidates
+    assert first.exact and second.exact and first.layers is second.layers
