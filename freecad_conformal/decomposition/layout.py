@@ -87,7 +87,12 @@ def lay_out(plan: BuildPlan, gap: float) -> BuildPlan:
     for k, root in sorted(roots.items()):
         axis, angle = rotation_to(root.build_direction, UP)
         whole = _compound(shapes[k])
-        pivot = exact_box(whole).mean(axis=0)
+        # The box of a fresh copy: `BoundBox` is read from a triangulation when the shape
+        # has one, so a solid the decomposition had meshed turned about another centre
+        # than the same solid fresh (the connecting rod's: 1.3 mm apart), and one build of
+        # one solid landed in two places.
+        box = whole.copy().BoundBox
+        pivot = np.array([box.Center.x, box.Center.y, box.Center.z])
         move = SolidMove(k, axis, float(angle), pivot, np.zeros(3))
         turned = move.shape(whole)
         # The root's base goes on the platform: the layers start there.
@@ -197,20 +202,9 @@ def _compound(shapes: list):
 
 
 def _footprint(shape, shift: np.ndarray) -> tuple[float, float, float, float]:
-    """(x_min, x_max, y_min, y_max) of the shape's exact box, shifted."""
-    (x0, y0, _), (x1, y1, _) = exact_box(shape)
-    return (x0 + shift[0], x1 + shift[0], y0 + shift[1], y1 + shift[1])
-
-
-def exact_box(shape) -> np.ndarray:
-    """The shape's exact box [[x, y, z] min, [x, y, z] max], from `extent_along`.
-
-    Not `BoundBox` nor OCC's optimal box: both are read from a triangulation when the shape
-    has one (enlarged by its deflection, or the polygon's), so a solid meshed by the
-    decomposition was turned about another centre than the same solid fresh (the connecting
-    rod's: 1.3 mm apart), and one build of one solid landed in two places."""
-    extents = [extent_along(shape, axis) for axis in np.eye(3)]
-    return np.array([[low for low, _ in extents], [high for _, high in extents]])
+    """(x_min, x_max, y_min, y_max) of the shape's box, shifted."""
+    box = shape.BoundBox
+    return (box.XMin + shift[0], box.XMax + shift[0], box.YMin + shift[1], box.YMax + shift[1])
 
 
 def _overlap(a, b, gap: float) -> bool:

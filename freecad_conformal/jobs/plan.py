@@ -475,14 +475,12 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
 def _within_travel(plan: BuildPlan, machine: Machine) -> BuildPlan:
     """The laid-out plan moved over the platform's centre when its solids, set side by side,
     reach outside the machine's X/Y travel (CrankArm's arm went to x = 355, past 300)."""
-    from freecad_conformal.decomposition.layout import exact_box, shifted
-    from freecad_conformal.freecad_env import import_freecad
+    from freecad_conformal.decomposition.layout import shifted
 
-    _, Part = import_freecad()
     limits = {axis.name: axis.limits for axis in machine.linear}
-    shapes = [sub.shape for sub in plan.subparts]
-    (x0, y0, _), (x1, y1, _) = exact_box(shapes[0] if len(shapes) == 1 else Part.Compound(shapes))
-    low, high = np.array([x0, y0]), np.array([x1, y1])
+    boxes = [sub.shape.BoundBox for sub in plan.subparts]
+    low = np.array([min(b.XMin for b in boxes), min(b.YMin for b in boxes)])
+    high = np.array([max(b.XMax for b in boxes), max(b.YMax for b in boxes)])
     inside = all(name not in limits or (limits[name][0] <= low[k] and high[k] <= limits[name][1])
                  for k, name in enumerate(("X", "Y")))
     if inside:
