@@ -122,15 +122,30 @@ def in_layer_travel(position: np.ndarray, start: np.ndarray, axis: np.ndarray,
     return np.zeros((0, 3))
 
 
+#: The last few stacks' skins and bridges, with the layers and settings they were read for:
+#: the plan choice costs the chosen plan's stacks (paths/cost.py) and the paths then fill the
+#: same stacks (the bottle's skins: 0.47 s, read twice).
+_SOLID_AREAS: list[tuple[tuple, PathSettings, bool, tuple[list, list]]] = []
+SOLID_AREAS_KEPT = 4
+
+
 def solid_areas(layers: Sequence[Layer], settings: PathSettings,
                 rests_on_parent: bool) -> tuple[list, list]:
     """Per layer, its skin (the solid area) and the part of it over sparse infill filled
     apart as bridge infill (None where bridges are not filled apart): the fill's and the
-    cost estimate's one reading of a stack (`paths.map3d`)."""
+    cost estimate's one reading of a stack (`paths.map3d`). Read once for the same layer
+    objects and settings (callers do not change the lists returned)."""
+    for known, known_settings, known_rests, found in _SOLID_AREAS:
+        if (known_rests == rests_on_parent and len(known) == len(layers)
+                and all(a is b for a, b in zip(known, layers)) and known_settings == settings):
+            return found
     skins = skin_regions(layers, settings.top_layers, settings.bottom_layers, rests_on_parent)
     bridges = (bridge_regions(layers, skins, settings.fill.solid_below_area)
                if settings.feeds.bridges_apart else [None] * len(layers))
-    return skins, bridges
+    found = (skins, bridges)
+    _SOLID_AREAS.append((tuple(layers), settings, rests_on_parent, found))
+    del _SOLID_AREAS[:-SOLID_AREAS_KEPT]
+    return found
 
 
 def plan_paths(layers: Sequence[Layer], settings: PathSettings, rests_on_parent: bool,

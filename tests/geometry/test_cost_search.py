@@ -371,3 +371,32 @@ def test_a_whole_build_leaving_more_overhang_is_not_costed(monkeypatch, whole_ov
     assert noted == ([] if made else ["whole along (+1, +0, +0): the part built whole would "
                                       "leave 800.0 mm² of overhang, more than 500.0: not costed"])
     assert len(found) == (2 if made else 1)
+
+
+def test_a_stack_is_read_for_skins_once_for_the_cost_and_the_paths(monkeypatch):
+    """The choice costs the chosen plan's stacks and the paths then fill the same layers:
+    their skins are read once (the bottle's: 0.47 s twice), and again for other layers or
+    other settings."""
+    import dataclasses
+
+    from freecad_conformal.paths import assemble
+
+    plan = single_plan(samples.t_block())
+    layers = plan_layers(plan.subparts[0], LayerSettings())
+    settings = check_options(samples.t_block(), plan_options({}), None)[3]
+    read: list[int] = []
+    original = assemble.skin_regions
+
+    def counted(stack, *args):
+        read.append(len(stack))
+        return original(stack, *args)
+
+    monkeypatch.setattr(assemble, "skin_regions", counted)
+    first = assemble.solid_areas(layers, settings, False)
+    assert assemble.solid_areas(list(layers), settings, False) is first
+    assert len(read) == 1
+    thicker = dataclasses.replace(settings, top_layers=settings.top_layers + 2)
+    assert assemble.solid_areas(layers, thicker, False) is not first
+    assert assemble.solid_areas(layers[:-1], settings, False) is not first
+    assert assemble.solid_areas(layers, settings, True) is not first
+    assert len(read) == 4
