@@ -73,6 +73,10 @@ class Candidate:
 
     @property
     def sub_parts(self) -> int:
+        """Sub-parts built: those holding a layer once sliced; all of the plan's before (a
+        coarse candidate keeps no layers, and its rows read 0 sub-parts)."""
+        if not self.exact:
+            return len(self.plan.subparts)
         return sum(1 for sub in self.plan.subparts if self.layers.get(sub.index))
 
     def row(self, chosen: bool = False) -> dict:

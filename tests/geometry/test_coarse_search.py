@@ -154,3 +154,19 @@ def test_the_decompositions_own_build_is_not_costed_again(Part, monkeypatch):
     assert "decomposed" in labels and any(label.startswith("whole along") for label in labels)
     first, second = choice.candidates
     assert first.exact and second.exact and first.layers is second.layers
+
+
+def test_a_coarse_candidate_reports_its_sub_parts(App, Part):
+    """A coarsely costed candidate keeps no layers; its report row still counts the
+    sub-parts it builds (the wedge's summary read 0 for the orientations it did not slice)."""
+    from freecad_conformal.decomposition.subparts import BuildPlan
+    from freecad_conformal.paths.cost import PlanCost
+
+    box = Part.makeBox(10, 20, 30)
+    plan = BuildPlan(subparts=[SubPart(index=0, shape=box, build_direction=np.array([0.0, 0.0, 1.0]),
+                                       volume=box.Volume)], order=[0])
+    coarse = search.Candidate("whole along (+0, +1, +0)", None, plan, {}, PlanCost(5.0, 1.0, {}, 0.0),
+                              exact=False)
+    assert coarse.sub_parts == 1 and coarse.row()["sub_parts"] == 1
+    empty = search.Candidate("sliced", None, plan, {0: []}, PlanCost(5.0, 1.0, {}, 0.0))
+    assert empty.sub_parts == 0     # sliced, and thinner than a layer: nothing built
