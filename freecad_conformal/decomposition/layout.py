@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
-from freecad_conformal.geometry.sections import extent_along
+from freecad_conformal.geometry.sections import lowest_along
 from freecad_conformal.geometry.rotation import rodrigues_matrix, rotation_to
 from freecad_conformal.decomposition.subparts import BuildPlan
 from freecad_conformal.tolerances import ZERO_LENGTH
@@ -79,8 +79,8 @@ def lay_out(plan: BuildPlan, gap: float) -> BuildPlan:
         return plan
     shapes = {k: [s.shape for s in plan.subparts if s.solid_index == k] for k in roots}
     # The platform: under the lowest root built along +Z as placed (else the part's bottom).
-    upright = [extent_along(root.shape, UP)[0] for root in roots.values() if _upright(root)]
-    platform = min(upright) if upright else extent_along(_compound([s.shape for s in plan.subparts]), UP)[0]
+    upright = [lowest_along(root.shape, UP) for root in roots.values() if _upright(root)]
+    platform = min(upright) if upright else lowest_along(_compound([s.shape for s in plan.subparts]), UP)
     moves: dict[int, SolidMove] = {}
     boxes: dict[int, tuple[float, float, float, float]] = {}
     notes: list[str] = []
@@ -96,9 +96,10 @@ def lay_out(plan: BuildPlan, gap: float) -> BuildPlan:
         move = SolidMove(k, axis, float(angle), pivot, np.zeros(3))
         turned = move.shape(whole)
         # The root's base goes on the platform: the layers start there.
-        base = extent_along(move.shape(root.shape), UP)[0]
+        # A solid of one sub-part is its root: its bottom is the base (one query, not two).
+        base = lowest_along(turned if len(shapes[k]) == 1 else move.shape(root.shape), UP)
         move.shift[2] = platform - base
-        below = base - extent_along(turned, UP)[0]
+        below = 0.0 if len(shapes[k]) == 1 else base - lowest_along(turned, UP)
         if below > BELOW_PLATFORM:
             notes.append(f"solid {k + 1}: sub-parts built after its root reach {below:.3f} mm "
                          "below the root's base, into the platform")

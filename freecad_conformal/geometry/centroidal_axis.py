@@ -26,7 +26,7 @@ from freecad_conformal.errors import GeometryError
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.axis_graph import AxisGraph
 from freecad_conformal.geometry.frames import unit
-from freecad_conformal.geometry.sections import PlanarSlicer, extent_along
+from freecad_conformal.geometry.sections import PlanarSlicer, extent_along, highest_along
 from freecad_conformal.geometry.solids import solids_of
 
 METHODS = ("true-direction", "published")
@@ -121,7 +121,7 @@ class _Search:
         if len(self.graph.branches) >= MAX_BRANCHES:
             self.graph.notes.append(f"stopped at {MAX_BRANCHES} branches")
             return
-        _, top = extent_along(body, P)
+        top = highest_along(body, P)
         heights = list(np.arange(start, top, self.step))
         if not heights:
             return

@@ -142,6 +142,21 @@ def extent_along(shape, direction: np.ndarray) -> tuple[float, float]:
     and `BoundBox` adds tolerances and control polygons (the screw's, 0.83 mm above its top);
     a slicer starting from either lays its first layers in the air.
     """
+    return lowest_along(shape, direction), highest_along(shape, direction)
+
+
+def lowest_along(shape, direction: np.ndarray) -> float:
+    """Exact min of the shape projected on `direction` (unit): one end of `extent_along`,
+    one distance query (the layout asks only for bottoms)."""
+    return _end_along(shape, direction, False)
+
+
+def highest_along(shape, direction: np.ndarray) -> float:
+    """Exact max of the shape projected on `direction` (unit); see `lowest_along`."""
+    return _end_along(shape, direction, True)
+
+
+def _end_along(shape, direction: np.ndarray, high: bool) -> float:
     App, Part = import_freecad()
     n = np.asarray(direction, dtype=float)
     box = shape.BoundBox
@@ -149,11 +164,11 @@ def extent_along(shape, direction: np.ndarray) -> tuple[float, float]:
                         for z in (box.ZMin, box.ZMax)])
     reach = float(np.max(np.abs(corners @ n))) + box.DiagonalLength + 1.0
     size = 4 * box.DiagonalLength + 2.0
-    far_low = _plane_face(Part, App, -reach, n, size, box)
-    far_high = _plane_face(Part, App, reach, n, size, box)
-    low = -reach + far_low.distToShape(_faces_reaching(Part, shape, -n))[0]
-    high = reach - far_high.distToShape(_faces_reaching(Part, shape, n))[0]
-    return float(low), float(high)
+    if high:
+        far = _plane_face(Part, App, reach, n, size, box)
+        return float(reach - far.distToShape(_faces_reaching(Part, shape, n))[0])
+    far = _plane_face(Part, App, -reach, n, size, box)
+    return float(-reach + far.distToShape(_faces_reaching(Part, shape, -n))[0])
 
 
 def _faces_reaching(Part, shape, n: np.ndarray):

@@ -35,7 +35,7 @@ from shapely.geometry import MultiPolygon
 from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry.frames import angle_between, unit
 from freecad_conformal.geometry.plane_stream import PlaneStream
-from freecad_conformal.geometry.sections import PlanarSection, PlanarSlicer, extent_along
+from freecad_conformal.geometry.sections import PlanarSection, PlanarSlicer, highest_along
 from freecad_conformal.layers.model import (BOUNDARY_INSET, SHRINK, Layer, LayerSettings,
                                             as_multipolygon)
 from freecad_conformal.decomposition.subparts import SubPart
@@ -341,7 +341,7 @@ def _layer(section: PlanarSection, subpart: int, index: int, lower_point: np.nda
 def _planar_top(subpart: SubPart, sections: _Sections, plane_point: np.ndarray, normal: np.ndarray,
                 nominal: float, d_min: float, first_index: int) -> list[Layer]:
     """Parallel layers for what is left above the last tilted plane (thinner than a step)."""
-    _, top = extent_along(subpart.shape, normal)
+    top = highest_along(subpart.shape, normal)
     base = float(plane_point @ normal)
     remaining = top - base
     if remaining < max(d_min, BOUNDARY_INSET):

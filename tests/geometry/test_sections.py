@@ -241,3 +241,19 @@ def test_sections_cut_on_several_processes_do_not_depend_on_which_process_cut_th
     pooled = PlanarSlicer(loft, (1, 0, 0)).sections(heights, workers=2)
     for want, got in zip(expected, pooled):
         assert want.polygons().equals_exact(got.polygons(), 0.0), want.height
+
+
+def test_one_end_along_a_direction_is_that_end_of_the_extent(App, Part):
+    """`lowest_along` and `highest_along` measure one end each (one distance query), the
+    values `extent_along` gives: a box's corners and a sphere's poles along a slant."""
+    from freecad_conformal.geometry.sections import extent_along, highest_along, lowest_along
+
+    d = np.array([1.0, 2.0, 2.0]) / 3.0
+    box = Part.makeBox(10, 20, 30, App.Vector(-5, 0, 4))
+    corners = np.array([tuple(v.Point) for v in box.Vertexes]) @ d
+    assert lowest_along(box, d) == pytest.approx(corners.min(), abs=1e-7)
+    assert highest_along(box, d) == pytest.approx(corners.max(), abs=1e-7)
+    sphere = Part.makeSphere(7.0, App.Vector(3, -2, 1))
+    centre = np.array([3.0, -2.0, 1.0]) @ d
+    assert (lowest_along(sphere, d), highest_along(sphere, d)) == extent_along(sphere, d)
+    assert extent_along(sphere, d) == pytest.approx((centre - 7.0, centre + 7.0), abs=1e-7)
