@@ -178,8 +178,9 @@ def _face_part(face, deflection: float) -> FacePart | None:
 #: not across a triangle: on a lofted blade it kept long triangles reaching from the
 #: rounded trailing edge (normals sideways) to the flat of the blade (normals up), and
 #: interpolating their corners read 17 % less overhang along -Z than the surface has (729
-#: against 875 mm² on the fan's five blades; their planes read 891). Twice BRepMesh's
-#: angle: a triangle of a smooth patch stays within it.
+#: against 879 mm² on the fan's five blades, by a 500 x 500 (u, v) grid on the exact
+#: surfaces; their planes read 891). Twice BRepMesh's angle: a triangle of a smooth patch
+#: stays within it.
 MAX_CORNER_STRAIN = 0.2
 
 
