@@ -18,7 +18,6 @@ import multiprocessing
 
 import numpy as np
 
-from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry import section_pool
 from freecad_conformal.geometry.frames import LayerFrame
 from freecad_conformal.geometry.sections import PlanarSection, PlanarSlicer
@@ -27,12 +26,10 @@ from freecad_conformal.geometry.sections import PlanarSection, PlanarSlicer
 def _section(slicer: PlanarSlicer, point: np.ndarray, normal: np.ndarray) -> tuple:
     """One plane's section as (height, its faces as one BREP text, area, centroid): what
     `PlaneStream.results` rebuilds it from, wherever it was cut."""
-    _, Part = import_freecad()
     turned = slicer.turned(normal)
     height = float(point @ turned.frame.n)
     section = turned.section(height)
-    text = Part.Compound(section.faces).exportBrepToString() if section.faces else ""
-    return height, text, section.area, section.centroid
+    return height, section_pool.faces_as_brep(section.faces), section.area, section.centroid
 
 
 def _worker(jobs, results, source) -> None:
@@ -83,18 +80,10 @@ class PlaneStream:
         else:
             self._jobs.put(None)
             cut = self._collect()
-        _, Part = import_freecad()
-        sections = []
-        for (_, normal), (height, text, area, centroid) in zip(self._planes, cut):
-            faces = []
-            if text:
-                shape = Part.Shape()
-                shape.importBrepFromString(text, False)
-                faces = shape.Faces
-            sections.append(PlanarSection(height=height, frame=LayerFrame.for_direction(normal),
-                                          faces=faces, area=area, centroid=centroid,
-                                          chord_tolerance=self._slicer.chord_tolerance))
-        return sections
+        return [PlanarSection(height=height, frame=LayerFrame.for_direction(normal),
+                              faces=section_pool.faces_from_brep(text), area=area,
+                              centroid=centroid, chord_tolerance=self._slicer.chord_tolerance)
+                for (_, normal), (height, text, area, centroid) in zip(self._planes, cut)]
 
     def _collect(self) -> list:
         found: dict[int, tuple] = {}

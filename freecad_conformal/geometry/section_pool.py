@@ -113,13 +113,29 @@ def section_work(slicer) -> int:
     return work
 
 
+def faces_as_brep(faces: list) -> str:
+    """Faces as one BREP text, OCC's lossless form for another process ("" for none)."""
+    if not faces:
+        return ""
+    _, Part = import_freecad()
+    return Part.Compound(list(faces)).exportBrepToString()
+
+
+def faces_from_brep(text: str) -> list:
+    """The faces `faces_as_brep` wrote, in order."""
+    if not text:
+        return []
+    _, Part = import_freecad()
+    shape = Part.Shape()
+    shape.importBrepFromString(text, False)
+    return shape.Faces
+
+
 def as_brep(items: list | None):
-    """Faces as one BREP text with each face's (area, centroid); None stays None."""
+    """Section faces as one BREP text with each face's (area, centroid); None stays None."""
     if items is None:
         return None
-    _, Part = import_freecad()
-    text = Part.Compound([item.face for item in items]).exportBrepToString() if items else ""
-    return text, [(item.area, item.centroid) for item in items]
+    return faces_as_brep([item.face for item in items]), [(item.area, item.centroid) for item in items]
 
 
 def _cut(solid_index: int, heights: np.ndarray, boolean: bool, slicer=None) -> list:
@@ -149,12 +165,9 @@ def _claim(counter) -> int:
 
 
 def from_brep(text: str, props: list) -> list[SectionFace]:
-    if not text:
-        return []
-    _, Part = import_freecad()
-    shape = Part.Shape()
-    shape.importBrepFromString(text, False)
-    return [SectionFace(face, area, centroid) for face, (area, centroid) in zip(shape.Faces, props)]
+    """The section faces `as_brep` wrote."""
+    return [SectionFace(face, area, centroid)
+            for face, (area, centroid) in zip(faces_from_brep(text), props)]
 
 
 def cut_sections(slicer, heights: Sequence[float], workers: int = 1,
