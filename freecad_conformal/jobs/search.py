@@ -171,16 +171,14 @@ def plan_candidates(solid, make_plan: Callable[[object, bool], tuple], layer_set
                 notes.append(f"no decomposition could be built ({exc}); built whole instead")
                 whole_along_best()
             continue
-        twin = next((c for c in candidates if c.exact and _same_build(c.plan, plan)), None)
+        # The decomposition made no cut and built the solid whole along this very direction,
+        # where this one stands: the same layers and cost (the connecting rod sliced its 320
+        # layers twice, 7 s each).
+        made = _as_twin(Candidate(label, placed, plan, {}, None, split, exact=False), candidates)
         try:
-            if twin is not None:
-                # The decomposition made no cut and built the solid whole along this very
-                # direction, where this one stands: the same layers and cost (the connecting
-                # rod sliced its 320 layers twice, 7 s each).
-                made = dataclasses.replace(twin, label=label, placed=placed, plan=plan, split=split)
-            elif split or len(makers) == 1:
+            if made is None and (split or len(makers) == 1):
                 made = _exact(label, placed, plan, split, layer_settings, path_settings, motion)
-            else:
+            elif made is None:
                 made = _coarse(label, placed, plan, layer_settings, path_settings, motion)
         except GeometryError as exc:
             # A sub-part OCC cannot slice (the bottle's decomposition on OCCT 7.8): this
@@ -231,6 +229,15 @@ def _same_build(a: BuildPlan, b: BuildPlan) -> bool:
                for sub in (first, second)]
     return corners[0].shape == corners[1].shape and np.allclose(corners[0], corners[1],
                                                                  atol=SAME_BUILD)
+
+
+def _as_twin(candidate: Candidate, candidates: list[Candidate]) -> Candidate | None:
+    """`candidate` with the layers and cost of an exactly costed one among `candidates`
+    that is the same build (`_same_build`); None when there is none."""
+    twin = next((c for c in candidates if c.exact and _same_build(c.plan, candidate.plan)), None)
+    if twin is None:
+        return None
+    return dataclasses.replace(candidate, layers=twin.layers, cost=twin.cost, exact=True)
 
 
 def _exact(label: str, placed, plan: BuildPlan, split: bool, layer_settings,
@@ -292,12 +299,11 @@ def _refined(candidates: list[Candidate], layer_settings, path_settings: PathSet
         near = value(c) <= best + max(COARSE_MARGIN, 0.0) * unit
         if not near and any(r is not None for r in replaced.values()):
             break
-        twin = next((e for e in candidates if e.exact and _same_build(e.plan, c.plan)), None)
+        twin = _as_twin(c, candidates)
         if twin is not None:
             # A decomposition that kept the solid whole along this very direction: the
             # same layers (the screw thread sliced its 71 layers twice, 50 s each).
-            replaced[id(c)] = dataclasses.replace(c, layers=twin.layers, cost=twin.cost,
-                                                  exact=True)
+            replaced[id(c)] = twin
             continue
         try:
             replaced[id(c)] = _exact(c.label, c.placed, c.plan, False, layer_settings,
