@@ -103,6 +103,37 @@ def test_a_coarse_candidate_with_more_overhang_than_an_exact_one_is_not_sliced(m
     assert sliced == ["whole"]
 
 
+@pytest.mark.parametrize("objective", ["balanced", "time"])
+def test_coarse_candidates_far_behind_an_exact_one_are_not_sliced(objective, monkeypatch):
+    """An exactly costed candidate (the table's decomposition) leading every coarse one of
+    tied overhang by more than EXACT_LEAD is not challenged: the sampled estimate cannot be
+    that far off. Within the lead the best coarse one is still sliced."""
+    from types import SimpleNamespace
+
+    from freecad_conformal.paths.cost import PlanCost
+
+    def candidate(label: str, seconds: float, exact: bool) -> search.Candidate:
+        return search.Candidate(label, None, SimpleNamespace(support_area=5.0, subparts=[]),
+                                {}, PlanCost(seconds, 10.0, {}, 0.0), exact=exact)
+
+    sliced: list[str] = []
+
+    def exact(label, *args):
+        sliced.append(label)
+        return candidate(label, 100.0, True)
+
+    monkeypatch.setattr(search, "_exact", exact)
+    lead = search.EXACT_LEAD
+    decomposed = candidate("decomposed", 100.0, True)
+    for seconds, expected in ((100.0 * (1 + lead) + 0.5, []),
+                              (100.0 * (1 + lead) - 0.5, ["whole"])):
+        sliced.clear()
+        whole = candidate("whole", seconds, False)
+        result = search._refined([decomposed, whole], None, None, None, objective)
+        assert sliced == expected
+        assert result[0] is decomposed and result[1].exact == bool(expected)
+
+
 def test_a_whole_orientation_the_decomposition_already_built_is_not_sliced_again(
         App, Part, monkeypatch):
     """A decomposition that kept the solid whole along the same direction, laid out the
