@@ -395,7 +395,13 @@ def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
                  for sub in plan.ordered()
                  if layers[sub.index]]
     plan.notes.extend(notes)
-    rows = [c.row(chosen=c.plan is plan) for c in candidates]
+    if len(candidates) == 1:
+        # Compared with none, the one plan's cost was never estimated: its row carries the
+        # plan's own time and material.
+        rows = [candidates[0].row(chosen=True, figures=(
+            seconds, float(sum(s.material for s in summaries))))]
+    else:
+        rows = [c.row(chosen=c.plan is plan) for c in candidates]
     return JobResult(part=part, plan=plan, layers=layers, assembly=assembly, post=post,
                      machine=machine, tool_id=tool.id, material_name=material_name,
                      bead_width=width, time_s=seconds, subparts=summaries,

@@ -61,6 +61,24 @@ COARSE_MARGIN = 0.03
 EXACT_LEAD = 0.06
 
 
+class CostWhenRead:
+    """A plan's cost (`paths/cost.plan_cost`), computed when first read: a search left with
+    one candidate compares nothing (the bottle's decomposition: 1.0 s of its 2.8 s choice),
+    and the job reports that plan's own figures instead. Twins share one."""
+
+    def __init__(self, plan: BuildPlan, layers: dict, path_settings: PathSettings,
+                 motion: Motion) -> None:
+        self._args = (plan, layers, path_settings, motion)
+        self._cost: PlanCost | None = None
+
+    def __getattr__(self, name: str):
+        if name.startswith("_"):
+            raise AttributeError(name)
+        if self._cost is None:
+            self._cost = plan_cost(*self._args)
+        return getattr(self._cost, name)
+
+
 @dataclass
 class Candidate:
     """One way to build the part, laid out on the machine, sliced and costed."""
@@ -69,7 +87,7 @@ class Candidate:
     placed: object
     plan: BuildPlan
     layers: dict[int, list[Layer]]
-    cost: PlanCost
+    cost: PlanCost | CostWhenRead
     #: made by the decomposition (False: the solid built whole)
     split: bool = False
     #: costed on exact layers (False: on sampled ones, `layers` empty; see the docstring)
@@ -87,21 +105,25 @@ class Candidate:
             return len(self.plan.subparts)
         return sum(1 for sub in self.plan.subparts if self.layers.get(sub.index))
 
-    def row(self, chosen: bool = False) -> dict:
-        """The candidate as report data."""
+    def row(self, chosen: bool = False, figures: tuple[float, float] | None = None) -> dict:
+        """The candidate as report data; `figures` (time s, material mm³) are the built
+        plan's own, given for a candidate that was compared with none (estimate "plan")."""
+        if figures is not None:
+            (seconds, material), estimate = figures, "plan"
+        else:
+            seconds, material = self.cost.seconds, self.cost.material
+            estimate = "layers" if self.exact else f"every {COARSE_EVERY}th layer"
         return {"label": self.label, "sub_parts": self.sub_parts,
-                "residual_overhang_mm2": self.overhang,
-                "material_mm3": self.cost.material, "time_s": self.cost.seconds,
-                "estimate": "layers" if self.exact else f"every {COARSE_EVERY}th layer",
-                "chosen": chosen}
+                "residual_overhang_mm2": self.overhang, "material_mm3": material,
+                "time_s": seconds, "estimate": estimate, "chosen": chosen}
 
 
 def ranked(candidates: list[Candidate], objective: str) -> list[Candidate]:
     """Best first: least residual overhang (within OVERHANG_TIE), then the objective."""
     if objective not in OBJECTIVES:
         raise PlanError(f"objective must be one of {', '.join(OBJECTIVES)}, got {objective!r}")
-    if not candidates:
-        return []
+    if len(candidates) < 2:
+        return list(candidates)   # nothing to compare: its cost is not read (CostWhenRead)
     least = min(c.overhang for c in candidates)
     value = _objective(candidates, objective)
 
@@ -250,12 +272,13 @@ def _as_twin(candidate: Candidate, candidates: list[Candidate]) -> Candidate | N
 
 def _exact(label: str, placed, plan: BuildPlan, split: bool, layer_settings,
            path_settings: PathSettings, motion: Motion) -> Candidate | None:
-    """The candidate sliced and costed exactly; None if no sub-part holds a layer."""
+    """The candidate sliced exactly and costed on them (when read); None if no sub-part
+    holds a layer."""
     layers = {sub.index: plan_layers(sub, layer_settings) for sub in plan.ordered()}
     if not any(layers.values()):
         return None
-    return Candidate(label, placed, plan, layers, plan_cost(plan, layers, path_settings, motion),
-                     split)
+    return Candidate(label, placed, plan, layers,
+                     CostWhenRead(plan, layers, path_settings, motion), split)
 
 
 def _coarse(label: str, placed, plan: BuildPlan, layer_settings, path_settings: PathSettings,

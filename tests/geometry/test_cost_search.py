@@ -144,6 +144,23 @@ def test_the_t_is_built_whole_in_its_cheapest_support_free_orientation(objective
     assert f"plans compared: {len(rows)}" in summary and chosen["label"] in summary
 
 
+def test_a_lone_candidate_is_not_costed_and_reports_the_plans_own_figures(monkeypatch):
+    """The search compares nothing when it is left with one plan (the domed cylinder stands
+    support-free on its base only; the bottle's decomposition: 1.0 s of its choice): its
+    cost is not estimated, and its row carries the built plan's time and material."""
+    from freecad_conformal.jobs import search
+
+    costed: list[str] = []
+    real = search.plan_cost
+    monkeypatch.setattr(search, "plan_cost", lambda *args: costed.append("cost") or real(*args))
+    result = plan_job(samples.domed_cylinder(), plan_options({}), part="dome")
+    assert costed == []
+    [row] = result.candidates
+    assert row["chosen"] and row["estimate"] == "plan"
+    assert row["time_s"] == result.time_s and row["material_mm3"] == result.material_volume
+    assert "plans compared" not in result.summary()
+
+
 @pytest.mark.slow
 def test_a_root_given_is_kept_without_a_search():
     result = plan_job(samples.t_block(), PlanOptions(root=(0.0, 0.0, 1.0)), part="t")
