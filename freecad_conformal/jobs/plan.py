@@ -395,11 +395,13 @@ def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
                  for sub in plan.ordered()
                  if layers[sub.index]]
     plan.notes.extend(notes)
-    if len(candidates) == 1:
-        # Compared with none, the one plan's cost was never estimated: its row carries the
-        # plan's own time and material.
-        rows = [candidates[0].row(chosen=True, figures=(
-            seconds, float(sum(s.material for s in summaries))))]
+    from freecad_conformal.jobs.search import compared
+
+    if not compared(candidates):
+        # One build, compared with none: its cost was never estimated, and its rows carry
+        # the plan's own time and material.
+        figures = (seconds, float(sum(s.material for s in summaries)))
+        rows = [c.row(chosen=c.plan is plan, figures=figures) for c in candidates]
     else:
         rows = [c.row(chosen=c.plan is plan) for c in candidates]
     return JobResult(part=part, plan=plan, layers=layers, assembly=assembly, post=post,

@@ -118,12 +118,18 @@ class Candidate:
                 "time_s": seconds, "estimate": estimate, "chosen": chosen}
 
 
+def compared(candidates: list[Candidate]) -> bool:
+    """Whether the candidates hold two costs to compare: twins (`_as_twin`, the same build)
+    share one, and Pump_Nut's and the sphere's two candidates are one build."""
+    return len({id(c.cost) for c in candidates}) > 1
+
+
 def ranked(candidates: list[Candidate], objective: str) -> list[Candidate]:
     """Best first: least residual overhang (within OVERHANG_TIE), then the objective."""
     if objective not in OBJECTIVES:
         raise PlanError(f"objective must be one of {', '.join(OBJECTIVES)}, got {objective!r}")
-    if len(candidates) < 2:
-        return list(candidates)   # nothing to compare: its cost is not read (CostWhenRead)
+    if not compared(candidates):
+        return list(candidates)   # their cost is not read (CostWhenRead)
     least = min(c.overhang for c in candidates)
     value = _objective(candidates, objective)
 

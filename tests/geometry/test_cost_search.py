@@ -161,6 +161,23 @@ def test_a_lone_candidate_is_not_costed_and_reports_the_plans_own_figures(monkey
     assert "plans compared" not in result.summary()
 
 
+def test_twin_candidates_compare_nothing():
+    """Candidates sharing one cost (the same build: `_as_twin`) keep their order and their
+    cost is not read; two costs are ranked."""
+    from freecad_conformal.jobs import search
+
+    class Unread:
+        def __getattr__(self, name):
+            raise AssertionError(f"the cost was read ({name})")
+
+    shared = Unread()
+    twins = [search.Candidate(label, None, SimpleNamespace(support_area=1.0), {}, shared)
+             for label in ("decomposed", "whole along (+0, +1, +0)")]
+    assert not search.compared(twins) and search.ranked(twins, "balanced") == twins
+    cheaper = _option("cheaper", 50.0, 5.0, overhang=1.0)
+    assert search.compared(twins[:1] + [cheaper])
+
+
 @pytest.mark.slow
 def test_a_root_given_is_kept_without_a_search():
     result = plan_job(samples.t_block(), PlanOptions(root=(0.0, 0.0, 1.0)), part="t")
