@@ -223,15 +223,25 @@ def _read(shape, deflection: float) -> SurfaceMesh | None:
     keys = np.round(all_points / NODE_MERGE).astype(np.int64)
     _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
     tri = inverse.reshape(-1)[np.concatenate(triangles)]
-    node_of = {tuple(key): index for index, key in enumerate(keys[first].tolist())}
     corners = np.round(np.array([tuple(v.Point) for v in shape.Vertexes]).reshape(-1, 3)
                        / NODE_MERGE).astype(np.int64)
-    vertices = np.array([node_of[k] for k in map(tuple, corners.tolist()) if k in node_of],
-                        dtype=int)
+    vertices = _rows_found(keys[first], corners)
     mesh = SurfaceMesh(all_points[first], tri, np.concatenate(normals),
                        np.concatenate(faces), np.concatenate(planar), np.concatenate(scale),
                        deflection, vertices)
     return mesh if _closed(mesh) and _connected(mesh) else None
+
+
+def _rows_found(table: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """Indices in `table` (K, 3), rows in the order `np.unique(..., axis=0)` sorts them, of
+    each of `rows` (J, 3) found there, in their order (a dict of the fan's 100,000 nodes per
+    piece cost 0.46 s of its decomposition's 20 s)."""
+    fields = [("x", np.int64), ("y", np.int64), ("z", np.int64)]
+    table = np.ascontiguousarray(table, dtype=np.int64).view(fields).ravel()
+    rows = np.ascontiguousarray(rows, dtype=np.int64).view(fields).ravel()
+    at = np.minimum(np.searchsorted(table, rows), max(len(table) - 1, 0))
+    found = (table[at] == rows) if len(table) else np.zeros(len(rows), bool)
+    return at[found].astype(int)
 
 
 def _connected(mesh: SurfaceMesh) -> bool:
@@ -254,11 +264,10 @@ def _closed(mesh: SurfaceMesh) -> bool:
         return False
     directed = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
     n = len(mesh.points)
-    forward = directed[:, 0] * n + directed[:, 1]
-    backward = directed[:, 1] * n + directed[:, 0]
-    if len(np.unique(forward)) != len(forward):
+    forward = np.sort(directed[:, 0] * n + directed[:, 1])
+    if np.any(forward[1:] == forward[:-1]):
         return False
-    if not np.array_equal(np.sort(forward), np.sort(backward)):
+    if not np.array_equal(forward, np.sort(directed[:, 1] * n + directed[:, 0])):
         return False
     a, b, c = (mesh.points[t[:, k]] for k in range(3))
     return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum()) > 0.0

@@ -91,6 +91,18 @@ def test_a_solid_with_a_void_has_no_mesh_and_still_decomposes(App, Part):
         np.testing.assert_allclose(a.build_direction, b.build_direction, atol=1e-9)
 
 
+def test_the_meshs_vertex_nodes_are_the_solids_vertices(App, Part):
+    """The mesh keeps the nodes at the solid's vertices (a part's lowest level is read from
+    them): each once, at the vertex, in the solid's order, on both sides of the origin."""
+    box = Part.makeBox(30, 20, 10, App.Vector(-17.25, -3.5, -4.125))
+    tool = Part.makeCylinder(4, 30, App.Vector(0, 6.5, -8))
+    solid = box.cut(tool).Solids[0]
+    mesh = surface_mesh(solid)
+    assert mesh is not None and len(mesh.vertices) == len(solid.Vertexes)
+    np.testing.assert_allclose(mesh.points[mesh.vertices],
+                               [tuple(v.Point) for v in solid.Vertexes], atol=1e-6)
+
+
 def test_overhang_reports_leave_the_solids_triangulation_shared(parts_dir):
     """The face meshes of an overhang report are made on copies: re-meshing a face of the
     solid itself would part its edges from its neighbours' and spoil the solid's mesh."""
