@@ -19,8 +19,9 @@ import numpy as np
 import shapely
 from shapely.geometry import LineString, Polygon
 
+from freecad_conformal.decomposition.mesh_topology import along, topology
 from freecad_conformal.geometry.components import connected_labels
-from freecad_conformal.geometry.surface_mesh import SurfaceMesh
+from freecad_conformal.geometry.surface_mesh import SurfaceMesh, below_fraction
 from freecad_conformal.tolerances import PARALLEL_COS_SLACK
 
 #: A node within this (mm) of the plane lies on it: OCC's confusion distance; nodes on a
@@ -213,28 +214,185 @@ def mesh_trial(mesh: SurfaceMesh, region: MeshRegion, direction: np.ndarray, thr
     s = (mesh.points - p) @ n
     side = s > ON_PLANE
     split = _split(mesh, s, side)
-    pieces, corners, normals = split.pieces, split.corners, split.normals
-    tri_of, edges = split.tri_of, split.edges
-    upper = _piece_sides(mesh, split, s, side, n)
-    on_plane = np.concatenate([np.abs(s) <= ON_PLANE, np.ones(len(corners) - len(mesh.points), bool)])
-    # Edges lying in the plane inside the region are where the cut separates the surface.
-    count = len(corners)
-    i, j = edges[:, 1] // count, edges[:, 1] % count
+    label = _parts(mesh, split, region, s, side)
+    if label is None:
+        return None
+    pieces = split.pieces
+    above, below = label[pieces], label[pieces + 1]
+    whole, crossing = split.whole, split.crossing
+    topo = topology(mesh)
+    # Sub-triangles in one order throughout (the whole triangles, then the crossing ones'
+    # three parts), so that every sum adds the same numbers in the same order.
+    component = np.concatenate([label[whole], label[split.sub_piece]])
+    area = np.concatenate([topo.area[whole],
+                           split.sub_area * mesh.scale[split.sub_source]])
+    total_area = np.bincount(component, weights=area, minlength=int(label.max()) + 1)
+    minimum = SLIVER_AREA * max(float(total_area.sum()), 1.0)
+    sides = {above: True, below: False}
+    if any(total_area[k] > minimum and k not in sides for k in range(len(total_area))):
+        return None  # a part of the surface bounded by neither side: not a solid's mesh
+    per = along(mesh, direction, threshold, keeper_factor, low, level_tolerance)
+    sub_levels = split.corners[split.sub_tri] @ direction
+    sub_normals = split.sub_normals
+    sub_base = (mesh.planar[split.sub_source]
+                & (sub_normals[:, 0] @ direction < -1.0 + PARALLEL_COS_SLACK)
+                & (np.abs(sub_levels.max(axis=1) - low) <= level_tolerance))
+    # As `support.lowest_level`, a part's lowest level is that of its vertices (the
+    # shape's; the cut's own are left out).
+    reach = np.full(len(total_area), np.inf)
+    kept = ~np.isin(topo.vertex_triangles, crossing, assume_unique=True) if len(crossing) \
+        else np.ones(len(topo.vertex_triangles), bool)
+    np.minimum.at(reach, label[topo.vertex_triangles[kept]], per.vertex_level[kept])
+    is_vertex = np.zeros(len(split.corners), bool)
+    is_vertex[mesh.vertices] = True
+    sub_vertex = np.where(is_vertex[split.sub_tri], sub_levels, np.inf).min(axis=1)
+    np.minimum.at(reach, label[split.sub_piece], sub_vertex)
+    holds = np.zeros(len(total_area), bool)
+    base_whole = whole[per.base[whole]]
+    holds[label[base_whole]] = True
+    holds[label[split.sub_piece[sub_base]]] = True
+    any_base = len(base_whole) > 0 or bool(sub_base.any())
+    on_base = [k for k in sides if reach[k] <= low + level_tolerance and (holds[k] or not any_base)]
+    if len(on_base) != 1:
+        return None
+    keeper = on_base[0]
+    other = next(k for k in sides if k != keeper)
+    child = n if sides[other] else -n
+    if math.acos(float(np.clip(child @ direction, -1.0, 1.0))) < same_direction:
+        return None
+    if min_thickness > 0 and (
+            _span(mesh, split, component == keeper, direction) < min_thickness
+            or _span(mesh, split, component == other, child) < min_thickness):
+        return None
+    in_keeper = component == keeper
+    whole_count = len(whole)
+    sub_share = area[whole_count:] * below_fraction(sub_normals @ direction + threshold)
+    sub_share = sub_share * keeper_factor[mesh.faces[split.sub_source]]
+    keeper_area = float(np.concatenate([per.keeper_overhang[whole][in_keeper[:whole_count]],
+                                        sub_share[in_keeper[whole_count:]]]).sum())
+    if child @ direction < -threshold:
+        keeper_area += float(region.polygon.area)  # the kept piece's cut face
+    in_child = component == other
+    child_normals = np.concatenate([mesh.normals[whole[in_child[:whole_count]]],
+                                    sub_normals[in_child[whole_count:]]])
+    child_area = float((area[in_child] * below_fraction(child_normals @ child + threshold)).sum())
+    return MeshTrial(keeper_area + child_area, keeper_area, [(child, child_area)])
+
+
+def _overhang(area, normals, mask, d, threshold, factor) -> float:
+    """Σ area where n·d < −threshold over the masked triangles, n linear between the
+    corners and the triangle clipped at the limit (as `FacePart.below`)."""
+    weights = area[mask] * below_fraction(normals[mask] @ d + threshold)
+    if not np.isscalar(factor):
+        weights = weights * factor[mask]
+    return float(weights.sum())
+
+
+def _span(mesh: SurfaceMesh, split: "_Split", mask: np.ndarray, d: np.ndarray) -> float:
+    """Extent along `d` of the corners of the sub-triangles in `mask` (whole ones first, as
+    `mesh_trial` orders them; 0 for none)."""
+    whole_count = len(split.whole)
+    corners = np.concatenate([mesh.triangles[split.whole[mask[:whole_count]]].ravel(),
+                              split.sub_tri[mask[whole_count:]].ravel()])
+    if not len(corners):
+        return 0.0
+    levels = split.corners[corners] @ d
+    return float(levels.max() - levels.min())
+
+
+@dataclass
+class _Split:
+    """The mesh's triangles split at the plane: `corners` (nodes, then cut points); the
+    triangles on one side (`whole`, each its own piece) and those crossing it (`crossing`),
+    each split into three sub-triangles `sub_tri` (into corners; the lone corner's, then
+    the two of the other side) with corner `sub_normals`, their `sub_source` triangle and
+    `sub_piece` (the lone corner's part is piece M + k, the other part keeps the triangle's
+    index); `pieces` in all (M + K)."""
+
+    pieces: int
+    corners: np.ndarray
+    whole: np.ndarray
+    crossing: np.ndarray
+    lone_above: np.ndarray
+    sub_tri: np.ndarray
+    sub_normals: np.ndarray
+    sub_source: np.ndarray
+    sub_piece: np.ndarray
+    sub_area: np.ndarray
+
+
+def _split(mesh: SurfaceMesh, s: np.ndarray, side: np.ndarray) -> _Split:
+    tri = mesh.triangles
+    m, n = len(tri), len(mesh.points)
+    crossing, order, abc = _straddling(side, tri)
+    is_whole = np.ones(m, bool)
+    is_whole[crossing] = False
+    a, b, c = abc[:, 0], abc[:, 1], abc[:, 2]
+    cut_points, on_ab, on_ca = _cut_points(mesh, s, abc)
+    corners = np.concatenate([mesh.points, cut_points])
+    x_ab, x_ca = n + on_ab, n + on_ca
+    nrm = np.take_along_axis(mesh.normals[crossing], order[:, :, None], axis=1)
+    na, nb, nc = nrm[:, 0], nrm[:, 1], nrm[:, 2]
+    t_ab = (s[a] / (s[a] - s[b]))[:, None]
+    t_ca = (s[a] / (s[a] - s[c]))[:, None]
+    n_ab = _unit(na + t_ab * (nb - na))
+    n_ca = _unit(na + t_ca * (nc - na))
+    k = len(crossing)
+    sub_tri = np.concatenate([np.column_stack([a, x_ab, x_ca]), np.column_stack([x_ab, b, c]),
+                              np.column_stack([x_ab, c, x_ca])])
+    sub_normals = np.concatenate([np.stack([na, n_ab, n_ca], axis=1),
+                                  np.stack([n_ab, nb, nc], axis=1),
+                                  np.stack([n_ab, nc, n_ca], axis=1)])
+    pts = corners[sub_tri]
+    sub_area = 0.5 * np.linalg.norm(np.cross(pts[:, 1] - pts[:, 0], pts[:, 2] - pts[:, 0]), axis=1)
+    return _Split(m + k, corners, np.flatnonzero(is_whole), crossing, side[a], sub_tri,
+                  sub_normals, np.tile(crossing, 3),
+                  np.concatenate([m + np.arange(k), crossing, crossing]), sub_area)
+
+
+def _parts(mesh: SurfaceMesh, split: _Split, region: MeshRegion, s: np.ndarray,
+           side: np.ndarray) -> np.ndarray | None:
+    """Per piece, and for the two nodes standing for the region's two faces (pieces, pieces
+    + 1), the label of the part of the surface it belongs to; None when both faces of the
+    region fall in one part (the cut does not separate the surface there)."""
+    m, pieces = len(mesh.triangles), split.pieces
+    upper = _piece_sides(mesh, split, s, side, region.normal)
+    on_plane = np.concatenate([np.abs(s) <= ON_PLANE,
+                               np.ones(len(split.corners) - len(mesh.points), bool)])
+    topo = topology(mesh)
+    is_whole = np.zeros(m, bool)
+    is_whole[split.whole] = True
+    # Triangles on one edge, unless both cross the plane: a crossing triangle meets a whole
+    # one on its edge that does not cross the plane, which the part away from its lone
+    # corner holds (piece number = triangle number).
+    kept = is_whole[topo.pairs[:, 0]] | is_whole[topo.pairs[:, 1]]
+    first, second = topo.pairs[kept, 0], topo.pairs[kept, 1]
+    i, j = topo.nodes[kept, 0], topo.nodes[kept, 1]
+    # Edges of the crossing triangles' parts, paired by their nodes (cut points included).
+    count = len(split.corners)
+    sub = split.sub_tri
+    e0 = np.concatenate([sub[:, [0, 1]], sub[:, [1, 2]], sub[:, [2, 0]]])
+    owner = np.tile(split.sub_piece, 3)
+    key = np.minimum(e0[:, 0], e0[:, 1]) * count + np.maximum(e0[:, 0], e0[:, 1])
+    order = np.argsort(key, kind="stable")
+    keys = key[order]
+    same = np.flatnonzero(keys[1:] == keys[:-1])
+    first = np.concatenate([first, owner[order[same]]])
+    second = np.concatenate([second, owner[order[same + 1]]])
+    i = np.concatenate([i, keys[same] // count])
+    j = np.concatenate([j, keys[same] % count])
+    # Edges lying in the plane inside the region are where the cut separates the surface,
+    # only where the surface passes from one side to the other: a face touching the plane
+    # from one side along the region's outline is not cut there.
     flat = on_plane[i] & on_plane[j]
-    middle = 0.5 * (corners[i[flat]] + corners[j[flat]]) - p
-    inside = np.zeros(len(edges), bool)
+    inside = np.zeros(len(first), bool)
     if flat.any():
+        middle = 0.5 * (split.corners[i[flat]] + split.corners[j[flat]]) - region.point
         grown = region.polygon.buffer(IN_REGION)
         shapely.prepare(grown)
         inside[flat] = shapely.intersects_xy(grown, middle @ region.u, middle @ region.v)
-    order = np.argsort(edges[:, 1], kind="stable")
-    keys = edges[order, 1]
-    first, second = edges[order[:-1], 0], edges[order[1:], 0]
-    same = keys[1:] == keys[:-1]
-    # Only where the surface passes from one side to the other: a face touching the plane
-    # from one side along the region's outline is not cut there.
-    cut = same & inside[order[1:]] & (upper[first] != upper[second])
-    joined = same & ~cut
+    cut = inside & (upper[first] != upper[second])
+    joined = ~cut
     # Both sides of the region are faces of the pieces it leaves: every part of the surface
     # it bounds from above is joined through it, and every part below (a pocket under the
     # cut is a separate part of the surface, joined to the rest only by the cut face).
@@ -245,56 +403,10 @@ def mesh_trial(mesh: SurfaceMesh, region: MeshRegion, direction: np.ndarray, thr
     cols = np.concatenate([second[joined], np.full(len(upper_piece), above_node),
                            np.full(len(lower_piece), below_node)])
     label = connected_labels(pieces + 2, rows, cols)
-    if label[above_node] == label[below_node]:
-        return None
-    pts = corners[tri_of]
-    area = 0.5 * np.linalg.norm(np.cross(pts[:, 1] - pts[:, 0], pts[:, 2] - pts[:, 0]), axis=1)
-    area = area * mesh.scale[split.source]
-    component = label[split.piece]
-    total_area = np.bincount(component, weights=area, minlength=label.max() + 1)
-    minimum = SLIVER_AREA * max(float(total_area.sum()), 1.0)
-    sides = {label[above_node]: True, label[below_node]: False}
-    if any(total_area[k] > minimum and k not in sides for k in range(len(total_area))):
-        return None  # a part of the surface bounded by neither side: not a solid's mesh
-    levels = corners @ direction
-    base = (mesh.planar[split.source] & (normals[:, 0] @ direction < -1.0 + PARALLEL_COS_SLACK)
-            & (np.abs(levels[tri_of].max(axis=1) - low) <= level_tolerance))
-    # As `support.lowest_level`, a part's lowest level is that of its vertices (the
-    # shape's; the cut's own are left out).
-    is_vertex = np.zeros(len(corners), bool)
-    is_vertex[mesh.vertices] = True
-    reach = np.full(len(total_area), np.inf)
-    np.minimum.at(reach, component, np.where(is_vertex[tri_of], levels[tri_of], np.inf).min(axis=1))
-    holds = np.zeros(len(total_area), bool)
-    holds[component[base]] = True
-    on_base = [k for k in sides if reach[k] <= low + level_tolerance and (holds[k] or not base.any())]
-    if len(on_base) != 1:
-        return None
-    keeper = on_base[0]
-    other = next(k for k in sides if k != keeper)
-    child = n if sides[other] else -n
-    if math.acos(float(np.clip(child @ direction, -1.0, 1.0))) < same_direction:
-        return None
-    if min_thickness > 0 and (_span(corners, tri_of[component == keeper], direction) < min_thickness
-                              or _span(corners, tri_of[component == other], child) < min_thickness):
-        return None
-    keeper_area = _overhang(area, normals, component == keeper, direction, threshold,
-                            keeper_factor[mesh.faces[split.source]])
-    if child @ direction < -threshold:
-        keeper_area += float(region.polygon.area)  # the kept piece's cut face
-    children = [(child, _overhang(area, normals, component == other, child, threshold, 1.0))]
-    return MeshTrial(keeper_area + sum(a for _, a in children), keeper_area, children)
+    return None if label[above_node] == label[below_node] else label
 
 
-def _span(corners: np.ndarray, triangles: np.ndarray, d: np.ndarray) -> float:
-    """Extent along `d` of the corners of `triangles` (0 for none)."""
-    if len(triangles) == 0:
-        return 0.0
-    levels = corners[triangles.ravel()] @ d
-    return float(levels.max() - levels.min())
-
-
-def _piece_sides(mesh: SurfaceMesh, split: "_Split", s: np.ndarray, side: np.ndarray,
+def _piece_sides(mesh: SurfaceMesh, split: _Split, s: np.ndarray, side: np.ndarray,
                  n: np.ndarray) -> np.ndarray:
     """Per piece, whether it lies above the plane. A triangle in the plane (on a planar face
     lying in it) counts on the side its material is."""
@@ -308,69 +420,6 @@ def _piece_sides(mesh: SurfaceMesh, split: "_Split", s: np.ndarray, side: np.nda
     upper[len(tri) + np.arange(k)] = split.lone_above
     upper[split.crossing] = ~split.lone_above
     return upper
-
-
-def _overhang(area, normals, mask, d, threshold, factor) -> float:
-    """Σ area where n·d < −threshold over the masked sub-triangles, n linear between the
-    corners and the triangle clipped at the limit (as `FacePart.below`)."""
-    from freecad_conformal.geometry.surface_mesh import below_fraction
-
-    weights = area[mask] * below_fraction(normals[mask] @ d + threshold)
-    if not np.isscalar(factor):
-        weights = weights * factor[mask]
-    return float(weights.sum())
-
-
-@dataclass
-class _Split:
-    """The mesh's triangles split at the plane: `corners` (nodes, then cut points), sub-
-    triangles `tri_of` (K, 3) into them with corner `normals` (K, 3, 3), the source
-    triangle and the piece each belongs to (a triangle on one side is one piece; a crossing
-    one is two), and `edges` [(piece, edge key)] for joining pieces."""
-
-    pieces: int
-    corners: np.ndarray
-    normals: np.ndarray
-    tri_of: np.ndarray
-    edges: np.ndarray
-    source: np.ndarray
-    piece: np.ndarray
-    whole: np.ndarray
-    crossing: np.ndarray
-    lone_above: np.ndarray
-
-
-def _split(mesh: SurfaceMesh, s: np.ndarray, side: np.ndarray) -> _Split:
-    tri = mesh.triangles
-    m, n = len(tri), len(mesh.points)
-    crossing, order, abc = _straddling(side, tri)
-    whole = np.ones(m, bool)
-    whole[crossing] = False
-    a, b, c = abc[:, 0], abc[:, 1], abc[:, 2]
-    cut_points, on_ab, on_ca = _cut_points(mesh, s, abc)
-    corners = np.concatenate([mesh.points, cut_points])
-    x_ab, x_ca = n + on_ab, n + on_ca
-    nrm = np.take_along_axis(mesh.normals[crossing], order[:, :, None], axis=1)
-    na, nb, nc = nrm[:, 0], nrm[:, 1], nrm[:, 2]
-    t_ab = (s[a] / (s[a] - s[b]))[:, None]
-    t_ca = (s[a] / (s[a] - s[c]))[:, None]
-    n_ab = _unit(na + t_ab * (nb - na))
-    n_ca = _unit(na + t_ca * (nc - na))
-    k = len(crossing)
-    lone_piece = m + np.arange(k)
-    tri_of = np.concatenate([tri[whole], np.column_stack([a, x_ab, x_ca]),
-                             np.column_stack([x_ab, b, c]), np.column_stack([x_ab, c, x_ca])])
-    normals = np.concatenate([mesh.normals[whole], np.stack([na, n_ab, n_ca], axis=1),
-                              np.stack([n_ab, nb, nc], axis=1), np.stack([n_ab, nc, n_ca], axis=1)])
-    source = np.concatenate([np.nonzero(whole)[0], crossing, crossing, crossing])
-    piece = np.concatenate([np.nonzero(whole)[0], lone_piece, crossing, crossing])
-    count = len(corners)
-    e0 = np.concatenate([tri_of[:, [0, 1]], tri_of[:, [1, 2]], tri_of[:, [2, 0]]])
-    owner = np.concatenate([piece, piece, piece])
-    key = np.minimum(e0[:, 0], e0[:, 1]) * count + np.maximum(e0[:, 0], e0[:, 1])
-    edges = np.column_stack([owner, key])
-    return _Split(m + k, corners, normals, tri_of, edges, source, piece, np.nonzero(whole)[0],
-                  crossing, side[a])
 
 
 def _unit(v: np.ndarray) -> np.ndarray:

@@ -10,7 +10,7 @@ copies; when the triangulation is found broken anyway, a fresh copy is meshed wh
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -48,6 +48,8 @@ class SurfaceMesh:
     scale: np.ndarray
     deflection: float
     vertices: np.ndarray
+    #: what users of the mesh derive from it once (decomposition/mesh_topology.py)
+    derived: dict = field(default_factory=dict, repr=False, compare=False)
 
 
 _MESHES: ShapeCache[SurfaceMesh | None] = ShapeCache(limit=256, oriented=True)

@@ -153,3 +153,29 @@ def test_splits_occ_leaves_undone_are_made_with_a_little_fuzz(parts_dir):
         assert sum(p.Volume for p in pieces) == pytest.approx(arm.Volume, rel=1e-4)
         if occ_version() < THREAD_POOL_OCC:          # OCCT 7.6's failure the fuzz works around
             assert sum(p.Volume for p in unfuzzed.Solids) < 0.9 * arm.Volume
+
+
+def test_a_meshs_trial_topology_pairs_every_edge_once_and_follows_the_keeper_factor():
+    """What the trials share is made once per mesh: every edge of the closed mesh joins
+    its two triangles once; the per-direction values are kept for one keeper factor and
+    made again for another (a stale one would read a base face's overhang wrongly)."""
+    from freecad_conformal.decomposition.mesh_topology import along, topology
+
+    solid = samples.SAMPLES["bracket"]()
+    mesh = surface_mesh(solid)
+    topo = topology(mesh)
+    assert topology(mesh) is topo
+    triangles = len(mesh.triangles)
+    assert len(topo.pairs) == 3 * triangles // 2
+    assert np.array_equal(np.bincount(topo.pairs.ravel(), minlength=triangles),
+                          np.full(triangles, 3))
+    for (t, u), (i, j) in zip(topo.pairs, topo.nodes):
+        assert {i, j} <= set(mesh.triangles[t]) and {i, j} <= set(mesh.triangles[u])
+    d, threshold = np.array([0.0, 0.0, 1.0]), math.sin(ANGLE)
+    ones = np.ones(len(solid.Faces))
+    halves = np.full(len(solid.Faces), 0.5)
+    full = along(mesh, d, threshold, ones, 0.0, 1e-4)
+    assert along(mesh, d, threshold, ones, 0.0, 1e-4) is full
+    half = along(mesh, d, threshold, halves, 0.0, 1e-4)
+    assert full.keeper_overhang.sum() > 0
+    np.testing.assert_allclose(half.keeper_overhang, 0.5 * full.keeper_overhang)
