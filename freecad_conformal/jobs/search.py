@@ -54,9 +54,9 @@ COARSE_EVERY = 3
 COARSE_MARGIN = 0.03
 #: Coarse candidates all behind an exactly costed one of tied overhang by more than this
 #: (the same units) are not sliced: none can win. The sampled estimate overstates the exact
-#: time and material by 2.7 % and 2.3 % at most (the wedge; 22 whole orientations of the
-#: shared parts, the samples and the own parts measured), so even both at once (the
-#: balanced score) stay within it. It understates more (8.4 % of the time on branch45,
+#: time and material by 2.7 % and 2.3 % at most (the wedge; every whole orientation of
+#: the shared parts, the samples and the own parts costed both ways), so even both at once
+#: (the balanced score) stay within it. It understates more (8.4 % of the time on branch45,
 #: whose exact layers are 3-D), which only widens the gap.
 EXACT_LEAD = 0.06
 
