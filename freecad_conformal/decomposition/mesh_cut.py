@@ -296,7 +296,7 @@ def _span(mesh: SurfaceMesh, split: "_Split", mask: np.ndarray, d: np.ndarray) -
                               split.sub_tri[mask[whole_count:]].ravel()])
     if not len(corners):
         return 0.0
-    levels = split.corners[corners] @ d
+    levels = (split.corners @ d)[corners]   # a level per node, then gathered: the same values
     return float(levels.max() - levels.min())
 
 
@@ -413,9 +413,11 @@ def _piece_sides(mesh: SurfaceMesh, split: _Split, s: np.ndarray, side: np.ndarr
     tri = mesh.triangles
     upper = np.zeros(split.pieces, bool)
     whole = split.whole
-    upper[whole] = side[tri[whole]].all(axis=1)
-    flat = np.abs(s[tri[whole]]).max(axis=1) <= ON_PLANE
-    upper[whole[flat]] = mesh.normals[whole[flat], 0] @ n < 0
+    upper[whole] = side[tri[whole, 0]]      # a whole triangle's corners are on one side
+    on_plane = np.abs(s) <= ON_PLANE
+    if on_plane.any():
+        flat = whole[on_plane[tri[whole]].all(axis=1)]
+        upper[flat] = mesh.normals[flat, 0] @ n < 0
     k = len(split.crossing)
     upper[len(tri) + np.arange(k)] = split.lone_above
     upper[split.crossing] = ~split.lone_above
