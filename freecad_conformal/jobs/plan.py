@@ -395,15 +395,13 @@ def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
                  for sub in plan.ordered()
                  if layers[sub.index]]
     plan.notes.extend(notes)
-    from freecad_conformal.jobs.search import compared
-
-    if not compared(candidates):
-        # One build, compared with none: its cost was never estimated, and its rows carry
-        # the plan's own time and material.
-        figures = (seconds, float(sum(s.material for s in summaries)))
-        rows = [c.row(chosen=c.plan is plan, figures=figures) for c in candidates]
-    else:
-        rows = [c.row(chosen=c.plan is plan) for c in candidates]
+    # A chosen plan whose cost the choice never read (compared with none, or the one exact
+    # candidate of least overhang) reports its own time and material, as do its twins.
+    chosen_cost = next((c.cost for c in candidates if c.plan is plan), None)
+    figures = (seconds, float(sum(s.material for s in summaries)))
+    rows = [c.row(chosen=c.plan is plan,
+                  figures=figures if c.cost is chosen_cost and not c.costed else None)
+            for c in candidates]
     return JobResult(part=part, plan=plan, layers=layers, assembly=assembly, post=post,
                      machine=machine, tool_id=tool.id, material_name=material_name,
                      bead_width=width, time_s=seconds, subparts=summaries,

@@ -97,8 +97,12 @@ def _candidate_lines(result) -> list[str]:
         return []
     chosen = [row for row in result.candidates if row["chosen"]]
     others = [row for row in result.candidates if not row["chosen"]][:OTHERS_SHOWN]
+    # The chosen plan's row carries its own figures when the choice did not need its
+    # estimate (jobs/search.CostWhenRead).
+    basis = ("the chosen plan's as planned, the others' estimated before paths"
+             if any(row["estimate"] == "plan" for row in chosen) else "estimated before paths")
     lines = ["", f"plans compared: {len(result.candidates)}, least residual overhang first, then "
-             f"the {result.objective} objective (time and material estimated before paths)",
+             f"the {result.objective} objective (time and material {basis})",
              f"   {'plan':<34} {'sub-parts':>9} {'overhang mm2':>12} {'cm3':>8} {'time':>8}"]
     for mark, row in [("*", r) for r in chosen] + [(" ", r) for r in others]:
         lines.append(f" {mark} {row['label'][:34]:<34} {row['sub_parts']:>9} "

@@ -71,6 +71,11 @@ class CostWhenRead:
         self._args = (plan, layers, path_settings, motion)
         self._cost: PlanCost | None = None
 
+    @property
+    def known(self) -> bool:
+        """Whether the cost was computed (read) already."""
+        return self._cost is not None
+
     def __getattr__(self, name: str):
         if name.startswith("_"):
             raise AttributeError(name)
@@ -96,6 +101,11 @@ class Candidate:
     @property
     def overhang(self) -> float:
         return float(self.plan.support_area)
+
+    @property
+    def costed(self) -> bool:
+        """Whether its cost is known (a `CostWhenRead` not read yet is not)."""
+        return not isinstance(self.cost, CostWhenRead) or self.cost.known
 
     @property
     def sub_parts(self) -> int:
@@ -131,6 +141,20 @@ def ranked(candidates: list[Candidate], objective: str) -> list[Candidate]:
     if not compared(candidates):
         return list(candidates)   # their cost is not read (CostWhenRead)
     least = min(c.overhang for c in candidates)
+    exact = [c for c in candidates if c.exact and c.overhang <= least + OVERHANG_TIE]
+    if len(exact) == 1 and not exact[0].costed:
+        # The one exactly costed plan of least overhang wins whatever it costs (a coarse
+        # estimate never outranks it): its cost is not read, the others are ranked among
+        # themselves (the sliced cylinder's refined orientation: 0.5 s of its choice).
+        return exact + _by_score([c for c in candidates if c is not exact[0]], least, objective)
+    return _by_score(candidates, least, objective)
+
+
+def _by_score(candidates: list[Candidate], least: float, objective: str) -> list[Candidate]:
+    """`candidates` sorted: overhang within OVERHANG_TIE of `least` first, exact costs before
+    coarse ones, then by the objective among them."""
+    if not candidates:
+        return []
     value = _objective(candidates, objective)
 
     def score(c: Candidate) -> tuple[bool, bool, float, float]:

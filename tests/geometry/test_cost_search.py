@@ -178,6 +178,35 @@ def test_twin_candidates_compare_nothing():
     assert search.compared(twins[:1] + [cheaper])
 
 
+def test_the_one_exact_plan_of_least_overhang_wins_without_its_cost_being_read():
+    """A coarse estimate never outranks an exact cost: the one exactly costed candidate of
+    least overhang wins unread (CostWhenRead), the others are ranked among themselves; two
+    exact ones are compared by their costs."""
+    from freecad_conformal.jobs import search
+
+    class Unread(search.CostWhenRead):
+        def __init__(self):
+            super().__init__(None, {}, None, None)
+
+        def __getattr__(self, name):
+            raise AssertionError(f"the cost was read ({name})")
+
+    def coarse(label, seconds, overhang=0.0):
+        option = _option(label, seconds, 10.0, overhang, exact=False)
+        option.costed = True
+        return option
+
+    refined = search.Candidate("refined", None, SimpleNamespace(support_area=0.0), {}, Unread())
+    assert not refined.costed
+    slow, fast, steep = coarse("slow", 90.0), coarse("fast", 60.0), coarse("steep", 10.0, 5.0)
+    order = search.ranked([slow, steep, refined, fast], "balanced")
+    assert [c.label for c in order] == ["refined", "fast", "slow", "steep"]
+    other = _option("other exact", 80.0, 10.0)
+    other.costed = True
+    with pytest.raises(AssertionError, match="the cost was read"):
+        search.ranked([slow, refined, other], "balanced")
+
+
 @pytest.mark.slow
 def test_a_root_given_is_kept_without_a_search():
     result = plan_job(samples.t_block(), PlanOptions(root=(0.0, 0.0, 1.0)), part="t")
