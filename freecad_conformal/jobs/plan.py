@@ -16,6 +16,7 @@ import numpy as np
 
 from freecad_conformal.errors import KinematicsError, PlanError
 from freecad_conformal.fileio import write_all
+from freecad_conformal.geometry.shape_cache import ShapeCache
 from freecad_conformal.paths.bead import bead_area
 from freecad_conformal.paths.assemble import Assembly, PathSettings, assemble
 from freecad_conformal.paths.timing import DEFAULT_JERK, estimate_time
@@ -220,11 +221,27 @@ def _platform_centre(machine: Machine) -> np.ndarray:
     return np.array([0.5 * sum(limits.get(name, (0.0, 0.0))) for name in ("X", "Y")])
 
 
+#: The centred copies made of each part, by shape identity and machine travel: each
+#: candidate plan of a part is placed again, and one copy shares its faces' meshes and
+#: measures across them (`placement.turn_up` keeps one turned copy of it in turn).
+_CENTRED: ShapeCache[dict] = ShapeCache(limit=32, oriented=True)
+
+
 def centred_if_off_platform(shape, machine: Machine):
     """(shape, note): a part that could leave the machine's X/Y travel once turned to be
     built (its bounding sphere, about which the layout turns it, reaches outside) is moved
     over the platform's centre (a note says by how much); any other part is left as placed.
-    The Pump_Nut, modelled at y 263..278 and 60 mm tall, reached y = 300.3 on its side."""
+    The Pump_Nut, modelled at y 263..278 and 60 mm tall, reached y = 300.3 on its side.
+    The same part on the same travel gets the same copy."""
+    made = _CENTRED.get((shape,), dict)
+    key = (tuple((axis.name, tuple(axis.limits)) for axis in machine.linear),
+           tuple(_platform_centre(machine)))
+    if key not in made:
+        made[key] = _centred(shape, machine)
+    return made[key]
+
+
+def _centred(shape, machine: Machine):
     limits = {axis.name: axis.limits for axis in machine.linear}
     box = shape.BoundBox
     radius = 0.5 * box.DiagonalLength

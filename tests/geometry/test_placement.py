@@ -23,6 +23,30 @@ def test_turn_up_puts_the_direction_along_z():
     assert not still.turned and same.BoundBox.ZMax == pytest.approx(jack.BoundBox.ZMax)
 
 
+def test_every_candidate_plan_of_a_part_places_the_same_copy(App):
+    """Each candidate plan places the part again: one copy per part and placement, so that
+    what was meshed and measured of its faces for one candidate serves the next (a fresh
+    copy each time re-meshed Pump_Nut's 17 curved faces for its whole twin). A copy, never
+    the part itself, and never moved in place."""
+    from freecad_conformal.jobs.plan import centred_if_off_platform
+
+    jack = samples.jack()
+    box = jack.BoundBox
+    turned, _ = turn_up(jack, (0.0, 0.0, -1.0))
+    again, _ = turn_up(jack, (0.0, 0.0, -1.0))
+    upright, _ = turn_up(jack, (0.0, 0.0, 1.0))
+    assert again is turned and upright is not turned and upright is not jack
+    assert turn_up(jack.copy(), (0.0, 0.0, -1.0))[0] is not turned
+    far = jack.copy()
+    far.translate(App.Vector(900, 0, 0))
+    machine = load_machine("trunnion_ac")
+    centred, note = centred_if_off_platform(far, machine)
+    assert note is not None and centred is not far
+    assert centred_if_off_platform(far, machine)[0] is centred
+    assert far.BoundBox.XMin == pytest.approx(box.XMin + 900)     # neither moved in place
+    assert jack.BoundBox.ZMin == pytest.approx(box.ZMin) and jack.BoundBox.ZMax == pytest.approx(box.ZMax)
+
+
 @pytest.mark.slow
 def test_the_hinge_is_turned_until_the_trunnion_reaches_every_sub_part():
     """As modelled its lugs need the tool along −Z (A = 180°, beyond ±120°). A decomposition
