@@ -19,7 +19,7 @@ import numpy as np
 import shapely
 from shapely.geometry import LineString, Polygon
 
-from freecad_conformal.decomposition.mesh_topology import along, topology
+from freecad_conformal.decomposition.mesh_topology import along, paired_edges, topology
 from freecad_conformal.geometry.components import connected_labels
 from freecad_conformal.geometry.surface_mesh import SurfaceMesh, below_fraction
 from freecad_conformal.tolerances import PARALLEL_COS_SLACK
@@ -77,7 +77,7 @@ class MeshTrial:
 def mesh_overhang(mesh: SurfaceMesh, direction: np.ndarray, threshold: float,
                   factor: np.ndarray) -> float:
     """The uncut mesh's overhang in `direction` (as a trial reads it, for comparing)."""
-    area = _areas(mesh)
+    area = topology(mesh).area
     return _overhang(area, mesh.normals, np.ones(len(area), bool), direction, threshold,
                      factor[mesh.faces])
 
@@ -101,7 +101,7 @@ def mesh_regions(mesh: SurfaceMesh, point: np.ndarray, normal: np.ndarray,
     below = _section(mesh, s + SECTION_OFFSET, point, u, v)
     inside = above.intersection(below)
     polygons = [g for g in getattr(inside, "geoms", [inside]) if isinstance(g, Polygon)]
-    minimum = SLIVER_AREA * max(float(np.sum(_areas(mesh))), 1.0)
+    minimum = SLIVER_AREA * max(float(np.sum(topology(mesh).area)), 1.0)
     regions = []
     for polygon in polygons:
         if polygon.area <= minimum:
@@ -123,11 +123,6 @@ def _line(points: np.ndarray, origin: np.ndarray, u: np.ndarray, v: np.ndarray):
     rel = points - origin
     xy = np.column_stack([rel @ u, rel @ v])
     return LineString(xy) if len(xy) > 1 else shapely.Point(xy[0])
-
-
-def _areas(mesh: SurfaceMesh) -> np.ndarray:
-    a, b, c = (mesh.points[mesh.triangles[:, k]] for k in range(3))
-    return 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1) * mesh.scale
 
 
 def _straddling(side: np.ndarray, triangles: np.ndarray):
@@ -369,18 +364,11 @@ def _parts(mesh: SurfaceMesh, split: _Split, region: MeshRegion, s: np.ndarray,
     first, second = topo.pairs[kept, 0], topo.pairs[kept, 1]
     i, j = topo.nodes[kept, 0], topo.nodes[kept, 1]
     # Edges of the crossing triangles' parts, paired by their nodes (cut points included).
-    count = len(split.corners)
-    sub = split.sub_tri
-    e0 = np.concatenate([sub[:, [0, 1]], sub[:, [1, 2]], sub[:, [2, 0]]])
-    owner = np.tile(split.sub_piece, 3)
-    key = np.minimum(e0[:, 0], e0[:, 1]) * count + np.maximum(e0[:, 0], e0[:, 1])
-    order = np.argsort(key, kind="stable")
-    keys = key[order]
-    same = np.flatnonzero(keys[1:] == keys[:-1])
-    first = np.concatenate([first, owner[order[same]]])
-    second = np.concatenate([second, owner[order[same + 1]]])
-    i = np.concatenate([i, keys[same] // count])
-    j = np.concatenate([j, keys[same] % count])
+    sub_pairs, sub_nodes = paired_edges(split.sub_tri, split.sub_piece, len(split.corners))
+    first = np.concatenate([first, sub_pairs[:, 0]])
+    second = np.concatenate([second, sub_pairs[:, 1]])
+    i = np.concatenate([i, sub_nodes[:, 0]])
+    j = np.concatenate([j, sub_nodes[:, 1]])
     # Edges lying in the plane inside the region are where the cut separates the surface,
     # only where the surface passes from one side to the other: a face touching the plane
     # from one side along the region's outline is not cut there.

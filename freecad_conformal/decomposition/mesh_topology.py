@@ -43,17 +43,25 @@ def topology(mesh: SurfaceMesh) -> Topology:
     return known
 
 
-def _topology(mesh: SurfaceMesh) -> Topology:
-    t = mesh.triangles
-    m, n = len(t), len(mesh.points)
-    e0 = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
-    owner = np.tile(np.arange(m), 3)
-    key = np.minimum(e0[:, 0], e0[:, 1]) * n + np.maximum(e0[:, 0], e0[:, 1])
+def paired_edges(triangles: np.ndarray, owner: np.ndarray,
+                 count: int) -> tuple[np.ndarray, np.ndarray]:
+    """(pairs (P, 2) of the owners of two triangles sharing an edge, that edge's nodes (P, 2))
+    for `triangles` (K, 3) into `count` nodes, each owned by `owner[k]`; an edge on one
+    triangle only pairs with none."""
+    e0 = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
+    owners = np.tile(owner, 3)
+    key = np.minimum(e0[:, 0], e0[:, 1]) * count + np.maximum(e0[:, 0], e0[:, 1])
     order = np.argsort(key, kind="stable")
     keys = key[order]
     same = np.flatnonzero(keys[1:] == keys[:-1])
-    pairs = np.column_stack([owner[order[same]], owner[order[same + 1]]])
-    nodes = np.column_stack([keys[same] // n, keys[same] % n])
+    return (np.column_stack([owners[order[same]], owners[order[same + 1]]]),
+            np.column_stack([keys[same] // count, keys[same] % count]))
+
+
+def _topology(mesh: SurfaceMesh) -> Topology:
+    t = mesh.triangles
+    m, n = len(t), len(mesh.points)
+    pairs, nodes = paired_edges(t, np.arange(m), n)
     a, b, c = (mesh.points[t[:, k]] for k in range(3))
     area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1) * mesh.scale
     is_vertex = np.zeros(n, bool)
