@@ -39,6 +39,14 @@ class ShapeCache(Generic[Value]):
         self._count += 1
         return value
 
+    def get_keyed(self, shapes: tuple, key, compute: Callable[[], object]):
+        """The value for these shapes and a hashable `key` (a direction, a machine's
+        travel), computed once: `get` of a dict of values by key."""
+        made = self.get(shapes, dict)
+        if key not in made:
+            made[key] = compute()
+        return made[key]
+
     def peek(self, shapes: tuple) -> Value | None:
         """The value cached for these shapes, None when there is none (nothing computed)."""
         key = tuple(shape.hashCode() for shape in shapes)

@@ -65,13 +65,15 @@ def turn_up(shape, up) -> tuple[object, Placement]:
     same shape and direction: nothing moves a placed shape in place)."""
     App, _ = import_freecad()
     axis, angle = rotation_to(up)
-    made = _TURNED.get((shape,), dict)
-    key = tuple(float(c) for c in up)
-    if key not in made:
-        turned = made[key] = shape.copy()
+
+    def turned():
+        copy = shape.copy()
         if angle > 0.0:
-            turned.rotate(App.Vector(0, 0, 0), App.Vector(*axis), math.degrees(angle))
-    return made[key], Placement(np.asarray(up, dtype=float), axis, float(angle))
+            copy.rotate(App.Vector(0, 0, 0), App.Vector(*axis), math.degrees(angle))
+        return copy
+
+    return (_TURNED.get_keyed((shape,), tuple(float(c) for c in up), turned),
+            Placement(np.asarray(up, dtype=float), axis, float(angle)))
 
 
 def reachable_plan(shape, decompose: Callable[[object, Placement], BuildPlan],

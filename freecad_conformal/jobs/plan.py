@@ -233,12 +233,9 @@ def centred_if_off_platform(shape, machine: Machine):
     over the platform's centre (a note says by how much); any other part is left as placed.
     The Pump_Nut, modelled at y 263..278 and 60 mm tall, reached y = 300.3 on its side.
     The same part on the same travel gets the same copy."""
-    made = _CENTRED.get((shape,), dict)
-    key = (tuple((axis.name, tuple(axis.limits)) for axis in machine.linear),
-           tuple(_platform_centre(machine)))
-    if key not in made:
-        made[key] = _centred(shape, machine)
-    return made[key]
+    travel = (tuple((axis.name, tuple(axis.limits)) for axis in machine.linear),
+              tuple(_platform_centre(machine)))
+    return _CENTRED.get_keyed((shape,), travel, lambda: _centred(shape, machine))
 
 
 def _centred(shape, machine: Machine):

@@ -333,6 +333,12 @@ def _coarse(label: str, placed, plan: BuildPlan, layer_settings, path_settings: 
     return Candidate(label, placed, plan, {}, estimate, False, exact=False)
 
 
+def _unit(objective: str, best: float) -> float:
+    """What a margin on the objective's score is a share of: the best time or material, as
+    the balanced score (a sum of such shares) counts them."""
+    return 1.0 if objective == "balanced" else (best or 1.0)
+
+
 def _behind_exact(contenders: list[Candidate], candidates: list[Candidate], least: float,
                   objective: str) -> bool:
     """Whether every coarse contender's score is more than EXACT_LEAD behind that of an
@@ -342,8 +348,7 @@ def _behind_exact(contenders: list[Candidate], candidates: list[Candidate], leas
         return False
     value = _objective(contenders + rivals, objective)
     best = min(value(c) for c in rivals)
-    unit = 1.0 if objective == "balanced" else (best or 1.0)
-    return min(value(c) for c in contenders) > best + EXACT_LEAD * unit
+    return min(value(c) for c in contenders) > best + EXACT_LEAD * _unit(objective, best)
 
 
 def _refined(candidates: list[Candidate], layer_settings, path_settings: PathSettings,
@@ -369,8 +374,7 @@ def _refined(candidates: list[Candidate], layer_settings, path_settings: PathSet
         return candidates
     value = _objective(contenders, objective)
     best = min(value(c) for c in contenders)
-    # In shares of the best time or material, as the balanced score counts them.
-    unit = 1.0 if objective == "balanced" else (best or 1.0)
+    unit = _unit(objective, best)
     replaced: dict[int, Candidate | None] = {}
     lost: list[str] = []
     for c in sorted(contenders, key=value):
