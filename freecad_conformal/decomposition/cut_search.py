@@ -96,7 +96,8 @@ INSIDE_REGION = 1e-6
 def _mesh_trial(piece, mesh, region, angle: float, search: CutSearch):
     return mesh_trial(mesh, region, piece.direction, math.sin(angle),
                       _keeper_factor(piece, angle, search), lowest_level(piece.shape, piece.direction),
-                      search.level_tolerance, search.same_direction, search.min_thickness)
+                      search.level_tolerance, search.same_direction, search.min_thickness,
+                      on_bed=not piece.base_faces)
 
 
 def _keeper_factor(piece, angle: float, search: CutSearch) -> np.ndarray:

@@ -190,20 +190,26 @@ def _section(mesh: SurfaceMesh, s: np.ndarray, origin, u, v):
 
 def mesh_trial(mesh: SurfaceMesh, region: MeshRegion, direction: np.ndarray, threshold: float,
                keeper_factor: np.ndarray, low: float, level_tolerance: float,
-               same_direction: float, min_thickness: float = 0.0) -> MeshTrial | None:
+               same_direction: float, min_thickness: float = 0.0,
+               on_bed: bool = False) -> MeshTrial | None:
     """The overhang left by cutting the mesh along `region`, or None when the cut does not
     leave one piece on the base and children built away from it.
 
     Args:
         direction: the piece's build direction; the kept piece is the one part with a vertex
-            at its lowest level `low` (within `level_tolerance`) and, if the piece has
-            planar faces there facing down, one of them.
+            at its lowest level `low` (within `level_tolerance`) and, unless the piece
+            stands on the bed, holding one of its planar faces there facing down, if it has
+            any.
         threshold: sin of the allowed overhang angle.
         keeper_factor: per face of the piece, the share of its overhang the piece has in
             `direction` (below 1 where a planar face rests on the bed or the base).
         same_direction: children built within this angle (rad) of `direction` are no use.
         min_thickness: a piece spanning less (mm) along its build direction is a sliver:
             no use either (as `planner.try_cut` judges the exact cut).
+        on_bed: the piece stands on the bed (a root), where any part reaching the bed's
+            level is on it, by a face or an edge alike (as `planner.try_cut` judges it: a
+            part touching the bed along an edge cannot be built later from a cut face,
+            the nozzle beside it would meet the platform).
     """
     p, n = region.point, region.normal
     s = (mesh.points - p) @ n
@@ -247,7 +253,16 @@ def mesh_trial(mesh: SurfaceMesh, region: MeshRegion, direction: np.ndarray, thr
     holds[label[base_whole]] = True
     holds[label[split.sub_piece[sub_base]]] = True
     any_base = len(base_whole) > 0 or bool(sub_base.any())
-    on_base = [k for k in sides if reach[k] <= low + level_tolerance and (holds[k] or not any_base)]
+    at_level = {k: bool(reach[k] <= low + level_tolerance) for k in sides}
+    if on_bed:
+        # The exact cut gives both parts the cut face's own vertices: where it reaches the
+        # bed (a ramp cut off at its foot), or where a part holds some of the bed face
+        # though none of the solid's vertices (half of a round foot), the part is on it.
+        if float((region.boundary_points() @ direction).min()) <= low + level_tolerance:
+            return None
+        on_base = [k for k in sides if at_level[k] or holds[k]]
+    else:
+        on_base = [k for k in sides if at_level[k] and (holds[k] or not any_base)]
     if len(on_base) != 1:
         return None
     keeper = on_base[0]

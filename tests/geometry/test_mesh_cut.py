@@ -30,6 +30,19 @@ def _holed_column(App, Part):
     return plate.fuse(column).removeSplitter().cut(hole).Solids[0]
 
 
+def _edge_foot(App, Part, away: bool = False):
+    """A block on the bed with a ramp on its side whose lowest edge lies on the bed, at the
+    block (`away` False) or 10 mm from it below a V: cut off at the block's face, the ramp
+    reaches the bed along an edge only. On the bed that makes two pieces standing there (the
+    ramp could not be built later from the cut face, the nozzle beside its foot would meet
+    the platform), by the mesh's rule as by the exact one."""
+    block = Part.makeBox(20, 20, 30)
+    feet = [(20, 10), (30, 0)] if away else [(20, 0)]
+    outline = [App.Vector(x, 0, z) for x, z in feet + [(45, 15), (45, 20), (20, 20), feet[0]]]
+    ramp = Part.Face(Part.makePolygon(outline)).extrude(App.Vector(0, 20, 0))
+    return block.fuse(ramp).removeSplitter().Solids[0]
+
+
 def _trials(solid, direction):
     """(mesh trial, exact trial) for every region of every splitting-face plane."""
     piece = planner.Piece(solid, np.asarray(direction, float), [], 0, "root",
@@ -62,10 +75,13 @@ def _assert_agree(pairs, relative):
                 np.testing.assert_allclose(direction, child.direction, atol=1e-12)
 
 
-@pytest.mark.parametrize("name", ["l_block", "t_block", "hinge", "holed_column"])
+@pytest.mark.parametrize("name", ["l_block", "t_block", "hinge", "holed_column", "edge_foot",
+                                  "edge_foot_away"])
 @pytest.mark.parametrize("direction", [(0, 0, 1), (-1, 0, 0), (0, 1, 0)])
 def test_mesh_trials_leave_the_overhang_exact_cuts_leave(name, direction, App, Part):
-    solid = _holed_column(App, Part) if name == "holed_column" else samples.SAMPLES[name]()
+    made = {"holed_column": _holed_column, "edge_foot": _edge_foot,
+            "edge_foot_away": lambda App, Part: _edge_foot(App, Part, away=True)}
+    solid = made[name](App, Part) if name in made else samples.SAMPLES[name]()
     # Planar faces are read exactly; the hole's cylinder from its mesh (as the exact
     # report reads it, on another triangulation).
     _assert_agree(_trials(solid, direction), relative=1e-4 if name == "holed_column" else 1e-9)
