@@ -7,10 +7,11 @@ plane halfway between its two, which nothing later reads: a third of the stack's
 finds them, and come back at the end.
 
 The worker is forked where OCC survives it, else started from a fork server with the
-solids as BREP text (`section_pool.start_method`); inside FreeCAD, in a daemonic process
-or for small stacks the planes are cut here, at the end. Either way each section passes
-through BREP text, so the regions (and the G-code) do not depend on where they were cut;
-its area and centroid travel with it (not integrated again).
+solids in OCC's binary format (`section_pool.start_method`); inside FreeCAD, in a daemonic
+process or for small stacks the planes are cut here, at the end. The worker's sections come
+back in that format, bit for bit (geometry/occ_binary.py), so the regions (and the G-code)
+do not depend on where they were cut; their area and centroid travel with them (not
+integrated again).
 """
 from __future__ import annotations
 
@@ -20,16 +21,17 @@ import numpy as np
 
 from freecad_conformal.geometry import section_pool
 from freecad_conformal.geometry.frames import LayerFrame
+from freecad_conformal.geometry.occ_binary import faces_from_binary, faces_to_binary
 from freecad_conformal.geometry.sections import PlanarSection, PlanarSlicer
 
 
 def _section(slicer: PlanarSlicer, point: np.ndarray, normal: np.ndarray) -> tuple:
-    """One plane's section as (height, its faces as one BREP text, area, centroid): what
+    """One plane's section as (height, its faces, area, centroid): what
     `PlaneStream.results` rebuilds it from, wherever it was cut."""
     turned = slicer.turned(normal)
     height = float(point @ turned.frame.n)
     section = turned.section(height)
-    return height, section_pool.faces_as_brep(section.faces), section.area, section.centroid
+    return height, section.faces, section.area, section.centroid
 
 
 def _worker(jobs, results, source) -> None:
@@ -39,7 +41,8 @@ def _worker(jobs, results, source) -> None:
         slicer = source if isinstance(source, PlanarSlicer) else section_pool.slicer_from(source)
         while (job := jobs.get()) is not None:
             index, point, normal = job
-            results.put((index, _section(slicer, point, normal)))
+            height, faces, area, centroid = _section(slicer, point, normal)
+            results.put((index, (height, faces_to_binary(faces), area, centroid)))
         results.put((None, None))
     except BaseException as exc:  # noqa: BLE001 - reported to the parent, which raises it
         results.put((None, f"{type(exc).__name__}: {exc}"))
@@ -79,11 +82,12 @@ class PlaneStream:
             cut = [_section(self._slicer, *plane) for plane in self._planes]
         else:
             self._jobs.put(None)
-            cut = self._collect()
+            cut = [(height, faces_from_binary(data), area, centroid)
+                   for height, data, area, centroid in self._collect()]
         return [PlanarSection(height=height, frame=LayerFrame.for_direction(normal),
-                              faces=section_pool.faces_from_brep(text), area=area,
+                              faces=list(faces), area=area,
                               centroid=centroid, chord_tolerance=self._slicer.chord_tolerance)
-                for (_, normal), (height, text, area, centroid) in zip(self._planes, cut)]
+                for (_, normal), (height, faces, area, centroid) in zip(self._planes, cut)]
 
     def _collect(self) -> list:
         found: dict[int, tuple] = {}

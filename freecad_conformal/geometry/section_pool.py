@@ -6,10 +6,11 @@ so threads do not help; processes do. With OCCT before 7.8 (FreeCAD 0.20) worker
 after the slicer is built, so they inherit the validated solids without re-reading the file.
 OCCT 7.8 (FreeCAD 1.0) runs Booleans on a thread pool whose threads do not survive `fork`
 (a forked worker deadlocks), so there workers come from a fork server started clean, and
-each builds the slicer once from its solids' BREP text. Workers send back each job's
-section faces as BREP text, OCC's own lossless format. This process cuts too: it takes jobs
-from the same shared counter as the workers, so N cores need N − 1 workers, the jobs it
-takes need no BREP round trip, and whoever is free takes the next job.
+each builds the slicer once from its solids in OCC's binary format. Workers send back each
+job's section faces in that format, which keeps them bit for bit (geometry/occ_binary.py):
+a section is the same whichever process cut it. This process cuts too: it takes jobs from
+the same shared counter as the workers, so N cores need N − 1 workers, and whoever is free
+takes the next job.
 """
 from __future__ import annotations
 
@@ -22,6 +23,7 @@ import numpy as np
 
 from freecad_conformal.errors import GeometryError
 from freecad_conformal.freecad_env import import_freecad, inside_freecad
+from freecad_conformal.geometry.occ_binary import faces_from_binary, faces_to_binary, from_binary, to_binary
 from freecad_conformal.geometry.planar_faces import SectionFace
 
 #: Heights per job: at least JOB_MIN, about JOBS_PER_WORKER jobs per worker.
@@ -45,8 +47,9 @@ def start_method() -> str:
 
 def slicer_spec(slicer) -> tuple:
     """What a fresh worker needs to build the same slicer: its class (pickled by name),
-    solids as BREP text, direction, chord tolerance and the face-by-face switch."""
-    return (type(slicer), [solid.exportBrepToString() for solid in slicer.solids],
+    solids in OCC's binary format (the very solids: a worker's sections are then this
+    process's), direction, chord tolerance and the face-by-face switch."""
+    return (type(slicer), [to_binary(solid) for solid in slicer.solids],
             tuple(slicer.frame.n), slicer.chord_tolerance, slicer.face_by_face)
 
 
@@ -54,12 +57,8 @@ def slicer_from(spec: tuple):
     global _WORKER_SLICER
     if _WORKER_SLICER is None:
         _, Part = import_freecad()
-        slicer_class, breps, direction, chord, face_by_face = spec
-        solids = []
-        for text in breps:
-            shape = Part.Shape()
-            shape.importBrepFromString(text, False)
-            solids.extend(shape.Solids)
+        slicer_class, written, direction, chord, face_by_face = spec
+        solids = [solid for data in written for solid in from_binary(data).Solids]
         shape = solids[0] if len(solids) == 1 else Part.Compound(solids)
         _WORKER_SLICER = slicer_class(shape, direction, chord, face_by_face=face_by_face)
     return _WORKER_SLICER
@@ -113,29 +112,12 @@ def section_work(slicer) -> int:
     return work
 
 
-def faces_as_brep(faces: list) -> str:
-    """Faces as one BREP text, OCC's lossless form for another process ("" for none)."""
-    if not faces:
-        return ""
-    _, Part = import_freecad()
-    return Part.Compound(list(faces)).exportBrepToString()
-
-
-def faces_from_brep(text: str) -> list:
-    """The faces `faces_as_brep` wrote, in order."""
-    if not text:
-        return []
-    _, Part = import_freecad()
-    shape = Part.Shape()
-    shape.importBrepFromString(text, False)
-    return shape.Faces
-
-
-def as_brep(items: list | None):
-    """Section faces as one BREP text with each face's (area, centroid); None stays None."""
+def as_binary(items: list | None):
+    """Section faces as one binary compound with each face's (area, centroid); None stays
+    None (what a worker sends back)."""
     if items is None:
         return None
-    return faces_as_brep([item.face for item in items]), [(item.area, item.centroid) for item in items]
+    return faces_to_binary([item.face for item in items]), [(item.area, item.centroid) for item in items]
 
 
 def _cut(solid_index: int, heights: np.ndarray, boolean: bool, slicer=None) -> list:
@@ -151,7 +133,7 @@ def _worker(jobs: list, boolean: bool, counter, results, spec: tuple | None = No
             slicer_from(spec)
         while (index := _claim(counter)) < len(jobs):
             solid_index, heights = jobs[index]
-            results.put((index, [as_brep(items) for items in _cut(solid_index, heights, boolean)]))
+            results.put((index, [as_binary(items) for items in _cut(solid_index, heights, boolean)]))
         results.put((None, None))
     except BaseException as exc:  # noqa: BLE001 - reported to the parent, which raises it
         results.put((None, f"{type(exc).__name__}: {exc}"))
@@ -164,10 +146,10 @@ def _claim(counter) -> int:
     return index
 
 
-def from_brep(text: str, props: list) -> list[SectionFace]:
-    """The section faces `as_brep` wrote."""
+def from_binary_items(data: bytes, props: list) -> list[SectionFace]:
+    """The section faces `as_binary` wrote."""
     return [SectionFace(face, area, centroid)
-            for face, (area, centroid) in zip(faces_from_brep(text), props)]
+            for face, (area, centroid) in zip(faces_from_binary(data), props)]
 
 
 def cut_sections(slicer, heights: Sequence[float], workers: int = 1,
@@ -246,15 +228,7 @@ def _shared(slicer, levels: np.ndarray, jobs: list, boolean: bool, workers: int,
     if workers == 1 or len(jobs) == 1:
         results = []
         for done, job in enumerate(work, start=1):
-            cut = _cut(*job, boolean, slicer)
-            if len(jobs) > 1:
-                # through BREP text as in the parallel path, which cuts these jobs with more
-                # workers: the sections (and the G-code) are then the same however many
-                # processes cut them (inside FreeCAD: one). A single job is cut here
-                # whatever the count (a 3-D layer's plane: 2,830 round trips, 1.4 s, on
-                # the connecting rod).
-                cut = [None if items is None else from_brep(*as_brep(items)) for items in cut]
-            results.append(cut)
+            results.append(_cut(*job, boolean, slicer))
             if report is not None:
                 report(done)
         return results
@@ -277,11 +251,9 @@ def _shared(slicer, levels: np.ndarray, jobs: list, boolean: bool, workers: int,
             process.start()
             processes.append(process)
         while (index := _claim(counter)) < len(jobs):
-            # Through the same BREP text as the workers' results: which process cut a
-            # job depends on timing, and a face read back from BREP is not bit for bit the
-            # one cut (CrankArm's G-code differed from run to run in 4,500 lines).
-            results[index] = [None if items is None else from_brep(*as_brep(items))
-                              for items in _cut(*work[index], boolean, slicer)]
+            # Which process cuts a job depends on timing; the workers' faces come back bit
+            # for bit as they would be cut here (geometry/occ_binary.py).
+            results[index] = _cut(*work[index], boolean, slicer)
             if report is not None:
                 report(index + 1)
         running = len(processes)
@@ -290,7 +262,7 @@ def _shared(slicer, levels: np.ndarray, jobs: list, boolean: bool, workers: int,
             if index is None:
                 running -= 1
             else:
-                results[index] = [None if item is None else from_brep(*item) for item in payload]
+                results[index] = [None if item is None else from_binary_items(*item) for item in payload]
     finally:
         _WORKER_SLICER = None
         for process in processes:
