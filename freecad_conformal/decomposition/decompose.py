@@ -18,6 +18,7 @@ import numpy as np
 
 from freecad_conformal.errors import GeometryError, PlanError
 from freecad_conformal.geometry.frames import angle_between
+from freecad_conformal.geometry.occ_binary import from_binary, to_binary
 from freecad_conformal.geometry.solids import solids_of
 from freecad_conformal.geometry.splitting_faces import SplitCandidate, repaired
 from freecad_conformal.decomposition.cuts import (LazyAxis)
@@ -106,16 +107,22 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
                 parents.extend(_parents_of(refined, first))
                 continue
         try:
+            pristine = None
             if auto:
                 if worth_a_trial(solid) and can_start_child():
                     trial = Trial()  # starting up while the direction is found
                 direction, area = best_single_direction(solid, overhang_angle)
                 turn = angle_between(direction, root) > SAME_DIRECTION
-                if (trial is not None and turn
-                        and overhang_area(solid, root, overhang_angle) > area + MIN_SAVING):
+                if turn and overhang_area(solid, root, overhang_angle) > area + MIN_SAVING:
+                    # The solid as it is now, for the plan from that direction wherever it
+                    # is made: the plan from the root cuts this very solid, and what OCC's
+                    # Booleans and the caches keep of it changed CrankArm's plan from there
+                    # (six sub-parts here, seven in the child).
+                    pristine = to_binary(solid)
+                if trial is not None and pristine is not None:
                     # The as-placed plan may keep more overhang than turning the solid
                     # whole: plan from that direction on the other core meanwhile.
-                    trial.plan(plan, direction)
+                    trial.plan(plan, direction, pristine)
                 elif trial is not None:
                     trial.stop()
                     trial = None
@@ -138,7 +145,8 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
                         other = other_axis, result[0]
                         trial_notes = result[1]
                     else:
-                        other = plan(direction, trial_notes)
+                        other = _planned_afresh(plan, pristine or to_binary(solid), direction,
+                                                trial_notes)
                 except GeometryError as exc:
                     # Only an alternative to the plan as placed, which stands: a Boolean
                     # OCC cannot do there (the bottle along X) must not lose the part.
@@ -165,6 +173,18 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
     return BuildPlan(subparts=subparts, order=order, support_area_single_direction=single[1],
                      notes=notes, overhang_angle=overhang_angle, method=method,
                      single_direction=single[0], axes=axes)
+
+
+def _planned_afresh(plan: Planner, written: bytes, direction: np.ndarray,
+                    notes: list[str]) -> tuple[LazyAxis, list[Piece]]:
+    """(axis, pieces) from `direction`, the pieces planned on the solid as `written` (OCC
+    binary) and passed through that format as the trial child's come back: the same plan,
+    bit for bit, whether or not a child could be started (FreeCAD's GUI starts none). (A
+    shape read back from binary has the same points, but OCC integrates its volume a last
+    bit differently: CrankArm's.)"""
+    solid = from_binary(written).Solids[0]
+    fresh = Planner(solid, plan.solid_index, plan.angle, plan.method, plan.axis_step, plan.budget)
+    return plan.axis(direction), [Piece.from_data(p.to_data()) for p in fresh(direction, notes)[1]]
 
 
 def _support_free_whole(solid, root: np.ndarray, angle: float) -> np.ndarray | None:

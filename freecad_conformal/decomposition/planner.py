@@ -14,7 +14,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.concave_edges import concave_edges
 from freecad_conformal.geometry.splitting_faces import SplitCandidate, split_solid
 from freecad_conformal.decomposition.cut_search import CutSearch, best_cut
@@ -74,10 +73,13 @@ class Piece:
         return surface_mesh(self.shape, self.deflection)
 
     def to_data(self) -> dict:
-        """Plain data for another process (the trial child's answer): shapes as BREP text,
-        OCC's lossless format, so face indices (and the report's) survive the trip."""
-        return {"shape": self.shape.exportBrepToString(), "direction": self.direction,
-                "base_faces": [f.exportBrepToString() for f in self.base_faces],
+        """Plain data for another process (the trial child's answer): shapes in OCC's binary
+        format, bit for bit (geometry/occ_binary.py), so face indices (and the report's)
+        survive the trip and the pieces are those this process would have made."""
+        from freecad_conformal.geometry.occ_binary import to_binary
+
+        return {"shape": to_binary(self.shape), "direction": self.direction,
+                "base_faces": [to_binary(f) for f in self.base_faces],
                 "solid_index": self.solid_index, "rule": self.rule, "overhang": self.overhang,
                 "report": self.report}
 
@@ -85,20 +87,14 @@ class Piece:
     def from_data(cls, data: dict) -> "Piece":
         """The piece `to_data` wrote (shapes read back as generic shapes: the typed solid and
         faces are taken out of them)."""
-        piece = cls(shape_from_brep(data["shape"]).Solids[0], data["direction"],
-                    [shape_from_brep(text).Faces[0] for text in data["base_faces"]],
+        from freecad_conformal.geometry.occ_binary import from_binary
+
+        piece = cls(from_binary(data["shape"]).Solids[0], data["direction"],
+                    [from_binary(written).Faces[0] for written in data["base_faces"]],
                     data["solid_index"], data["rule"])
         piece.overhang = data["overhang"]
         piece.report = data["report"]
         return piece
-
-
-def shape_from_brep(text: str):
-    """A shape from BREP text."""
-    _, Part = import_freecad()
-    shape = Part.Shape()
-    shape.importBrepFromString(text, False)
-    return shape
 
 
 @dataclass

@@ -5,7 +5,8 @@ Auto plans each solid as placed (+Z) and, when that leaves more overhang than th
 best single axis direction, plans it again from that direction. The second plan is only
 useful when the part as placed starts with more overhang than that direction (a split can
 only lower it), and then both are independent: the trial starts in a child Python before
-the first plan and its pieces come back as BREP text (OCC's lossless format). If the first
+the first plan and its pieces come back in OCC's binary format (geometry/occ_binary.py: bit
+for bit, so the plan is the one this process would make, as in FreeCAD's GUI). If the first
 plan is good enough the child is stopped.
 
 The child is a fresh interpreter (`python -m freecad_conformal.decomposition.trial`), not a fork:
@@ -38,7 +39,7 @@ ANALYTIC_SURFACES = frozenset({"Plane", "Cylinder", "Cone", "Sphere", "Toroid"})
 
 def worth_a_trial(solid) -> bool:
     """Whether planning `solid` costs enough for a child to pay: starting one (interpreter,
-    FreeCAD, the solid as BREP) takes ~0.4 s, while a solid of analytic faces plans in well
+    FreeCAD, the solid) takes ~0.4 s, while a solid of analytic faces plans in well
     under a second (the table: 0.65 s alone, 1.0 s with a child competing for the cores).
     Free-form faces are what make a plan take seconds (CrankArm's arm)."""
     return any(type(face.Surface).__name__ not in ANALYTIC_SURFACES for face in solid.Faces)
@@ -57,7 +58,7 @@ def can_start_child() -> bool:
 class Trial:
     """`planner.pieces(direction)` running in a child Python. The child starts (interpreter,
     FreeCAD, this package) when the Trial is made, so that it is ready by the time the
-    parent knows which direction to ask for: `plan()` sends the solid (as BREP) and the
+    parent knows which direction to ask for: `plan()` sends the solid (OCC binary) and the
     direction, `result()` waits for the pieces, `stop()` ends it (also unasked)."""
 
     def __init__(self) -> None:
@@ -71,11 +72,12 @@ class Trial:
         except OSError:
             self._process = None  # no interpreter to start: result() says so
 
-    def plan(self, planner: Planner, direction) -> None:
-        """Ask the child for `planner`'s pieces from `direction`."""
+    def plan(self, planner: Planner, direction, written: bytes) -> None:
+        """Ask the child for `planner`'s pieces from `direction`, planned on its solid as
+        `written` (OCC binary, geometry/occ_binary.py)."""
         if self._process is None:
             return
-        spec = {"solid": planner.solid.exportBrepToString(), "solid_index": planner.solid_index,
+        spec = {"solid": written, "solid_index": planner.solid_index,
                 "angle": planner.angle, "method": planner.method,
                 "axis_step": planner.axis_step, "budget": planner.budget,
                 "direction": [float(c) for c in direction]}
@@ -129,14 +131,15 @@ def _child() -> None:
     out = os.fdopen(os.dup(1), "wb")
     os.dup2(2, 1)  # anything FreeCAD prints goes to stderr, not into the result stream
     # Loaded before the spec arrives, while the parent is still deciding what to ask.
-    from freecad_conformal.decomposition.planner import Planner, shape_from_brep
+    from freecad_conformal.decomposition.planner import Planner
+    from freecad_conformal.geometry.occ_binary import from_binary
 
     try:
         spec = pickle.load(sys.stdin.buffer)
     except EOFError:
         return  # not needed after all
     try:
-        solid = shape_from_brep(spec["solid"]).Solids[0]
+        solid = from_binary(spec["solid"]).Solids[0]
         planner = Planner(solid, spec["solid_index"], spec["angle"], spec["method"],
                            spec["axis_step"], spec["budget"])
         pieces, notes = planner.pieces(np.array(spec["direction"]))
