@@ -109,15 +109,19 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
         try:
             pristine = None
             if auto:
-                if worth_a_trial(solid) and can_start_child():
+                worth = worth_a_trial(solid)
+                if worth and can_start_child():
                     trial = Trial()  # starting up while the direction is found
                 direction, area = best_single_direction(solid, overhang_angle)
                 turn = angle_between(direction, root) > SAME_DIRECTION
-                if turn and overhang_area(solid, root, overhang_angle) > area + MIN_SAVING:
+                if (worth and turn
+                        and overhang_area(solid, root, overhang_angle) > area + MIN_SAVING):
                     # The solid as it is now, for the plan from that direction wherever it
-                    # is made: the plan from the root cuts this very solid, and what OCC's
-                    # Booleans and the caches keep of it changed CrankArm's plan from there
-                    # (six sub-parts here, seven in the child).
+                    # is made (a child on the command line, here in FreeCAD's GUI): the plan
+                    # from the root cuts this very solid, and what OCC's Booleans and the
+                    # caches keep of it changed CrankArm's plan from there (six sub-parts
+                    # here, seven in the child). A solid not worth a child is planned here
+                    # everywhere, on the solid itself (sharing its meshes).
                     pristine = to_binary(solid)
                 if trial is not None and pristine is not None:
                     # The as-placed plan may keep more overhang than turning the solid
@@ -144,9 +148,10 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
                     if result is not None:
                         other = other_axis, result[0]
                         trial_notes = result[1]
+                    elif pristine is not None:
+                        other = _planned_afresh(plan, pristine, direction, trial_notes)
                     else:
-                        other = _planned_afresh(plan, pristine or to_binary(solid), direction,
-                                                trial_notes)
+                        other = plan(direction, trial_notes)
                 except GeometryError as exc:
                     # Only an alternative to the plan as placed, which stands: a Boolean
                     # OCC cannot do there (the bottle along X) must not lose the part.
