@@ -1,11 +1,11 @@
 """The Analysis and Decomposition objects' computations on plain data (objects/work.py runs
-them in-process or in a worker): BREP text and values in, BREP text, numbers and the axes as
+them in-process or in a worker): shapes (OCC binary) and values in, shapes, numbers and the axes as
 plain lists out."""
 from __future__ import annotations
 
 import math
 
-from freecad_conformal.objects.computed import shape_from_text, shape_text
+from freecad_conformal.objects.computed import shape_from_bytes, shape_to_bytes
 
 
 def plain_axes(graphs) -> dict:
@@ -26,7 +26,7 @@ def plain_axes(graphs) -> dict:
 
 
 def compute_analysis(inputs: dict, progress) -> dict:
-    """Centroidal axes and candidate splitting faces (BREP text) of BREP text."""
+    """Centroidal axes and candidate splitting faces (OCC binary) of a shape (the same)."""
     import Part
 
     from freecad_conformal.geometry.centroidal_axis import centroidal_axis
@@ -34,7 +34,7 @@ def compute_analysis(inputs: dict, progress) -> dict:
     from freecad_conformal.geometry.solids import solids_of
     from freecad_conformal.geometry.splitting_faces import face_candidates
 
-    solids = solids_of(shape_from_text(inputs["brep"]), inputs["label"])
+    solids = solids_of(shape_from_bytes(inputs["brep"]), inputs["label"])
     graphs = []
     for k, solid in enumerate(solids):
         progress(0.8 * k / len(solids), f"centroidal axis of solid {k + 1}/{len(solids)}")
@@ -43,19 +43,19 @@ def compute_analysis(inputs: dict, progress) -> dict:
     progress(0.8, "splitting faces at concave edges")
     faces = [c.region for solid in solids for c in face_candidates(solid, concave_edges(solid))]
     return {"axes": plain_axes(graphs), "faces": len(faces),
-            "brep": shape_text(Part.Compound(faces))}
+            "brep": shape_to_bytes(Part.Compound(faces))}
 
 
 def compute_decomposition(inputs: dict, progress) -> dict:
-    """Sub-parts (BREP text of their compound), build order, directions and notes."""
+    """Sub-parts (their compound in OCC binary), build order, directions and notes."""
     import Part
 
     from freecad_conformal.jobs.decompose import decompose_with
 
     progress(0.05, "searching the splits")
-    plan = decompose_with(shape_from_text(inputs["brep"]), inputs["values"])
+    plan = decompose_with(shape_from_bytes(inputs["brep"]), inputs["values"])
     return {"axes": plain_axes(plan.axes), "subparts": len(plan.subparts),
             "order": [int(k) for k in plan.order],
             "directions": [tuple(float(c) for c in s.build_direction) for s in plan.subparts],
             "saved": float(plan.support_area_saved), "notes": list(plan.notes),
-            "brep": shape_text(Part.Compound([s.shape for s in plan.subparts]))}
+            "brep": shape_to_bytes(Part.Compound([s.shape for s in plan.subparts]))}

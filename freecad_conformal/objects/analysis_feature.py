@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import FreeCAD
 
-from freecad_conformal.objects.computed import Computed, shape_from_text, shape_text
+from freecad_conformal.objects.computed import Computed, shape_from_bytes, shape_to_bytes
 from freecad_conformal.objects.properties import (
     StoredState, add_properties, reports_errors, setting_properties, source_shape,
     values_from_object)
@@ -58,7 +58,7 @@ class AnalysisFeature(Computed, StoredState):
         self.run(obj)
 
     def inputs(self, obj) -> dict:
-        return {"brep": shape_text(source_shape(obj, "the analysis")), "label": obj.Label,
+        return {"brep": shape_to_bytes(source_shape(obj, "the analysis")), "label": obj.Label,
                 "method": obj.Method, "step": obj.Step.Value or None,
                 "break_angle": obj.BreakAngle.Value}
 
@@ -66,7 +66,7 @@ class AnalysisFeature(Computed, StoredState):
         store_axes(obj, result["axes"])
         obj.SplittingFaceCount = result["faces"]
         obj.BreakCount = len(obj.BreakLinks) // 2
-        obj.Shape = shape_from_text(result["brep"])
+        obj.Shape = shape_from_bytes(result["brep"])
 
 
 class DecompositionFeature(Computed, StoredState):
@@ -100,7 +100,7 @@ class DecompositionFeature(Computed, StoredState):
         self.run(obj)
 
     def inputs(self, obj) -> dict:
-        return {"brep": shape_text(source_shape(obj, "the decomposition")),
+        return {"brep": shape_to_bytes(source_shape(obj, "the decomposition")),
                 "values": values_from_object(obj, DECOMPOSE_SETTINGS)}
 
     def apply(self, obj, result: dict) -> None:
@@ -110,7 +110,7 @@ class DecompositionFeature(Computed, StoredState):
         obj.BuildDirections = [FreeCAD.Vector(*d) for d in result["directions"]]
         obj.SupportAreaSaved = result["saved"]
         obj.Notes = result["notes"]
-        obj.Shape = shape_from_text(result["brep"])
+        obj.Shape = shape_from_bytes(result["brep"])
 
 
 def _create(doc, proxy_class, source, name: str):

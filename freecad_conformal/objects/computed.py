@@ -1,7 +1,7 @@
 """Objects whose work can run away from the document: inputs -> compute -> apply.
 
 A proxy splits its `execute` in three: `inputs(obj)` reads the document into plain values
-(BREP text for shapes, numbers and strings for settings), `compute` (objects/work.py) turns
+(shapes in OCC's binary format, numbers and strings for settings), `compute` (objects/work.py) turns
 those into plain results without touching any document (so it can run in another process),
 and `apply(obj, result)` writes the results into the object's properties. A plain recompute
 does all three in a row (headless, macros). The GUI computes in a worker process and hands
@@ -93,16 +93,24 @@ class Computed:
             self.apply(obj, outcome["result"])
 
 
-def shape_text(shape) -> str:
-    """A shape as BREP text (placement included): how shapes cross to a worker."""
-    return shape.exportBrepToString()
+def shape_to_bytes(shape) -> bytes:
+    """A shape in OCC's binary format (placement included): how shapes cross to a worker.
+    Binary, not BREP text, which rounds reals: a job computed in the GUI then plans the very
+    shape the command line reads (geometry/occ_binary.py)."""
+    from freecad_conformal.geometry.occ_binary import to_binary
+
+    return to_binary(shape)
 
 
-def shape_from_text(text: str):
-    """The shape of BREP text written by `shape_text`."""
+def shape_from_bytes(written: bytes | str):
+    """The shape `shape_to_bytes` wrote (BREP text too, as earlier versions wrote it)."""
+    if isinstance(written, bytes):
+        from freecad_conformal.geometry.occ_binary import from_binary
+
+        return from_binary(written)
     from freecad_conformal.freecad_env import import_freecad
 
     _, Part = import_freecad()
     shape = Part.Shape()
-    shape.importBrepFromString(text)
+    shape.importBrepFromString(written)
     return shape

@@ -4,7 +4,7 @@ settings schema), kept as a toolpath and drawn by the toolpath view provider. Th
 runs as the "feature" task (objects/work.py), so the GUI computes it in a worker process."""
 from __future__ import annotations
 
-from freecad_conformal.objects.computed import Computed, shape_from_text, shape_text
+from freecad_conformal.objects.computed import Computed, shape_from_bytes, shape_to_bytes
 from freecad_conformal.objects.properties import (
     add_properties, reports_errors, setting_properties, values_from_object)
 from freecad_conformal.objects.toolpath_feature import (
@@ -38,7 +38,7 @@ class ConformalFeature(Computed, ToolpathFeature):
         if not obj.Source or not obj.Source[1]:
             raise GeometryError(f"{obj.Label}: select one face of a body")
         body, (face_name, *_) = obj.Source
-        return {"brep": shape_text(body.Shape), "face": face_name, "kind": obj.Kind,
+        return {"brep": shape_to_bytes(body.Shape), "face": face_name, "kind": obj.Kind,
                 "values": values_from_object(obj, FEATURE_SETTINGS),
                 "what": f"{obj.Kind} on {face_name}"}
 
@@ -47,12 +47,12 @@ class ConformalFeature(Computed, ToolpathFeature):
 
 
 def compute_feature(inputs: dict, progress) -> dict:
-    """The feature's toolpath from BREP text, a face name and setting values."""
+    """The feature's toolpath from a shape (OCC binary), a face name and setting values."""
     from freecad_conformal.geometry.faces import face_by_name
     from freecad_conformal.jobs.feature import plan_feature
 
     progress(None, f"planning {inputs['what']}")
-    part = shape_from_text(inputs["brep"])
+    part = shape_from_bytes(inputs["brep"])
     face = face_by_name(part, inputs["face"])
     toolpath = plan_feature(face, inputs["kind"], dict(inputs["values"]), inputs["what"],
                             part=part)

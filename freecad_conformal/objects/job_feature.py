@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from freecad_conformal.objects.computed import Computed, shape_from_text, shape_text
+from freecad_conformal.objects.computed import Computed, shape_from_bytes, shape_to_bytes
 from freecad_conformal.objects.job_preview import part_frames, recording_decompose, store_preview
 from freecad_conformal.objects.post_feature import keep_text
 from freecad_conformal.objects.properties import (
@@ -66,7 +66,7 @@ class JobFeature(Computed, ToolpathFeature):
         self.run(obj)
 
     def inputs(self, obj) -> dict:
-        return {"brep": shape_text(source_shape(obj, "a job")), "part": obj.Source.Label,
+        return {"brep": shape_to_bytes(source_shape(obj, "a job")), "part": obj.Source.Label,
                 "values": values_from_object(obj, PLAN_SETTINGS)}
 
     def apply(self, obj, result: dict) -> None:
@@ -79,13 +79,13 @@ class JobFeature(Computed, ToolpathFeature):
 
 
 def compute_job(inputs: dict, progress) -> dict:
-    """The plan of BREP text with setting values (objects/work.py runs it anywhere): the
+    """The plan of a shape (OCC binary) with setting values (objects/work.py runs it anywhere): the
     steps of jobs/plan.plan_additive, with progress between them, or the hybrid job."""
     from freecad_conformal.jobs.options import plan_options as options_from_values
     from freecad_conformal.geometry.solids import solids_of
     from freecad_conformal.jobs.plan import check_options, choose_plan, run_job
 
-    shape = shape_from_text(inputs["brep"])
+    shape = shape_from_bytes(inputs["brep"])
     options = options_from_values(inputs["values"])
     if options.process == "hybrid":
         return _compute_hybrid(shape, options, inputs["part"], progress)

@@ -3,7 +3,7 @@ stored as a compound of the section wires (geometry/sections.py, geometry/cylind
 with the `sections` command's settings (settings/sections.py)."""
 from __future__ import annotations
 
-from freecad_conformal.objects.computed import Computed, shape_from_text, shape_text
+from freecad_conformal.objects.computed import Computed, shape_from_bytes, shape_to_bytes
 from freecad_conformal.objects.properties import (
     StoredState, add_properties, reports_errors, setting_properties, source_shape,
     values_from_object)
@@ -44,7 +44,7 @@ class SectionsFeature(Computed, StoredState):
         from freecad_conformal.settings.sections import section_radii
 
         values = validate(SECTIONS_SETTINGS, values_from_object(obj, SECTIONS_SETTINGS))
-        inputs = {"brep": shape_text(source_shape(obj, "sections")), "mode": values["mode"],
+        inputs = {"brep": shape_to_bytes(source_shape(obj, "sections")), "mode": values["mode"],
                   "chord_tolerance": values["chord"], "direction": values["direction"]}
         if values["mode"] == "planar":
             inputs.update(layer=values["layer"], heights=values["heights"])
@@ -55,7 +55,7 @@ class SectionsFeature(Computed, StoredState):
     def apply(self, obj, result: dict) -> None:
         obj.LayerCount = result["layers"]
         obj.SectionArea = result["area"]
-        obj.Shape = shape_from_text(result["brep"])
+        obj.Shape = shape_from_bytes(result["brep"])
 
 
 def upgrade_old_file(obj) -> None:
@@ -75,10 +75,10 @@ def upgrade_old_file(obj) -> None:
 
 
 def compute_sections(inputs: dict, progress) -> dict:
-    """Section wires (BREP text), non-empty layer count and area of BREP text."""
+    """Section wires (OCC binary), non-empty layer count and area of a shape (the same)."""
     import Part
 
-    shape = shape_from_text(inputs["brep"])
+    shape = shape_from_bytes(inputs["brep"])
     tolerance = inputs["chord_tolerance"]
     progress(0.1, f"{inputs['mode'].lower()} sections")
     if inputs["mode"] == "planar":
@@ -107,7 +107,7 @@ def compute_sections(inputs: dict, progress) -> dict:
                  f"the axis through {inputs['axis_point']} along {inputs['direction']}")
         raise GeometryError(f"no section: the {where} miss the part")
     return {"layers": len(layers), "area": float(sum(layer.area for layer in layers)),
-            "brep": shape_text(Part.Compound(wires))}
+            "brep": shape_to_bytes(Part.Compound(wires))}
 
 
 def create_sections(doc, source, mode: str = "planar", name: str = "Sections"):
