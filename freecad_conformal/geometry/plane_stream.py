@@ -9,9 +9,9 @@ finds them, and come back at the end.
 The worker is forked where OCC survives it, else started from a fork server with the
 solids in OCC's binary format (`section_pool.start_method`); inside FreeCAD, in a daemonic
 process or for small stacks the planes are cut here, at the end. The worker's sections come
-back in that format, bit for bit (geometry/occ_binary.py), so the regions (and the G-code)
-do not depend on where they were cut; their area and centroid travel with them (not
-integrated again).
+back in that format, which keeps every real (geometry/occ_binary.py), and those cut here take
+the same trip, so the regions (and the G-code) do not depend on where they were cut; their
+area and centroid travel with them (not integrated again).
 """
 from __future__ import annotations
 
@@ -79,7 +79,11 @@ class PlaneStream:
     def results(self) -> list[PlanarSection]:
         """Every submitted plane's section, in order (the worker, if any, then stops)."""
         if self._process is None:
-            cut = [_section(self._slicer, *plane) for plane in self._planes]
+            # Through the binary format as the worker's come back (section_pool._as_sent):
+            # inside FreeCAD the planes are cut here, on the command line in the worker.
+            cut = [(height, faces_from_binary(faces_to_binary(faces)), area, centroid)
+                   for height, faces, area, centroid in
+                   (_section(self._slicer, *plane) for plane in self._planes)]
         else:
             self._jobs.put(None)
             cut = [(height, faces_from_binary(data), area, centroid)
