@@ -18,14 +18,15 @@ import numpy as np
 
 from freecad_conformal.errors import GeometryError, PlanError
 from freecad_conformal.geometry.frames import angle_between
-from freecad_conformal.geometry.occ_binary import from_binary, to_binary
+from freecad_conformal.geometry.occ_binary import to_binary
 from freecad_conformal.geometry.solids import solids_of
 from freecad_conformal.geometry.splitting_faces import SplitCandidate, repaired
 from freecad_conformal.decomposition.cuts import (LazyAxis)
 from freecad_conformal.geometry.rotation import rotation_to
 from freecad_conformal.decomposition.planner import (LEVEL_TOLERANCE, MIN_SAVING, SAME_DIRECTION,
                                                      Piece, Planner, touch_area)
-from freecad_conformal.decomposition.trial import Trial, can_start_child, worth_a_trial
+from freecad_conformal.decomposition.trial import (Trial, can_start_child, planned, trial_spec,
+                                                   worth_a_trial)
 from freecad_conformal.decomposition.subparts import BuildPlan, SubPart
 from freecad_conformal.geometry.overhang import (DEFAULT_OVERHANG_ANGLE, MIN_BASE_AREA,
                                                 base_area, best_single_direction, check_angle,
@@ -149,7 +150,12 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
                         other = other_axis, result[0]
                         trial_notes = result[1]
                     elif pristine is not None:
-                        other = _planned_afresh(plan, pristine, direction, trial_notes)
+                        # As the child plans it (the same steps, the same binary trips):
+                        # the same plan, bit for bit, where no child could start (FreeCAD's
+                        # GUI starts none).
+                        made, made_notes = planned(trial_spec(plan, direction, pristine))
+                        other = plan.axis(direction), [Piece.from_data(item) for item in made]
+                        trial_notes.extend(made_notes)
                     else:
                         other = plan(direction, trial_notes)
                 except GeometryError as exc:
@@ -178,18 +184,6 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
     return BuildPlan(subparts=subparts, order=order, support_area_single_direction=single[1],
                      notes=notes, overhang_angle=overhang_angle, method=method,
                      single_direction=single[0], axes=axes)
-
-
-def _planned_afresh(plan: Planner, written: bytes, direction: np.ndarray,
-                    notes: list[str]) -> tuple[LazyAxis, list[Piece]]:
-    """(axis, pieces) from `direction`, the pieces planned on the solid as `written` (OCC
-    binary) and passed through that format as the trial child's come back: the same plan,
-    bit for bit, whether or not a child could be started (FreeCAD's GUI starts none). (A
-    shape read back from binary has the same points, but OCC integrates its volume a last
-    bit differently: CrankArm's.)"""
-    solid = from_binary(written).Solids[0]
-    fresh = Planner(solid, plan.solid_index, plan.angle, plan.method, plan.axis_step, plan.budget)
-    return plan.axis(direction), [Piece.from_data(p.to_data()) for p in fresh(direction, notes)[1]]
 
 
 def _support_free_whole(solid, root: np.ndarray, angle: float) -> np.ndarray | None:

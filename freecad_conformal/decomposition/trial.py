@@ -77,12 +77,8 @@ class Trial:
         `written` (OCC binary, geometry/occ_binary.py)."""
         if self._process is None:
             return
-        spec = {"solid": written, "solid_index": planner.solid_index,
-                "angle": planner.angle, "method": planner.method,
-                "axis_step": planner.axis_step, "budget": planner.budget,
-                "direction": [float(c) for c in direction]}
         try:
-            self._process.stdin.write(pickle.dumps(spec))
+            self._process.stdin.write(pickle.dumps(trial_spec(planner, direction, written)))
         except OSError:
             pass  # the child died at once (BrokenPipe): result() sees its exit code
         try:
@@ -124,26 +120,43 @@ class Trial:
         self._process.wait()
 
 
-def _child() -> None:
-    """Child side: read the spec on stdin, plan, write (ok, pieces or error, notes)."""
+def trial_spec(planner: Planner, direction, written: bytes) -> dict:
+    """What a trial plan needs: `planner`'s settings, its solid as `written` (OCC binary),
+    the direction."""
+    return {"solid": written, "solid_index": planner.solid_index, "angle": planner.angle,
+            "method": planner.method, "axis_step": planner.axis_step,
+            "budget": planner.budget, "direction": [float(c) for c in direction]}
+
+
+def planned(spec: dict) -> tuple[list[dict], list[str]]:
+    """The pieces (as `Piece.to_data`) and notes `spec` asks for: the child's answer, and
+    what the parent makes itself when no child could plan, by the same steps."""
     import numpy as np
 
+    from freecad_conformal.decomposition.planner import Planner
+    from freecad_conformal.geometry.occ_binary import from_binary
+
+    solid = from_binary(spec["solid"]).Solids[0]
+    planner = Planner(solid, spec["solid_index"], spec["angle"], spec["method"],
+                      spec["axis_step"], spec["budget"])
+    pieces, notes = planner.pieces(np.array(spec["direction"]))
+    return [p.to_data() for p in pieces], notes
+
+
+def _child() -> None:
+    """Child side: read the spec on stdin, plan, write (ok, pieces or error, notes)."""
     out = os.fdopen(os.dup(1), "wb")
     os.dup2(2, 1)  # anything FreeCAD prints goes to stderr, not into the result stream
     # Loaded before the spec arrives, while the parent is still deciding what to ask.
-    from freecad_conformal.decomposition.planner import Planner
-    from freecad_conformal.geometry.occ_binary import from_binary
+    from freecad_conformal.decomposition import planner  # noqa: F401
+    from freecad_conformal.geometry import occ_binary  # noqa: F401
 
     try:
         spec = pickle.load(sys.stdin.buffer)
     except EOFError:
         return  # not needed after all
     try:
-        solid = from_binary(spec["solid"]).Solids[0]
-        planner = Planner(solid, spec["solid_index"], spec["angle"], spec["method"],
-                           spec["axis_step"], spec["budget"])
-        pieces, notes = planner.pieces(np.array(spec["direction"]))
-        result = (True, [p.to_data() for p in pieces], notes)
+        result = (True, *planned(spec))
     except Exception as exc:  # sent to the parent, which raises it
         from freecad_conformal.errors import ConformalError, GeometryError
 

@@ -55,8 +55,8 @@ class Placement:
 #: The turned copies made of each part, by shape identity and direction: each candidate plan
 #: of a part places it again, and one copy shares its faces' meshes and measures across
 #: them (Pump_Nut's whole twin re-meshed 17 faces the decomposition had: 0.14 s). A copy,
-#: not the part itself: a part as read carries what its file held (CrankArm's BREP its
-#: triangulations), which the trial child would be sent and the meshes would start from.
+#: not the part itself: the plan meshes and measures what it places, and the caller's part
+#: keeps none of it.
 _TURNED: ShapeCache[dict] = ShapeCache(limit=32, oriented=True)
 
 
