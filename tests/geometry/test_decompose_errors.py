@@ -45,3 +45,23 @@ def test_blocked_order_names_the_subparts():
     lugs = [s.name for s in plan.subparts if s.build_direction[2] < -0.5]
     assert all(f"{name} (along" in str(caught.value) for name in lugs)
     assert "would hit P1" in str(caught.value)
+
+
+def test_a_lone_sub_part_is_never_sampled(monkeypatch, Part):
+    # Nothing is built before the only sub-part: meshing it for the check is waste (Pump_Nut
+    # and every whole orientation paid 0.06-0.08 s for it); the hinge's pieces are sampled.
+    from freecad_conformal.geometry import collision
+
+    sampled = []
+    real = collision.surface_points
+    monkeypatch.setattr(collision, "surface_points",
+                        lambda shape, spacing: sampled.append(shape) or real(shape, spacing))
+    whole = decompose(Part.makeBox(20, 10, 5), check_collisions=False)
+    assert len(whole.subparts) == 1
+    assert build_order(whole.subparts, tool="fdm_0p4") == [0]
+    assert sampled == []
+    plan = decompose(samples.hinge(), check_collisions=False)
+    huge = Envelope(tip_diameter=1.0, tip_length=1.0, body_diameter=500.0, body_length=500.0)
+    with pytest.raises(PlanError):
+        build_order(plan.subparts, tool=huge)
+    assert len(sampled) >= 2
