@@ -14,6 +14,15 @@ from freecad_conformal.tolerances import COINCIDENT_POINTS
 #: Maps discretised 3D points (N, 3) of a loop to 2D coordinates (N, 2).
 Mapping = Callable[[np.ndarray], np.ndarray]
 
+#: How a section polygon without holes is repaired when its ring crosses itself: GEOS's
+#: "structure" method keeps the area the ring encloses as one polygon, where "linework"
+#: rebuilds it from every crossing (the sliced cylinder's 916 kinked sections, where a ruling
+#: meets the slice face 0.00015 mm off: 0.28 s against 0.02 s, areas equal within 1e-14).
+#: With holes it trusts the outer/hole labels, which `isSame` gets wrong on some Boolean
+#: faces (two of the bottle's sections, a hole larger than its shell, came out empty):
+#: those keep "linework".
+RING_REPAIR = "structure"
+
 
 def signed_area(points: np.ndarray) -> float:
     """Shoelace area of a closed polygon (first point not repeated); > 0 counter-clockwise."""
@@ -158,7 +167,8 @@ def polygons_of_loops(loops: list[Loop]) -> MultiPolygon:
             continue
         polygon = Polygon(entry["shell"], [h for h in entry["holes"] if len(h) >= 3])
         if not polygon.is_valid:
-            polygon = shapely.make_valid(polygon)
+            polygon = shapely.make_valid(polygon, method=RING_REPAIR if not polygon.interiors
+                                         else "linework")
         polygons.extend(_polygons_in(polygon))
     return MultiPolygon(polygons)
 
