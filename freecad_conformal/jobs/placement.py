@@ -67,7 +67,7 @@ def turn_up(shape, up) -> tuple[object, Placement]:
     axis, angle = rotation_to(up)
 
     def turned():
-        copy = shape.copy()
+        copy = shape.copy(True, True)
         if angle > 0.0:
             copy.rotate(App.Vector(0, 0, 0), App.Vector(*axis), math.degrees(angle))
         return copy

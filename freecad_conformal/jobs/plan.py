@@ -252,7 +252,7 @@ def _centred(shape, machine: Machine):
     from freecad_conformal.freecad_env import import_freecad
 
     App, _ = import_freecad()
-    moved = shape.copy()
+    moved = shape.copy(True, True)
     moved.translate(App.Vector(*shift))
     return moved, (f"part modelled where, turned to be built, it could leave the machine's X/Y "
                    f"travel: moved by ({shift[0]:+.3f}, {shift[1]:+.3f}, +0.000) mm over the "
