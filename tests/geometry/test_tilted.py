@@ -80,6 +80,19 @@ def test_sections_refuse_a_non_finite_plane_and_keep_few_slicers(rod):
     assert len(sections._slicers) == tilted.SLICER_CACHE and sections.cuts == 10
 
 
+def test_a_plane_probed_then_taken_is_cut_once(rod):
+    # Where the axis runs straight the layer's plane is its probe's: one cut, not two; any
+    # other plane (another height, another normal) is cut afresh.
+    sections = tilted._Sections(rod, 0)
+    probe = sections.at(np.array([0.0, 0.0, 4.0]), Z)
+    assert sections.at(np.array([0.0, 0.0, 4.0]), Z) is probe and sections.cuts == 1
+    higher = sections.at(np.array([0.0, 0.0, 4.2]), Z)
+    assert higher is not probe and higher.height == pytest.approx(probe.height + 0.2)
+    tilted_normal = np.array([math.sin(0.05), 0.0, math.cos(0.05)])
+    assert sections.at(np.array([0.0, 0.0, 4.2]), tilted_normal) is not higher
+    assert sections.cuts == 3
+
+
 def test_section_centroid_of_nothing_is_none(rod):
     sections = tilted._Sections(rod, 0)
     assert tilted.section_centroid(sections.at(np.array([0.0, 0.0, 500.0]), Z)) is None
