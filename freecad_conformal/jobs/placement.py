@@ -20,6 +20,7 @@ from freecad_conformal.errors import PlanError
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.rotation import rodrigues_matrix, rotation_to
 from freecad_conformal.geometry.shape_cache import ShapeCache
+from freecad_conformal.geometry.surface_mesh import share_face_parts
 from freecad_conformal.decomposition.subparts import BuildPlan
 
 #: Directions of the part tried as "up", the part as placed first.
@@ -70,6 +71,8 @@ def turn_up(shape, up) -> tuple[object, Placement]:
         copy = shape.copy(True, True)
         if angle > 0.0:
             copy.rotate(App.Vector(0, 0, 0), App.Vector(*axis), math.degrees(angle))
+        else:
+            share_face_parts(shape, copy)
         return copy
 
     return (_TURNED.get_keyed((shape,), tuple(float(c) for c in up), turned),

@@ -48,6 +48,25 @@ def test_every_candidate_plan_of_a_part_places_the_same_copy(App):
 
 
 @pytest.mark.slow
+def test_a_copy_not_turned_reads_the_faces_already_meshed(Part):
+    """The orientation scans mesh the part as given; its copy as placed (+Z up) has the very
+    same faces, so the mesh parts made for them serve it (points and normals bit for bit)
+    and its mesh closes. A turned copy's faces are meshed for themselves."""
+    from freecad_conformal.geometry.surface_mesh import face_part, mesh_deflection, surface_mesh
+
+    part = Part.makeSphere(10.0).fuse(Part.makeCylinder(4.0, 20.0)).removeSplitter()
+    deflection = mesh_deflection(part)
+    given = [face_part(face, deflection) for face in part.Faces]
+    placed, _ = turn_up(part, (0.0, 0.0, 1.0))
+    assert all(a is b for a, b in zip((face_part(f, deflection) for f in placed.Faces), given))
+    assert surface_mesh(placed) is not None
+    turned, _ = turn_up(part, (1.0, 0.0, 0.0))
+    parts = [face_part(face, deflection) for face in turned.Faces]
+    assert not any(a is b for a, b in zip(parts, given) if a is not None)
+    curved = next(i for i, p in enumerate(given) if p is not None and not p.planar)
+    np.testing.assert_allclose(parts[curved].points[:, 0], -given[curved].points[:, 2], atol=1e-9)
+
+
 def test_the_hinge_is_turned_until_the_trunnion_reaches_every_sub_part():
     """As modelled its lugs need the tool along −Z (A = 180°, beyond ±120°). A decomposition
     that builds the root along +Z of whatever it is given (left to "auto" the hinge is built
