@@ -99,6 +99,10 @@ class PlanCost:
     material: float
     subparts: dict[int, SubPartCost]
     transition_seconds: float
+    #: per level built, the seconds the minimum layer time added to it (0: none)
+    cooling: list[float] = field(default_factory=list)
+    #: seconds of each move from one group of sub-parts to the next
+    moves: list[float] = field(default_factory=list)
 
 
 def _segments_time(lengths: np.ndarray, speed: float, edge: float, motion: Motion) -> np.ndarray:
@@ -300,6 +304,8 @@ def plan_cost(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSet
                 for sub in plan.ordered() if layers[sub.index]}
     seconds = 0.0
     moves = 0.0
+    cooling: list[float] = []
+    between: list[float] = []
     built: list = []
     previous = None
     for group in together(plan, layers):
@@ -310,7 +316,10 @@ def plan_cost(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSet
                 levels[-1][1].append(cost)
             else:
                 levels.append((cost.level, [cost]))
-        seconds += sum(_cooled(costs, settings) for _, costs in levels)
+        cooled = [_cooled(costs, settings) for _, costs in levels]
+        cooling.extend(slow - sum(c.seconds for c in costs)
+                       for slow, (_, costs) in zip(cooled, levels))
+        seconds += sum(cooled)
         first = layers[group[0].index][0]
         start = _centre_3d(first)
         axis = np.asarray(first.top_normal, dtype=float)
@@ -322,13 +331,14 @@ def plan_cost(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSet
             points, _ = transition(previous[0], previous[1], start, axis, centre, radius)
             path = np.vstack((previous[0][None], points))
             lengths = np.linalg.norm(np.diff(path, axis=0), axis=1)
-            moves += sum(_travel_seconds(float(x), motion, settings.feeds.travel)
-                         for x in lengths)
+            between.append(sum(_travel_seconds(float(x), motion, settings.feeds.travel)
+                               for x in lengths))
+            moves += between[-1]
         last = layers[group[-1].index][-1]
         previous = (_centre_3d(last), np.asarray(last.top_normal, dtype=float))
         built.extend(sub.shape for sub in group)
     material = float(sum(cost.material for cost in subparts.values()))
-    return PlanCost(seconds + moves, material, subparts, moves)
+    return PlanCost(seconds + moves, material, subparts, moves, cooling, between)
 
 
 def _centre_3d(layer: Layer) -> np.ndarray:

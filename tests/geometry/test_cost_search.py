@@ -463,3 +463,30 @@ def test_a_stack_is_read_for_skins_once_for_the_cost_and_the_paths(monkeypatch):
     assert assemble.solid_areas(layers[:-1], settings, False) is not first
     assert assemble.solid_areas(layers, settings, True) is not first
     assert len(read) == 4
+
+
+def test_the_cost_says_what_cooling_added_to_each_level_and_each_move(Part):
+    """What cooling-aware interleaving could win is read from these (benchmarks/
+    cooling_bound.py): per level the seconds the minimum layer time added, and the seconds
+    of each move between groups of sub-parts."""
+    import dataclasses
+
+    from freecad_conformal.jobs.plan import machine_plan
+
+    pin = Part.makeCylinder(2.0, 4.0)
+    options = plan_options({})
+    checked = check_options(pin, options, None)
+    settings, motion = checked[3], Motion.of(checked[4], options.jerk)
+    plan = single_plan(pin)
+    layers = {sub.index: plan_layers(sub, LayerSettings()) for sub in plan.subparts}
+    cost = plan_cost(plan, layers, settings, motion)
+    free = plan_cost(plan, layers, dataclasses.replace(settings, min_layer_time=0.0), motion)
+    # A 4 mm pin's layers take under the 5 s minimum: every one is slowed.
+    assert len(cost.cooling) == len(layers[0]) and min(cost.cooling) > 0.0
+    assert cost.seconds - free.seconds == pytest.approx(sum(cost.cooling))
+    assert free.cooling == [0.0] * len(layers[0]) and cost.moves == []
+    _, split = machine_plan(samples.l_block(), PlanOptions(root=(0.0, 0.0, 1.0)))
+    assert len(split.subparts) == 2
+    layers = {sub.index: plan_layers(sub, LayerSettings()) for sub in split.subparts}
+    cost = plan_cost(split, layers, settings, motion)
+    assert len(cost.moves) == 1 and 0.0 < cost.moves[0] < cost.transition_seconds
