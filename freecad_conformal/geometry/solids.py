@@ -36,7 +36,7 @@ def load_shape(path: str | os.PathLike):
             f"cannot read {file.name}: suffix {suffix!r} is not one of {', '.join(SHAPE_SUFFIXES)}")
     with reading_watchdog(file):
         if suffix == ".fcstd":
-            return _without_meshes(_load_fcstd(App, Part, file))
+            return without_meshes(_load_fcstd(App, Part, file))
         try:
             shape = Part.read(str(file))
         except Exception as exc:  # OCC reader errors are plain Exceptions with terse text
@@ -45,19 +45,20 @@ def load_shape(path: str | os.PathLike):
         raise GeometryError(f"{file.name} holds no shape")
     if not shape.Solids and shape.Faces:
         shape = _sewn_solids(Part, shape, file.name)
-    return _without_meshes(shape) if suffix in MESH_CARRYING_SUFFIXES else shape
+    return without_meshes(shape) if suffix in MESH_CARRYING_SUFFIXES else shape
 
 
 #: Formats that may store triangulations with the geometry (BREP; FreeCAD documents hold BREP).
 MESH_CARRYING_SUFFIXES = (".brep", ".brp", ".fcstd")
 
 
-def _without_meshes(shape):
-    """The shape without the triangulations its file stored. OCC reads a triangulated shape's
-    `BoundBox` from them, and the plan read its placement on the platform and its mesh
-    deflection from that box: Pump_Nut's, 3.4 mm narrower than the box of its geometry
-    alone, moved its G-code; and FreeCAD's GUI hands a job the shape without them, so the
-    GUI's plan differed from the command line's. Without them both plan the same."""
+def without_meshes(shape):
+    """A copy of the shape without the triangulations its file stored or FreeCAD's 3D view
+    made. OCC reads a triangulated shape's `BoundBox` from them, and BRepMesh keeps a finer
+    one than asked: the plan read its placement on the platform and its mesh deflection from
+    that box (Pump_Nut's, 3.4 mm narrower than the box of its geometry alone, moved its
+    G-code) and its overhangs from that mesh (a document object's shape as a macro passes
+    it, meshed for the view). Without them every caller plans the same."""
     return shape.cleaned()
 
 

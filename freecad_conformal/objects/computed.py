@@ -96,10 +96,12 @@ class Computed:
 def shape_to_bytes(shape) -> bytes:
     """A shape in OCC's binary format (placement included): how shapes cross to a worker.
     Binary, not BREP text, which rounds reals: a job computed in the GUI then plans the very
-    shape the command line reads (geometry/occ_binary.py)."""
+    shape the command line reads (geometry/occ_binary.py). Without the triangulations the
+    3D view made of it (OCCT 7.6+ can write them): the worker meshes as the command line."""
     from freecad_conformal.geometry.occ_binary import to_binary
+    from freecad_conformal.geometry.solids import without_meshes
 
-    return to_binary(shape)
+    return to_binary(without_meshes(shape))
 
 
 def shape_from_bytes(written: bytes | str):

@@ -24,3 +24,24 @@ def test_a_job_in_freecad_writes_the_g_code_the_command_line_writes(parts_dir, P
                        "values": values}, lambda *_: None)
     command_line = plan_job(load_shape(path), plan_options(values), part="Pump_Nut")
     assert job["gcode"] == command_line.post.text
+
+
+def test_a_shape_meshed_for_the_3d_view_plans_as_the_bare_shape():
+    """A macro passes a document object's shape, which FreeCAD's view has meshed; BRepMesh
+    keeps a mesh finer than the plan asks for, and the overhangs were read from it (the
+    domed cylinder's G-code differed). The job and the GUI's compute plan a bare copy, and
+    the caller's shape is left as it was."""
+    from freecad_conformal.geometry import samples
+    from freecad_conformal.geometry.surface_mesh import mesh_deflection
+
+    bare = samples.domed_cylinder()
+    viewed = bare.copy()
+    viewed.tessellate(mesh_deflection(viewed) / 3)
+    diagonal = viewed.BoundBox.DiagonalLength
+    expected = plan_job(bare, plan_options({}), part="domed").post.text
+    assert plan_job(viewed, plan_options({}), part="domed").post.text == expected
+    assert viewed.BoundBox.DiagonalLength == diagonal
+    values = defaults(PLAN_SETTINGS)
+    job = compute_job({"brep": shape_to_bytes(viewed), "part": "domed", "values": values},
+                      lambda *_: None)
+    assert job["gcode"] == plan_job(bare, plan_options(values), part="domed").post.text
