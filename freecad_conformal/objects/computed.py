@@ -97,7 +97,8 @@ def shape_to_bytes(shape) -> bytes:
     """A shape in OCC's binary format (placement included): how shapes cross to a worker.
     Binary, not BREP text, which rounds reals: a job computed in the GUI then plans the very
     shape the command line reads (geometry/occ_binary.py). Without the triangulations the
-    3D view made of it (OCCT 7.6+ can write them): the worker meshes as the command line."""
+    3D view made of it: FreeCAD's `exportBinary` writes none today (0.20.2, and 1.0 on OCCT
+    7.8.1: checked), and the worker must mesh as the command line should one start to."""
     from freecad_conformal.geometry.occ_binary import to_binary
     from freecad_conformal.geometry.solids import without_meshes
 
