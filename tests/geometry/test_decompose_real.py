@@ -155,10 +155,15 @@ def test_table_trial_on_the_other_core_gives_the_sequential_plan(parts_dir, monk
     # the command line (with the child) is the one FreeCAD's GUI makes (without).
     for a, b in zip(forked.subparts, sequential.subparts, strict=True):
         assert (a.rule, a.parent) == (b.rule, b.parent)
-        assert np.array_equal(a.build_direction, b.build_direction)
-        assert a.volume == b.volume
-        assert a.overhang_area == b.overhang_area
-        assert [tuple(v.Point) for v in a.shape.Vertexes] == [tuple(v.Point) for v in b.shape.Vertexes]
+        _assert_same_piece(a, b)
+
+
+def _assert_same_piece(a, b) -> None:
+    """The two sub-parts are one piece to the last bit: direction, volume, overhang and
+    every vertex."""
+    assert np.array_equal(a.build_direction, b.build_direction)
+    assert (a.volume, a.overhang_area) == (b.volume, b.overhang_area)
+    assert [tuple(v.Point) for v in a.shape.Vertexes] == [tuple(v.Point) for v in b.shape.Vertexes]
 
 
 def test_crank_arms_trial_child_makes_the_pieces_this_process_would(parts_dir, monkeypatch):
@@ -174,9 +179,7 @@ def test_crank_arms_trial_child_makes_the_pieces_this_process_would(parts_dir, m
         plans[child] = decompose(shape, root_direction="auto", check_collisions=False)
     assert any("less overhang than as placed" in note for note in plans[True].notes)
     for a, b in zip(plans[True].subparts, plans[False].subparts, strict=True):
-        assert np.array_equal(a.build_direction, b.build_direction)
-        assert (a.volume, a.overhang_area) == (b.volume, b.overhang_area)
-        assert [tuple(v.Point) for v in a.shape.Vertexes] == [tuple(v.Point) for v in b.shape.Vertexes]
+        _assert_same_piece(a, b)
 
 
 def test_table_plans_here_when_the_trial_child_cannot_start(parts_dir, monkeypatch):

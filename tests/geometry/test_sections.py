@@ -233,11 +233,10 @@ def _turned_loft(App, Part):
 
 @pytest.mark.parametrize("method", ["fork", "forkserver"])
 def test_sections_cut_on_several_processes_are_those_cut_here(App, Part, monkeypatch, method):
-    """Which process cuts a job depends on timing; the workers' faces come back in OCC's
-    binary format, so the polygons are bit for bit those cut here, with no round trip of
-    this process's own (without that CrankArm's G-code differed from run to run), and a
-    fork server's workers, which build the slicer from the solids sent to them, cut the
-    same."""
+    """Which process cuts a job depends on timing; every job's faces, the workers' and this
+    process's, come back through OCC's binary format, so the polygons are bit for bit those
+    of one process (without that CrankArm's G-code differed from run to run), and a fork
+    server's workers, which build the slicer from the solids sent to them, cut the same."""
     from freecad_conformal.geometry import section_pool
 
     if method == "fork" and section_pool.occ_version() >= section_pool.THREAD_POOL_OCC:
