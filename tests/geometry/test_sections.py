@@ -283,3 +283,34 @@ def test_one_end_along_a_direction_is_that_end_of_the_extent(App, Part):
     centre = np.array([3.0, -2.0, 1.0]) @ d
     assert (lowest_along(sphere, d), highest_along(sphere, d)) == extent_along(sphere, d)
     assert extent_along(sphere, d) == pytest.approx((centre - 7.0, centre + 7.0), abs=1e-7)
+
+
+
+def test_ends_read_face_by_face_are_the_nearest_of_all_faces(App, Part):
+    """An end is the least distance from a far plane to the faces that may hold it, highest
+    box first, stopping where no box reaches further: the same number, bit for bit, as one
+    query against the whole solid, on a part whose torus and cylinder boxes overshoot it
+    and whose ends mostly lie inside faces, not at vertices (stopping at the first face,
+    or at a box instead of a distance, reads another number)."""
+    from freecad_conformal.geometry.sections import highest_along, lowest_along
+
+    ring = Part.makeTorus(12.0, 3.0, App.Vector(0, 0, 5), App.Vector(1, 1, 3))
+    rod = Part.makeCylinder(2.0, 40.0, App.Vector(-20, 0, 5), App.Vector(1, 0.2, 0.1))
+    part = ring.fuse(rod).fuse(Part.makeBox(8, 8, 8, App.Vector(-4, -4, -6)))
+    box = part.BoundBox
+    centre = np.array([box.Center.x, box.Center.y, box.Center.z])
+    size, reach = 4 * box.DiagonalLength, 2 * box.DiagonalLength + np.abs(centre).sum()
+    vertices = np.array([tuple(v.Point) for v in part.Vertexes])
+    rng = np.random.default_rng(5)
+    inside = 0
+    for d in list(np.eye(3)) + [v / np.linalg.norm(v) for v in rng.normal(size=(12, 3))]:
+        for n in (d, -d):
+            u = np.cross(n, [0.0, 0.0, 1.0] if abs(n[2]) < 0.9 else [1.0, 0.0, 0.0])
+            u /= np.linalg.norm(u)
+            corner = centre + (reach - centre @ n) * n - 0.5 * size * (u + np.cross(n, u))
+            far = Part.makePlane(size, size, App.Vector(*corner), App.Vector(*n), App.Vector(*u))
+            truth = reach - far.distToShape(part)[0]
+            assert highest_along(part, n) == pytest.approx(truth, abs=1e-9)
+            assert lowest_along(part, -n) == pytest.approx(-truth, abs=1e-9)
+            inside += truth > float((vertices @ n).max()) + 1e-3
+    assert inside > 10
