@@ -35,3 +35,27 @@ def test_nodes_off_their_uv_points_take_their_own_uv_nodes_normal(App, Part):
     # Nodes farther off than that are projected back: the same normals, to rounding.
     far = node_normals(face, p + 40.0 * offset, t)
     assert np.allclose(far, found, atol=1e-4) and not np.array_equal(far, found)
+
+
+def test_a_planar_faces_normal_is_read_once_and_follows_its_orientation(App, Part):
+    """Cached by face: the same face (and the same face found again in its solid) gives the
+    same read-only array, its reversed twin and a moved copy their own; a curved face
+    none."""
+    import pytest
+
+    from freecad_conformal.geometry.face_normals import plane_normal
+
+    box = Part.makeBox(10, 10, 10)
+    bottom = next(f for f in box.Faces if f.CenterOfMass.z < 1e-9)
+    first = plane_normal(bottom)
+    np.testing.assert_allclose(first, [0.0, 0.0, -1.0], atol=1e-12)
+    again = next(f for f in box.Faces if f.CenterOfMass.z < 1e-9)
+    assert plane_normal(again) is first
+    with pytest.raises(ValueError):
+        first[2] = 1.0
+    np.testing.assert_allclose(plane_normal(bottom.reversed()), [0.0, 0.0, 1.0], atol=1e-12)
+    turned = box.copy()
+    turned.rotate(App.Vector(0, 0, 0), App.Vector(1, 0, 0), 90.0)
+    moved = next(f for f in turned.Faces if abs(f.CenterOfMass.y) < 1e-9)
+    np.testing.assert_allclose(plane_normal(moved), [0.0, 1.0, 0.0], atol=1e-12)
+    assert plane_normal(Part.makeCylinder(2.0, 5.0).Faces[0]) is None
