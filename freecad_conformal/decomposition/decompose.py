@@ -43,7 +43,7 @@ BUILD_AXIS = np.array([0.0, 0.0, 1.0])
 DEFAULT_MAX_SUBPARTS = 24
 
 
-def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: str = "fdm_0p4",
+def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fdm_0p4",
               method: str = "true-direction",
               root_direction: Sequence[float] | str = (0.0, 0.0, 1.0),
               max_subparts: int = DEFAULT_MAX_SUBPARTS, check_collisions: bool = True,
@@ -53,7 +53,8 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool: st
     Args:
         shape: a solid or a compound of solids, placed as it sits on the bed (+Z up).
         overhang_angle: allowed overhang from the build direction (rad, default 45°).
-        tool: id of the tool in the library whose envelope is checked for collisions.
+        tool: the tool whose envelope is checked for collisions: its id in the library, or
+            the Tool itself (a job passes the one it checked).
         method: "true-direction" (the axis follows inclined members) or "published"
             (the axis turns to the nearest of ±X, ±Y, ±Z as in METHODS section 3).
         root_direction: build direction of each solid's first sub-part, or "auto": +Z

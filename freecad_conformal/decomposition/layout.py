@@ -22,6 +22,7 @@ import numpy as np
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.sections import lowest_along
 from freecad_conformal.geometry.rotation import rodrigues_matrix, rotation_to
+from freecad_conformal.geometry.solids import moved_rigidly
 from freecad_conformal.decomposition.subparts import BuildPlan
 from freecad_conformal.tolerances import ZERO_LENGTH
 
@@ -59,6 +60,7 @@ class SolidMove:
         if self.angle > 0.0:
             moved.rotate(App.Vector(*self.pivot), App.Vector(*self.axis), math.degrees(self.angle))
         moved.translate(App.Vector(*self.shift))
+        moved_rigidly(shape, moved)
         return moved
 
     def describe(self) -> str:

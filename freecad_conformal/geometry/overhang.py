@@ -17,6 +17,7 @@ import numpy as np
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry.face_normals import plane_normal
+from freecad_conformal.geometry.shape_cache import ShapeCache
 from freecad_conformal.geometry.surface_mesh import face_part, mesh_deflection
 from freecad_conformal.tolerances import PARALLEL_COS_SLACK, ZERO_LENGTH
 
@@ -123,10 +124,30 @@ def overhang_report(shape, direction: Sequence[float], angle: float = DEFAULT_OV
                           faces=faces)
 
 
+#: Overhang areas of whole shapes (no base faces), by shape identity and (direction, angle,
+#: on the bed): the search scans the part's candidate directions, and the decomposition
+#: scans its placed copy's again (Pump_Nut: 49 of 79 scans repeated, 0.09 s of its choice).
+_AREAS: ShapeCache[dict] = ShapeCache(limit=4096, oriented=True)
+
+
 def overhang_area(shape, direction: Sequence[float], angle: float = DEFAULT_OVERHANG_ANGLE,
                   base_faces: Sequence = (), on_bed: bool = True) -> float:
     """Total overhang area (mm²); see `overhang_report`."""
-    return overhang_report(shape, direction, angle, base_faces, on_bed).area
+    if base_faces:
+        return overhang_report(shape, direction, angle, base_faces, on_bed).area
+    key = (tuple(float(c) for c in np.ravel(direction)), float(angle), bool(on_bed))
+    return _AREAS.get_keyed((shape,), key, lambda: overhang_report(
+        shape, direction, angle, base_faces, on_bed).area)
+
+
+def share_overhang_areas(original, copy) -> None:
+    """Give `copy`, made of `original` and not moved (the same faces, in the same order, with
+    the same meshes: `surface_mesh.share_face_parts`), the overhang areas measured of it
+    and of each of its solids (the search scans the solid of a one-solid compound)."""
+    for shape, twin in [(original, copy)] + list(zip(original.Solids, copy.Solids)):
+        known = _AREAS.peek((shape,))
+        if known is not None:
+            _AREAS.get((twin,), lambda known=known: known)
 
 
 def _supported_area(face, normal: np.ndarray, d: np.ndarray, low: float | None,

@@ -10,6 +10,7 @@ from pathlib import Path
 
 from freecad_conformal.errors import GeometryError
 from freecad_conformal.freecad_env import import_freecad, make_workbench_types_loadable
+from freecad_conformal.geometry.shape_cache import ShapeCache
 
 #: File suffixes `load_shape` reads, lower case.
 SHAPE_SUFFIXES = (".step", ".stp", ".brep", ".brp", ".iges", ".igs", ".fcstd")
@@ -131,6 +132,22 @@ def _load_fcstd(App, Part, file: Path):
         App.closeDocument(doc.Name)
 
 
+#: Whether OCC's check passed, by solid identity: a job checks the part, then cuts rigid
+#: copies of it (centred, turned, laid out), and each cut checked its copy again (12 ms a
+#: copy of Pump_Nut, four copies a plan).
+_CHECKED: ShapeCache[bool] = ShapeCache(limit=4096, oriented=True)
+
+
+def moved_rigidly(original, copy) -> None:
+    """Record that `copy` is `original` copied and then only rotated or translated: OCC's
+    check would find of it what it found of the original (a rigid motion changes no
+    distance or tolerance it compares), so `solids_of` does not check it again."""
+    for solid, twin in zip(original.Solids, copy.Solids):
+        known = _CHECKED.peek((solid,))
+        if known is not None:
+            _CHECKED.get((twin,), lambda known=known: known)
+
+
 def solids_of(shape, what: str = "shape") -> list:
     """The solids of `shape`, checked: a GeometryError names a null, invalid or solid-less input."""
     App, Part = import_freecad()
@@ -150,7 +167,7 @@ def solids_of(shape, what: str = "shape") -> list:
         article = "an" if kind[:1] in "AEIOU" else "a"
         raise GeometryError(f"{what} is not a solid: it is {article} {kind} with no solids{hint}")
     for index, solid in enumerate(solids):
-        if not solid.isValid():
+        if not _CHECKED.get((solid,), solid.isValid):
             raise GeometryError(f"{what}: solid {index + 1} of {len(solids)} is invalid "
                                 f"(OCC check failed; try Part > Check geometry / refine)")
         if not solid.Faces:

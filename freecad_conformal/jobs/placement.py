@@ -20,6 +20,8 @@ from freecad_conformal.errors import PlanError
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.rotation import rodrigues_matrix, rotation_to
 from freecad_conformal.geometry.shape_cache import ShapeCache
+from freecad_conformal.geometry.solids import moved_rigidly
+from freecad_conformal.geometry.overhang import share_overhang_areas
 from freecad_conformal.geometry.surface_mesh import share_face_parts
 from freecad_conformal.decomposition.subparts import BuildPlan
 
@@ -73,6 +75,8 @@ def turn_up(shape, up) -> tuple[object, Placement]:
             copy.rotate(App.Vector(0, 0, 0), App.Vector(*axis), math.degrees(angle))
         else:
             share_face_parts(shape, copy)
+            share_overhang_areas(shape, copy)
+        moved_rigidly(shape, copy)
         return copy
 
     return (_TURNED.get_keyed((shape,), tuple(float(c) for c in up), turned),

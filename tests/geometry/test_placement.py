@@ -104,3 +104,28 @@ def test_no_reachable_placement_names_every_one_tried():
     with pytest.raises(PlanError, match=r"no placement of the part .* \(\+0, \+0, -1\) up: machine "
                                         r"'Plain 3-axis' cannot point"):
         reachable_plan(samples.jack(), along_x, lambda plan: check_reach(machine, plan))
+
+
+def test_a_copy_not_turned_keeps_the_overhang_measured_of_the_part(monkeypatch):
+    """The search scans the part's overhang in every candidate direction, and the
+    decomposition its copy as placed (+Z up) again: the copy has the very faces, so it keeps
+    what was measured, for a solid and for the solid inside a one-solid compound. A turned
+    copy measures its own."""
+    from freecad_conformal.freecad_env import import_freecad
+    from freecad_conformal.geometry import overhang
+
+    _, Part = import_freecad()
+    part = Part.Compound([samples.t_block()])
+    directions = [np.array(d, dtype=float) for d in ((0, 0, 1), (0, 0, -1), (1, 0, 0))]
+    given = [overhang.overhang_area(part.Solids[0], d) for d in directions]
+    measured = []
+    real = overhang.overhang_report
+    monkeypatch.setattr(overhang, "overhang_report",
+                        lambda shape, *args, **kwargs: measured.append(shape) or real(
+                            shape, *args, **kwargs))
+    placed, _ = turn_up(part, (0.0, 0.0, 1.0))
+    assert [overhang.overhang_area(placed.Solids[0], d) for d in directions] == given
+    assert measured == []
+    turned, _ = turn_up(part, (1.0, 0.0, 0.0))
+    overhang.overhang_area(turned.Solids[0], directions[0])
+    assert len(measured) == 1

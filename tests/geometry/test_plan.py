@@ -87,6 +87,24 @@ def test_a_part_modelled_off_the_platform_is_moved_over_its_centre(Part):
                                     "+0.000) mm")
 
 
+def test_the_search_measures_the_centred_part_and_its_choice_says_so(App):
+    """The plan choice centres a part modelled off the platform before its search, so every
+    candidate is measured and placed from that one copy; the chosen plan still says the
+    part was moved, once."""
+    from freecad_conformal.jobs.plan import check_options, choose_plan
+
+    far = samples.l_block()
+    far.translate(App.Vector(800, -600, 0))
+    options = PlanOptions()
+    choice = choose_plan(far, options, check_options(far, options))
+    moved = [note for note in choice.plan.notes if note.startswith("part modelled where")]
+    assert len(moved) == 1 and "moved by (-8" in moved[0]
+    assert len(choice.candidates) > 1
+    for candidate in choice.candidates:
+        centre = candidate.placed.BoundBox.Center
+        assert abs(centre.x) < 60 and abs(centre.y) < 60
+
+
 def test_a_part_that_could_leave_the_travel_once_turned_is_centred(Part):
     """Inside the travel as modelled (y 265..285), but 60 mm tall: on its side it would
     reach y = 305 (the Pump_Nut reached 300.3 and the post refused it)."""

@@ -29,3 +29,25 @@ def test_unknown_suffix_and_missing_file(tmp_path):
         load_shape(tmp_path / "part.stl")
     with pytest.raises(GeometryError, match="not found"):
         load_shape(tmp_path / "none.step")
+
+
+def test_a_rigid_copy_keeps_the_verdict_of_occs_check(App, Part):
+    """A copy only turned or moved is what its original was to OCC's check: recorded, not
+    checked again (12 ms a copy of Pump_Nut), and an invalid part stays refused."""
+    from freecad_conformal.geometry.solids import moved_rigidly, solids_of
+
+    box = Part.makeBox(10, 10, 10)
+    open_box = Part.Solid(Part.Shell(box.Faces[:5]))
+    assert solids_of(box)
+    with pytest.raises(GeometryError, match="invalid"):
+        solids_of(open_box)
+    for original in (box, open_box):
+        copy = original.copy()
+        copy.rotate(App.Vector(0, 0, 0), App.Vector(1, 1, 0), 30.0)
+        copy.translate(App.Vector(5, 0, 0))
+        moved_rigidly(original, copy)
+        if original is box:
+            assert solids_of(copy)[0].isSame(copy.Solids[0])
+        else:
+            with pytest.raises(GeometryError, match="invalid"):
+                solids_of(copy)
