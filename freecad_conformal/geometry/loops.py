@@ -152,6 +152,17 @@ def loops_of_faces(faces: list, frame, chord_tolerance: float,
     return loops
 
 
+def loops_with_wires(faces: list, made: list[tuple[int, bool, np.ndarray]]) -> list[Loop] | None:
+    """The loops `loops_of_faces` makes of `faces`, from their (face index, outer, points)
+    made in that order by another process, each given its wire of `faces` back (a wire does
+    not travel between processes). None when the counts of wires and loops differ."""
+    wires = [wire for face in faces for wire in face.Wires]
+    if len(wires) != len(made):
+        return None
+    return [Loop(outer=outer, points=points, wire=wire, face_index=index)
+            for wire, (index, outer, points) in zip(wires, made)]
+
+
 def polygons_of_loops(loops: list[Loop]) -> MultiPolygon:
     """Shapely polygons (one per island, holes inside) from loops grouped by face."""
     by_face: dict[int, dict] = {}

@@ -317,14 +317,15 @@ class PlanarSlicer:
         return self.sections([height])[0]
 
     def sections(self, heights: Sequence[float], progress: ProgressCallback | None = None,
-                 workers: int = 1) -> list[PlanarSection]:
+                 workers: int = 1, with_loops: bool = False) -> list[PlanarSection]:
         """Sections at `heights` (any order), in the order given, on `workers` processes.
 
         Every height is cut face by face first; the layers that path leaves go to the
         Boolean afterwards, up to `CHUNK` of them (per solid) in one Boolean
-        (`section_pool.cut_sections`).
+        (`section_pool.cut_sections`). `with_loops`: the caller reads every section's
+        loops, which the processes that cut them then make.
         """
-        layers = cut_sections(self, heights, workers, progress)
+        layers = cut_sections(self, heights, workers, progress, with_loops)
         return [self._recover_if_empty(layer) for layer in layers]
 
     def off_vertices(self, heights: Sequence[float]) -> list[float]:
@@ -426,7 +427,10 @@ class PlanarSlicer:
             result[int(order[slot])].append(face)
         return [[SectionFace.of(face) for face in _merge_touching(faces)] for faces in result]
 
-    def make_section(self, height: float, items: list[SectionFace]) -> PlanarSection:
+    def make_section(self, height: float, items: list[SectionFace],
+                     loops: list[Loop] | None = None) -> PlanarSection:
+        """The section of `items` at `height` (`loops`: its loops, made where it was cut;
+        None: discretised when first read)."""
         area = float(sum(item.area for item in items))
         if items:
             centroid = sum((item.centroid * item.area for item in items), np.zeros(3)) / area
@@ -434,7 +438,8 @@ class PlanarSlicer:
             centroid = np.full(3, np.nan)
         return PlanarSection(height=float(height), frame=self.frame,
                              faces=[item.face for item in items], area=area,
-                             centroid=centroid, chord_tolerance=self.chord_tolerance)
+                             centroid=centroid, chord_tolerance=self.chord_tolerance,
+                             _loops=loops)
 
 
 def _merge_touching(faces: list) -> list:

@@ -50,7 +50,7 @@ def _uniform_bounds(low: float, high: float, thickness: float) -> list[tuple[flo
 def planar_layers(subpart: int, slicer: PlanarSlicer,
                   bounds: Sequence[tuple[float, float]], workers: int = 1) -> list[Layer]:
     middles = slicer.off_vertices([0.5 * (a + b) for a, b in bounds])
-    sections = slicer.sections(middles, workers=workers)
+    sections = slicer.sections(middles, workers=workers, with_loops=True)
     frame = slicer.frame
     layers = []
     for (bottom, top), section in zip(bounds, sections):

@@ -248,6 +248,20 @@ def test_sections_cut_on_several_processes_are_those_cut_here(App, Part, monkeyp
     pooled = PlanarSlicer(loft, (1, 0, 0)).sections(heights, workers=2)
     for want, got in zip(expected, pooled):
         assert want.polygons().equals_exact(got.polygons(), 0.0), want.height
+    # Loops made by the processes that cut: the same points, each with its own face's wire,
+    # and none discretised here afterwards.
+    from freecad_conformal.geometry import sections as sections_module
+
+    def not_here(*_args, **_kwargs):
+        raise AssertionError("loops discretised after the cut")
+
+    made = PlanarSlicer(loft, (1, 0, 0)).sections(heights, workers=2, with_loops=True)
+    monkeypatch.setattr(sections_module, "loops_of_faces", not_here)
+    for want, got in zip(expected, made):
+        assert want.polygons().equals_exact(got.polygons(), 0.0), want.height
+        wires = [wire for face in got.faces for wire in face.Wires]
+        assert [loop.wire.isSame(wire) for loop, wire in zip(got.loops, wires)] == \
+            [True] * len(wires)
 
 
 def test_binary_shapes_come_back_bit_for_bit_where_brep_text_does_not(App, Part):
