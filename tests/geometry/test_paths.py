@@ -106,6 +106,27 @@ def test_tool_body_is_checked_too(App, Part, envelope):
         check_clearance(points, axes, [tower], envelope, "move", "sub-part 0")
 
 
+def test_a_move_past_a_curved_face_is_judged_by_its_distance_not_its_box(App, Part):
+    """Only segments and faces whose boxes come within the clearance are measured, each
+    exactly: a tip crossing the corner of a sphere's box but well clear of the sphere
+    passes, one skimming the sphere is refused with the gap OCC measures to the solid."""
+    from freecad_conformal.process.tools import Envelope
+
+    envelope = Envelope(tip_diameter=1.0, tip_length=3.0, body_diameter=0.5, body_length=5.0)
+    ball = Part.makeSphere(10.0)
+    need = 0.5 * envelope.tip_diameter
+    corner = np.array([9.5, 9.5, -40.0])            # inside the box's corner, 3.4 mm out
+    axes = np.tile([0.0, 0.0, 1.0], (3, 1))
+    clear = np.array([corner, corner + [0, 0, 40], corner + [0, 0, 80]])
+    check_clearance(clear, axes, [ball], envelope, "move", "sub-part 0")
+    skim = clear - [2.26, 2.26, 0.0]                # 7.24 * sqrt 2 = 10.24: 0.24 mm out
+    wire = Part.makePolygon([App.Vector(*p) for p in skim])
+    gap = wire.distToShape(ball)[0]
+    assert 0.0 < gap < need
+    with pytest.raises(PlanError, match=f"tool tip passes {gap:.3f} mm"):
+        check_clearance(skim, axes, [ball], envelope, "move", "sub-part 0")
+
+
 def test_transition_goes_over_the_safe_sphere():
     centre, radius = np.zeros(3), 10.0
     points, axes = transition(np.array([0.0, 0, 10]), np.array([0.0, 0, 1]),
