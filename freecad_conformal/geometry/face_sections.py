@@ -168,6 +168,33 @@ class _EdgeData:
         return len(self.faces) == 1
 
 
+#: A circle's plane this close to normal to the cut (|n x axis| below it) has no extreme
+#: point along the normal: the whole circle is at one height, with its vertex.
+FLAT_CIRCLE = 1e-9
+
+
+def _circle_extremes(edge, n: np.ndarray) -> list[float]:
+    """Heights along `n` of a circular edge's highest and lowest points where they lie on
+    the edge (inside its parameter range); none for other edges."""
+    curve = edge.Curve
+    if type(curve).__name__ != "Circle":
+        return []
+    centre, axis = np.array(tuple(curve.Center)), np.array(tuple(curve.Axis))
+    across = n - float(n @ axis) * axis
+    reach = float(np.linalg.norm(across))
+    if reach < FLAT_CIRCLE:
+        return []
+    first, last = edge.ParameterRange
+    heights = []
+    for side in (1.0, -1.0):
+        point = centre + side * curve.Radius * across / reach
+        t = curve.parameter(import_freecad()[0].Vector(*point))
+        t = first + (t - first) % (2 * np.pi)
+        if t <= last + 1e-9:
+            heights.append(float(point @ n))
+    return heights
+
+
 class FaceCutter:
     """Plane sections of one solid, face by face (see the module docstring)."""
 
@@ -181,6 +208,7 @@ class FaceCutter:
         self.n = np.asarray(normal, dtype=float)
         self._shared = shared if shared is not None else {}
         self._vertex_heights = np.array([np.dot(tuple(v.Point), self.n) for v in solid.Vertexes])
+        self._circle_heights: np.ndarray | None = None
         self.edges: list[_EdgeData] = []
         self.faces: list[_FaceData] = []
         index_of: dict[int, int] = {}
@@ -250,6 +278,17 @@ class FaceCutter:
     def touches_vertex(self, height: float) -> bool:
         """Whether a vertex of the solid lies in the plane at `height` (not generic)."""
         return bool(np.any(np.abs(self._vertex_heights - height) < VERTEX_CLEARANCE))
+
+    def touches_circle(self, height: float) -> bool:
+        """Whether the plane at `height` touches one of the solid's circular edges at its
+        extreme along the normal, inside the edge: the crossing there is double, and the cut
+        face by face gives up as at a vertex (the bottle's standing circles at 27.5 and
+        28.1 mm). A guess of which heights the Boolean will cut (`section_pool`), never a
+        verdict: the cut itself decides."""
+        if self._circle_heights is None:
+            self._circle_heights = np.array(
+                [h for data in self.edges for h in _circle_extremes(data.edge, self.n)])
+        return bool(np.any(np.abs(self._circle_heights - height) < VERTEX_CLEARANCE))
 
     def _crossings(self, height: float):
         """Points where the plane crosses the solid's edges, the edge each lies on, and

@@ -137,7 +137,7 @@ def _cut(solid_index: int, heights: np.ndarray, boolean: bool, slicer=None) -> l
     return (slicer.cut_boolean if boolean else slicer.cut_faces)(solid_index, heights)
 
 
-def _worker(jobs: list, boolean: bool, counter, results, spec: tuple | None = None,
+def _worker(jobs: list, counter, results, spec: tuple | None = None,
             with_loops: bool = False) -> None:
     """Worker: takes jobs from the shared counter until none is left (`spec`: the slicer to
     build, for workers that did not inherit it; `with_loops`: send each height's loop
@@ -145,8 +145,7 @@ def _worker(jobs: list, boolean: bool, counter, results, spec: tuple | None = No
     try:
         slicer = slicer_from(spec) if spec is not None else _WORKER_SLICER
         while (index := _claim(counter)) < len(jobs):
-            solid_index, heights = jobs[index]
-            sent = job_as_binary(_cut(solid_index, heights, boolean))
+            sent = job_as_binary(_cut(*jobs[index]))
             loops = loop_points(job_from_binary(*sent), slicer) if with_loops else None
             results.put((index, (sent, loops)))
         results.put((None, None))
@@ -193,7 +192,10 @@ def cut_sections(slicer, heights: Sequence[float], workers: int = 1,
 
     First every height is cut face by face in small jobs (they cost about the same each,
     so small jobs keep both cores busy to the end); then the layers that path left go to
-    Booleans of up to `CHUNK` planes each.
+    Booleans of up to `CHUNK` planes each. Where several processes cut, the heights the
+    face-by-face cut is expected to leave (`expected_booleans`) are cut by the Boolean
+    meanwhile, first; a fallback Boolean that turns out to be one of those is not made again
+    (the bottle's two heights: 0.09 s that one core spent alone after both had cut).
     """
     levels = np.asarray(heights, dtype=float).reshape(-1)
     if not np.all(np.isfinite(levels)):
@@ -215,9 +217,13 @@ def cut_sections(slicer, heights: Sequence[float], workers: int = 1,
         if progress is not None:
             progress(int(len(levels) * min(claimed, len(jobs)) / max(len(jobs), 1)), len(levels))
 
+    guesses = expected_booleans(slicer, levels, jobs) if workers > 1 else []
+    made = _shared(slicer, levels, guesses + jobs, [True] * len(guesses) + [False] * len(jobs),
+                   workers, report, with_loops)
+    guessed = {(solid_index, tuple(chunk)): result
+               for (solid_index, chunk), (result, _) in zip(guesses, made)}
     known: list[list | None] = [[] for _ in levels]     # per height: its loops, if sent
-    for (solid_index, chunk), (result, loops) in zip(
-            jobs, _shared(slicer, levels, jobs, False, workers, report, with_loops)):
+    for (solid_index, chunk), (result, loops) in zip(jobs, made[len(guesses):]):
         for place, (index, faces) in enumerate(zip(chunk, result)):
             if faces is None:
                 left.setdefault(solid_index, []).append(index)
@@ -231,8 +237,11 @@ def cut_sections(slicer, heights: Sequence[float], workers: int = 1,
     fallbacks = [(solid_index, np.array(indices[k:k + slicer.CHUNK]))
                  for solid_index, indices in left.items()
                  for k in range(0, len(indices), slicer.CHUNK)]
-    for (_, chunk), (result, _) in zip(fallbacks, _shared(slicer, levels, fallbacks, True, workers)):
-        for index, faces in zip(chunk, result):
+    still = [job for job in fallbacks if (job[0], tuple(job[1])) not in guessed]
+    for job, (result, _) in zip(still, _shared(slicer, levels, still, True, workers)):
+        guessed[(job[0], tuple(job[1]))] = result
+    for solid_index, chunk in fallbacks:
+        for index, faces in zip(chunk, guessed[(solid_index, tuple(chunk))]):
             faces_at[index].extend(faces)
     boolean = sum(len(indices) for indices in left.values())
     slicer.counts["boolean"] += boolean
@@ -242,6 +251,23 @@ def cut_sections(slicer, heights: Sequence[float], workers: int = 1,
         [(first + face, outer, points) for first, made in parts for face, outer, points in made])
         for k, parts in enumerate(known)]
     return [slicer.make_section(levels[k], list(faces_at[k]), loops[k]) for k in where]
+
+
+def expected_booleans(slicer, levels: np.ndarray, jobs: list) -> list:
+    """The fallback Booleans the face-by-face `jobs` are expected to leave, as `cut_sections`
+    would group them (per solid, `CHUNK` heights each): heights whose plane touches one of
+    the solid's circular edges at its extreme (`FaceCutter.touches_circle`). Vertices need
+    no guess: layer heights are moved off them (`PlanarSlicer.off_vertices`)."""
+    if not slicer.face_by_face:
+        return []
+    guesses = []
+    for solid_index in range(len(slicer.solids)):
+        cutter = slicer.cutter(solid_index)
+        indices = [int(index) for job_solid, chunk in jobs if job_solid == solid_index
+                   for index in chunk if cutter.touches_circle(float(levels[index]))]
+        guesses.extend((solid_index, np.array(indices[k:k + slicer.CHUNK]))
+                       for k in range(0, len(indices), slicer.CHUNK))
+    return guesses
 
 
 #: Seconds between checks that the workers are still alive while waiting for their results.
@@ -263,20 +289,24 @@ def next_result(queue, processes: list) -> tuple:
         return index, payload
 
 
-def _shared(slicer, levels: np.ndarray, jobs: list, boolean: bool, workers: int,
+def _shared(slicer, levels: np.ndarray, jobs: list, boolean: bool | list[bool], workers: int,
             report: Callable[[int], None] | None = None, with_loops: bool = False) -> list:
     """Each job's (per-height results, per-height loop points or None), cut by this process
-    and `workers - 1` forked ones; loop points only where `with_loops` and several processes
-    cut (one process discretises its loops when they are read, as it always did)."""
+    and `workers - 1` forked ones (`boolean`: cut by the Boolean, for all jobs or per job);
+    loop points only where `with_loops` and several processes cut (one process discretises
+    its loops when they are read, as it always did). A job's faces take the binary trip
+    whenever another process could have cut it: unless it is the only face-by-face job, the
+    same whatever the count of processes."""
     global _WORKER_SLICER
     if not jobs:
         return []
-    work = [(solid_index, levels[chunk]) for solid_index, chunk in jobs]
+    flags = list(boolean) if isinstance(boolean, list) else [boolean] * len(jobs)
+    work = [(solid_index, levels[chunk], flag) for (solid_index, chunk), flag in zip(jobs, flags)]
     if workers == 1 or len(jobs) == 1:
         results = []
         for done, job in enumerate(work, start=1):
-            results.append((_as_sent(_cut(*job, boolean, slicer)) if len(jobs) > 1
-                            else _cut(*job, boolean, slicer), None))
+            results.append((_as_sent(_cut(*job, slicer)) if len(jobs) > 1 or job[2]
+                            else _cut(*job, slicer), None))
             if report is not None:
                 report(done)
         return results
@@ -295,11 +325,11 @@ def _shared(slicer, levels: np.ndarray, jobs: list, boolean: bool, workers: int,
     try:
         for _ in range(min(workers, len(jobs)) - 1):
             process = context.Process(target=_worker, daemon=True,
-                                      args=(work, boolean, counter, queue, spec, with_loops))
+                                      args=(work, counter, queue, spec, with_loops))
             process.start()
             processes.append(process)
         while (index := _claim(counter)) < len(jobs):
-            sent = _as_sent(_cut(*work[index], boolean, slicer))
+            sent = _as_sent(_cut(*work[index], slicer))
             results[index] = (sent, loop_points(sent, slicer) if with_loops else None)
             if report is not None:
                 report(index + 1)

@@ -328,3 +328,33 @@ def test_ends_read_face_by_face_are_the_nearest_of_all_faces(App, Part):
             assert lowest_along(part, -n) == pytest.approx(-truth, abs=1e-9)
             inside += truth > float((vertices @ n).max()) + 1e-3
     assert inside > 10
+
+
+def test_a_plane_touching_a_circular_edge_is_cut_by_the_boolean_meanwhile(App, Part, monkeypatch):
+    """A plane tangent to the end circle of a rod standing out of a block (its underside,
+    5 mm up) leaves the face-by-face cut; where several processes cut, that Boolean is
+    expected and made while the other heights are cut, not after them, and the sections
+    are those one process cuts, bit for bit."""
+    from freecad_conformal.geometry import section_pool
+
+    rod = Part.makeCylinder(5.0, 40.0, App.Vector(0, 0, 10), App.Vector(1, 0, 0))
+    part = rod.fuse(Part.makeBox(20, 20, 20, App.Vector(-10, -10, 0))).removeSplitter()
+    heights = [0.3 + 0.5 * k for k in range(38)] + [5.0]
+    slicer = PlanarSlicer(part, (0, 0, 1))
+    assert [h for h, cut in zip(heights, slicer.cut_faces(0, np.array(heights))) if cut is None] \
+        == [5.0]
+    expected = PlanarSlicer(part, (0, 0, 1)).sections(heights, workers=1)
+    calls = []
+    real = section_pool._shared
+
+    def shared(slicer, levels, jobs, boolean, *args, **kwargs):
+        calls.append((len(jobs), boolean))
+        return real(slicer, levels, jobs, boolean, *args, **kwargs)
+
+    monkeypatch.setattr(section_pool, "_shared", shared)
+    pooled = PlanarSlicer(part, (0, 0, 1)).sections(heights, workers=2)
+    assert calls[0][1][0] is True and calls[0][1].count(True) == 1     # the guess, first
+    assert calls[1][0] == 0                                              # no Boolean after
+    for want, got in zip(expected, pooled):
+        assert want.polygons().equals_exact(got.polygons(), 0.0), want.height
+    assert pooled[-1].area > 0
