@@ -6,7 +6,8 @@ from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry.frames import unit
 from freecad_conformal.geometry.sections import PlanarSlicer, extent_along
 from freecad_conformal.layers.model import Layer, LayerSettings
-from freecad_conformal.layers.planar import planar_bounds, planar_layers
+from freecad_conformal.geometry.polyhedral import PolyhedronSlicer
+from freecad_conformal.layers.planar import planar_bounds, planar_layers, polyhedral_layers
 from freecad_conformal.layers.tilted import axis_bends, tilted_layers
 
 
@@ -57,4 +58,7 @@ def sampled_layers(subpart: SubPart, settings: LayerSettings,
     bounds = planar_bounds(subpart.shape, slicer, low, high,
                            LayerSettings(mode="uniform", thickness=settings.thickness))
     picked = bounds[every // 2::every] or [bounds[len(bounds) // 2]]
+    quick = PolyhedronSlicer.of(subpart.shape, slicer.frame)
+    if quick is not None:
+        return polyhedral_layers(subpart.index, slicer, quick, picked), len(bounds) / len(picked)
     return planar_layers(subpart.index, slicer, picked, settings.workers), len(bounds) / len(picked)

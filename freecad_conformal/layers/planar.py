@@ -17,7 +17,8 @@ import numpy as np
 from shapely.geometry import MultiPolygon
 
 from freecad_conformal.errors import PlanError
-from freecad_conformal.geometry.sections import PlanarSection, PlanarSlicer
+from freecad_conformal.geometry.polyhedral import PolyhedronSlicer
+from freecad_conformal.geometry.sections import RETRY_NUDGE, PlanarSection, PlanarSlicer
 from freecad_conformal.layers.model import (BOUNDARY_INSET, SHRINK, Layer, LayerSettings,
                                             as_multipolygon)
 
@@ -51,14 +52,38 @@ def planar_layers(subpart: int, slicer: PlanarSlicer,
                   bounds: Sequence[tuple[float, float]], workers: int = 1) -> list[Layer]:
     middles = slicer.off_vertices([0.5 * (a + b) for a, b in bounds])
     sections = slicer.sections(middles, workers=workers, with_loops=True)
+    regions = [as_multipolygon(section.polygons()) if not section.is_empty else MultiPolygon()
+               for section in sections]
+    return _stack(subpart, slicer, bounds, [s.height for s in sections], regions)
+
+
+def polyhedral_layers(subpart: int, slicer: PlanarSlicer, quick: PolyhedronSlicer,
+                      bounds: Sequence[tuple[float, float]]) -> list[Layer]:
+    """`planar_layers` of a solid of polygon faces, its sections made from its vertices
+    (`geometry/polyhedral.py`: the same regions within 1e-12 mm², a few times faster); a
+    plane the quick cut leaves is cut the exact way. For the coarse ranking of orientations
+    (`sampled_layers`): the exact stack a plan builds is always cut by `planar_layers`."""
+    heights = [next((h for h in (middle, middle + RETRY_NUDGE, middle - RETRY_NUDGE)
+                     if quick.clear_of_vertices(h)), middle)
+               for middle in (0.5 * (a + b) for a, b in bounds)]
+    regions = [quick.section(h) for h in heights]
+    missing = [k for k, region in enumerate(regions) if region is None]
+    if missing:
+        for k, section in zip(missing, slicer.sections([heights[k] for k in missing])):
+            regions[k] = (as_multipolygon(section.polygons()) if not section.is_empty
+                          else MultiPolygon())
+    return _stack(subpart, slicer, bounds, heights, regions)
+
+
+def _stack(subpart: int, slicer: PlanarSlicer, bounds: Sequence[tuple[float, float]],
+           heights: Sequence[float], regions: Sequence[MultiPolygon]) -> list[Layer]:
     frame = slicer.frame
     layers = []
-    for (bottom, top), section in zip(bounds, sections):
-        region = as_multipolygon(section.polygons()) if not section.is_empty else MultiPolygon()
+    for (bottom, top), height, region in zip(bounds, heights, regions):
         if region.is_empty:
             continue
         layers.append(Layer(subpart=subpart, index=len(layers), frame=frame,
-                            section_height=section.height, region=region,
+                            section_height=height, region=region,
                             top_point=top * frame.n, top_normal=frame.n,
                             thickness_min=top - bottom, thickness_max=top - bottom))
     if not layers:
