@@ -129,3 +129,15 @@ def test_a_copy_not_turned_keeps_the_overhang_measured_of_the_part(monkeypatch):
     turned, _ = turn_up(part, (1.0, 0.0, 0.0))
     overhang.overhang_area(turned.Solids[0], directions[0])
     assert len(measured) == 1
+
+
+def test_a_job_starts_with_the_shape_caches_empty():
+    """A process planning part after part (`batch`, macros) keeps no shapes of the last job:
+    the copy a placement cached before a job is not the one handed out after it."""
+    from freecad_conformal.jobs.job import plan_job
+
+    part = samples.l_block()
+    first, _ = turn_up(part, (1.0, 0.0, 0.0))
+    assert turn_up(part, (1.0, 0.0, 0.0))[0] is first
+    plan_job(samples.t_block(), PlanOptions(decompose=False, root=(0.0, 0.0, 1.0)))
+    assert turn_up(part, (1.0, 0.0, 0.0))[0] is not first
