@@ -176,7 +176,10 @@ FLAT_CIRCLE = 1e-9
 def _circle_extremes(edge, n: np.ndarray) -> list[float]:
     """Heights along `n` of a circular edge's highest and lowest points where they lie on
     the edge (inside its parameter range); none for other edges."""
-    curve = edge.Curve
+    try:
+        curve = edge.Curve
+    except (TypeError, RuntimeError):
+        return []       # a curve type FreeCAD has no class for: not a circle
     if type(curve).__name__ != "Circle":
         return []
     centre, axis = np.array(tuple(curve.Center)), np.array(tuple(curve.Axis))

@@ -20,7 +20,7 @@ from shapely.geometry import MultiPolygon, Polygon
 
 from freecad_conformal.geometry.frames import LayerFrame
 from freecad_conformal.geometry.plane_curves import VERTEX_CLEARANCE
-from freecad_conformal.geometry.sections import STRAIGHT_CURVES
+from freecad_conformal.geometry.sections import STRAIGHT_CURVES, curve_name
 
 
 class PolyhedronSlicer:
@@ -43,7 +43,7 @@ class PolyhedronSlicer:
                 return None
             edges = []
             for edge in face.Edges:
-                if type(edge.Curve).__name__ not in STRAIGHT_CURVES or len(edge.Vertexes) != 2:
+                if curve_name(edge) not in STRAIGHT_CURVES or len(edge.Vertexes) != 2:
                     return None
                 edges.append([tuple(v.Point) for v in edge.Vertexes])
             faces.append(np.array(edges, dtype=float).reshape(-1, 2, 3))

@@ -207,7 +207,7 @@ def _polygon_vertices(face) -> np.ndarray | None:
     direction is one of them), None for any other face."""
     def read():
         if type(face.Surface).__name__ != "Plane" or any(
-                type(edge.Curve).__name__ not in STRAIGHT_CURVES for edge in face.Edges):
+                curve_name(edge) not in STRAIGHT_CURVES for edge in face.Edges):
             return None
         return np.array([tuple(v.Point) for v in face.Vertexes], dtype=float)
     return _POLYGONS.get((face,), read)
@@ -215,6 +215,15 @@ def _polygon_vertices(face) -> np.ndarray | None:
 
 #: FreeCAD's names of a straight edge's curve.
 STRAIGHT_CURVES = ("Line", "LineSegment")
+
+
+def curve_name(edge) -> str:
+    """The type name of an edge's curve; "" for one FreeCAD cannot hand to Python (it raises
+    for curve types it has no class for): such an edge is simply not straight."""
+    try:
+        return type(edge.Curve).__name__
+    except (TypeError, RuntimeError):
+        return ""
 
 
 def _faces_reaching(shape, n: np.ndarray) -> list[tuple[float, object]]:

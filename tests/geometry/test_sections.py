@@ -358,3 +358,18 @@ def test_a_plane_touching_a_circular_edge_is_cut_by_the_boolean_meanwhile(App, P
     for want, got in zip(expected, pooled):
         assert want.polygons().equals_exact(got.polygons(), 0.0), want.height
     assert pooled[-1].area > 0
+
+
+def test_an_edge_freecad_cannot_name_is_not_straight(App, Part):
+    """FreeCAD raises for curve types it has no Python class for: such an edge only makes
+    its face no polygon (its ends are then measured by distance), it stops no plan."""
+    from freecad_conformal.geometry.sections import STRAIGHT_CURVES, curve_name
+
+    class Unnamed:
+        @property
+        def Curve(self):
+            raise TypeError("undefined curve type")
+
+    assert curve_name(Unnamed()) == ""
+    assert curve_name(Part.makeLine(App.Vector(0, 0, 0), App.Vector(1, 0, 0))) in STRAIGHT_CURVES
+    assert curve_name(Part.makeCircle(2.0)) == "Circle"
