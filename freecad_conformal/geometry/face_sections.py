@@ -21,7 +21,7 @@ import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.boxes import optimal_box
-from freecad_conformal.geometry.plane_curves import (ON_CURVE, VERTEX_CLEARANCE, closed_piece,
+from freecad_conformal.geometry.plane_curves import (ON_CURVE, VERTEX_CLEARANCE, closed_piece, curve_name,
                                                      curve_end, curve_spans, edge_crosser, finite,
                                                      surface_curves)
 from freecad_conformal.geometry.planar_faces import Piece, SectionFace, faces_from_pieces
@@ -168,36 +168,6 @@ class _EdgeData:
         return len(self.faces) == 1
 
 
-#: A circle's plane this close to normal to the cut (|n x axis| below it) has no extreme
-#: point along the normal: the whole circle is at one height, with its vertex.
-FLAT_CIRCLE = 1e-9
-
-
-def _circle_extremes(edge, n: np.ndarray) -> list[float]:
-    """Heights along `n` of a circular edge's highest and lowest points where they lie on
-    the edge (inside its parameter range); none for other edges."""
-    try:
-        curve = edge.Curve
-    except (TypeError, RuntimeError):
-        return []       # a curve type FreeCAD has no class for: not a circle
-    if type(curve).__name__ != "Circle":
-        return []
-    centre, axis = np.array(tuple(curve.Center)), np.array(tuple(curve.Axis))
-    across = n - float(n @ axis) * axis
-    reach = float(np.linalg.norm(across))
-    if reach < FLAT_CIRCLE:
-        return []
-    first, last = edge.ParameterRange
-    heights = []
-    for side in (1.0, -1.0):
-        point = centre + side * curve.Radius * across / reach
-        t = curve.parameter(import_freecad()[0].Vector(*point))
-        t = first + (t - first) % (2 * np.pi)
-        if t <= last + 1e-9:
-            heights.append(float(point @ n))
-    return heights
-
-
 class FaceCutter:
     """Plane sections of one solid, face by face (see the module docstring)."""
 
@@ -290,7 +260,8 @@ class FaceCutter:
         verdict: the cut itself decides."""
         if self._circle_heights is None:
             self._circle_heights = np.array(
-                [h for data in self.edges for h in _circle_extremes(data.edge, self.n)])
+                [h for data in self.edges if curve_name(data.edge) == "Circle"
+                 for h in data.crosser.extremes()])
         return bool(np.any(np.abs(self._circle_heights - height) < VERTEX_CLEARANCE))
 
     def _crossings(self, height: float):

@@ -35,11 +35,24 @@ UNBOUNDED = 1e99
 Span = tuple[float, float, "int | None", "int | None"]
 
 
+#: FreeCAD's names of a straight edge's curve.
+STRAIGHT_CURVES = ("Line", "LineSegment")
+
+
+def curve_name(edge) -> str:
+    """The type name of an edge's curve; "" for one FreeCAD cannot hand to Python (it raises
+    for curve types it has no class for): such an edge is neither straight nor a circle."""
+    try:
+        return type(edge.Curve).__name__
+    except (TypeError, RuntimeError):
+        return ""
+
+
 def edge_crosser(edge, n: np.ndarray):
     """What finds where one edge crosses the planes n·p = h: lines and circles in closed form
     (their heights along n read once, since a cutter's normal is fixed), other curves by OCC."""
-    name = type(edge.Curve).__name__
-    if name in ("Line", "LineSegment"):
+    name = curve_name(edge)
+    if name in STRAIGHT_CURVES:
         return LineCrosser(edge, n)
     if name == "Circle":
         return CircleCrosser(edge, n)
@@ -74,6 +87,18 @@ class CircleCrosser:
         p, q = self.radius * float(self.x @ n), self.radius * float(self.y @ n)
         self.amplitude, self.phase = math.hypot(p, q), math.atan2(q, p)
         self.centre_height = float(self.centre @ n)
+
+    def extremes(self) -> list[float]:
+        """Heights of the circle's highest and lowest points along the normal that lie on
+        the edge; none for a circle parallel to the cut."""
+        if self.amplitude < VERTEX_CLEARANCE:
+            return []
+        found = []
+        for theta, height in ((self.phase, self.centre_height + self.amplitude),
+                              (self.phase + math.pi, self.centre_height - self.amplitude)):
+            if self.first + (theta - self.first) % (2 * math.pi) <= self.last:
+                found.append(height)
+        return found
 
     def at(self, height: float) -> list[np.ndarray] | None:
         """Crossing points at `height` (None: in the plane, or a near-tangent crossing)."""

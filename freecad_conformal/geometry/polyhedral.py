@@ -20,7 +20,7 @@ from shapely.geometry import MultiPolygon, Polygon
 
 from freecad_conformal.geometry.frames import LayerFrame
 from freecad_conformal.geometry.plane_curves import VERTEX_CLEARANCE
-from freecad_conformal.geometry.sections import STRAIGHT_CURVES, curve_name
+from freecad_conformal.geometry.sections import polygon_vertices
 
 
 class PolyhedronSlicer:
@@ -39,13 +39,9 @@ class PolyhedronSlicer:
         bounded by straight edges."""
         faces = []
         for face in shape.Faces:
-            if type(face.Surface).__name__ != "Plane":
+            if polygon_vertices(face) is None:
                 return None
-            edges = []
-            for edge in face.Edges:
-                if curve_name(edge) not in STRAIGHT_CURVES or len(edge.Vertexes) != 2:
-                    return None
-                edges.append([tuple(v.Point) for v in edge.Vertexes])
+            edges = [[tuple(v.Point) for v in edge.Vertexes] for edge in face.Edges]
             faces.append(np.array(edges, dtype=float).reshape(-1, 2, 3))
         if not faces:
             return None

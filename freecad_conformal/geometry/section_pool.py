@@ -238,7 +238,8 @@ def cut_sections(slicer, heights: Sequence[float], workers: int = 1,
                  for solid_index, indices in left.items()
                  for k in range(0, len(indices), slicer.CHUNK)]
     still = [job for job in fallbacks if (job[0], tuple(job[1])) not in guessed]
-    for job, (result, _) in zip(still, _shared(slicer, levels, still, True, workers)):
+    for job, (result, _) in zip(still, _shared(slicer, levels, still, [True] * len(still),
+                                               workers)):
         guessed[(job[0], tuple(job[1]))] = result
     for solid_index, chunk in fallbacks:
         for index, faces in zip(chunk, guessed[(solid_index, tuple(chunk))]):
@@ -289,10 +290,10 @@ def next_result(queue, processes: list) -> tuple:
         return index, payload
 
 
-def _shared(slicer, levels: np.ndarray, jobs: list, boolean: bool | list[bool], workers: int,
+def _shared(slicer, levels: np.ndarray, jobs: list, boolean: list[bool], workers: int,
             report: Callable[[int], None] | None = None, with_loops: bool = False) -> list:
     """Each job's (per-height results, per-height loop points or None), cut by this process
-    and `workers - 1` forked ones (`boolean`: cut by the Boolean, for all jobs or per job);
+    and `workers - 1` forked ones (`boolean`: per job, whether the Boolean cuts it);
     loop points only where `with_loops` and several processes cut (one process discretises
     its loops when they are read, as it always did). A job's faces take the binary trip
     whenever another process could have cut it: unless it is the only face-by-face job, the
@@ -300,8 +301,7 @@ def _shared(slicer, levels: np.ndarray, jobs: list, boolean: bool | list[bool], 
     global _WORKER_SLICER
     if not jobs:
         return []
-    flags = list(boolean) if isinstance(boolean, list) else [boolean] * len(jobs)
-    work = [(solid_index, levels[chunk], flag) for (solid_index, chunk), flag in zip(jobs, flags)]
+    work = [(solid_index, levels[chunk], flag) for (solid_index, chunk), flag in zip(jobs, boolean)]
     if workers == 1 or len(jobs) == 1:
         results = []
         for done, job in enumerate(work, start=1):

@@ -25,6 +25,7 @@ from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.boxes import box_reach, optimal_box
 from freecad_conformal.geometry.face_sections import FaceCutter
 from freecad_conformal.geometry.planar_faces import SectionFace
+from freecad_conformal.geometry.plane_curves import STRAIGHT_CURVES, curve_name
 from freecad_conformal.geometry.section_pool import cut_sections
 from freecad_conformal.geometry.shape_cache import ShapeCache
 from freecad_conformal.geometry.frames import LayerFrame
@@ -186,7 +187,7 @@ def _measured_end(shape, n: np.ndarray, high: bool) -> float:
     for top, face in _faces_reaching(shape, up) or [(np.inf, shape)]:   # [...]: no face
         if top < found:
             break       # this face's box, and every next one's, ends short of the end found
-        vertices = _polygon_vertices(face) if face is not shape else None
+        vertices = polygon_vertices(face) if face is not shape else None
         if vertices is not None:
             found = max(found, float(np.max(vertices @ up)))
             continue
@@ -202,7 +203,7 @@ def _measured_end(shape, n: np.ndarray, high: bool) -> float:
 _POLYGONS: ShapeCache = ShapeCache(limit=16384, oriented=False)
 
 
-def _polygon_vertices(face) -> np.ndarray | None:
+def polygon_vertices(face) -> np.ndarray | None:
     """The points of a planar face bounded by straight edges only (its end along any
     direction is one of them), None for any other face."""
     def read():
@@ -213,17 +214,6 @@ def _polygon_vertices(face) -> np.ndarray | None:
     return _POLYGONS.get((face,), read)
 
 
-#: FreeCAD's names of a straight edge's curve.
-STRAIGHT_CURVES = ("Line", "LineSegment")
-
-
-def curve_name(edge) -> str:
-    """The type name of an edge's curve; "" for one FreeCAD cannot hand to Python (it raises
-    for curve types it has no class for): such an edge is simply not straight."""
-    try:
-        return type(edge.Curve).__name__
-    except (TypeError, RuntimeError):
-        return ""
 
 
 def _faces_reaching(shape, n: np.ndarray) -> list[tuple[float, object]]:
@@ -237,6 +227,13 @@ def _faces_reaching(shape, n: np.ndarray) -> list[tuple[float, object]]:
     reaching = sorted((item for item in reaching if item[0] >= highest - BOX_MARGIN),
                       reverse=True)
     return [(top, faces[index]) for top, index in reaching]
+
+
+def nudged_off(heights: Sequence[float], clear: Callable[[float], bool]) -> list[float]:
+    """Each height, or the first of it moved RETRY_NUDGE up, then down, that is `clear`
+    (unmoved when none is): `PlanarSlicer.off_vertices`' rule for any cutter."""
+    return [next((h for h in (height, height + RETRY_NUDGE, height - RETRY_NUDGE)
+                  if clear(h)), height) for height in heights]
 
 
 #: Slack (mm) on the box test: boxes already enlarge by tolerances, this only guards rounding.
@@ -344,12 +341,8 @@ class PlanarSlicer:
         thousand times thicker, the move is immaterial; round-number parts hit it often
         (a feature at 7.5 mm meets the middle of a 0.2 mm layer)."""
         cutters = [self.cutter(index) for index in range(len(self.solids))]
-
-        def clear(height: float) -> bool:
-            return not any(cutter.touches_vertex(height) for cutter in cutters)
-
-        return [next((h for h in (height, height + RETRY_NUDGE, height - RETRY_NUDGE)
-                      if clear(h)), height) for height in heights]
+        return nudged_off(heights, lambda height: not any(cutter.touches_vertex(height)
+                                                          for cutter in cutters))
 
     def extent(self, solid_index: int) -> tuple[float, float]:
         """Exact (min, max) of one solid along the direction, computed once."""

@@ -18,7 +18,7 @@ from shapely.geometry import MultiPolygon
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry.polyhedral import PolyhedronSlicer
-from freecad_conformal.geometry.sections import RETRY_NUDGE, PlanarSection, PlanarSlicer
+from freecad_conformal.geometry.sections import PlanarSection, PlanarSlicer, nudged_off
 from freecad_conformal.layers.model import (BOUNDARY_INSET, SHRINK, Layer, LayerSettings,
                                             as_multipolygon)
 
@@ -63,9 +63,7 @@ def polyhedral_layers(subpart: int, slicer: PlanarSlicer, quick: PolyhedronSlice
     (`geometry/polyhedral.py`: the same regions within 1e-12 mm², a few times faster); a
     plane the quick cut leaves is cut the exact way. For the coarse ranking of orientations
     (`sampled_layers`): the exact stack a plan builds is always cut by `planar_layers`."""
-    heights = [next((h for h in (middle, middle + RETRY_NUDGE, middle - RETRY_NUDGE)
-                     if quick.clear_of_vertices(h)), middle)
-               for middle in (0.5 * (a + b) for a, b in bounds)]
+    heights = nudged_off([0.5 * (a + b) for a, b in bounds], quick.clear_of_vertices)
     regions = [quick.section(h) for h in heights]
     missing = [k for k, region in enumerate(regions) if region is None]
     if missing:

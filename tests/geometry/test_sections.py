@@ -363,7 +363,7 @@ def test_a_plane_touching_a_circular_edge_is_cut_by_the_boolean_meanwhile(App, P
 def test_an_edge_freecad_cannot_name_is_not_straight(App, Part):
     """FreeCAD raises for curve types it has no Python class for: such an edge only makes
     its face no polygon (its ends are then measured by distance), it stops no plan."""
-    from freecad_conformal.geometry.sections import STRAIGHT_CURVES, curve_name
+    from freecad_conformal.geometry.plane_curves import STRAIGHT_CURVES, curve_name
 
     class Unnamed:
         @property
