@@ -78,8 +78,10 @@ def torus_plane_curves(torus, normal: np.ndarray, height: float,
     u_map = _u_map(torus, torus_shape)
     curves = []
     for kind, low, high in loops:
+        scan = None if domain is None else _DomainScan(torus_shape, kind, low, high, domain, u_map)
         for branch in ((1,) if kind == "turning" else (1, -1)):
-            for first, last in _stretches(torus_shape, kind, low, high, branch, domain, u_map):
+            stretches = [(0.0, 2 * math.pi)] if scan is None else scan.stretches(branch)
+            for first, last in stretches:
                 curve = _fit(torus_shape, kind, low, high, branch, first, last, App, Part)
                 if curve is None:
                     return None
@@ -97,19 +99,26 @@ class _TorusSection:
 
     def uv(self, kind: str, low: float, high: float, branch: int, tau: np.ndarray):
         """(u, v) on one closed loop (turning) or one branch going around, at τ ∈ [0, 2π)."""
+        tau, u, middle, swing = self.halves(kind, low, high, tau)
+        if kind == "turning":
+            sign = np.where(tau <= math.pi, 1.0, -1.0)
+        else:
+            sign = np.full_like(tau, float(branch))
+        return u, middle + sign * swing
+
+    def halves(self, kind: str, low: float, high: float, tau: np.ndarray):
+        """(τ wrapped to [0, 2π), u, v's middle, its swing) at τ: v = middle ± swing, both
+        branches of a loop going around from one evaluation (`_DomainScan`)."""
         tau = np.mod(tau, 2 * math.pi)
         if kind == "turning":
             middle, half = 0.5 * (low + high), 0.5 * (high - low)
             u = middle - half * np.cos(tau)
-            sign = np.where(tau <= math.pi, 1.0, -1.0)
         else:
             u = tau
-            sign = np.full_like(tau, float(branch))
         x = np.cos(u)
         R, r, s, c, k = self.R, self.r, self.s, self.c, self.k
         g = (k - R * s * x) / (r * np.sqrt((s * x) ** 2 + c * c))
-        v = np.arctan2(c, s * x) + sign * np.arccos(np.clip(g, -1.0, 1.0))
-        return u, v
+        return tau, u, np.arctan2(c, s * x), np.arccos(np.clip(g, -1.0, 1.0))
 
     def points(self, u: np.ndarray, v: np.ndarray) -> np.ndarray:
         radial = (self.R + self.r * np.cos(v))[:, None]
@@ -150,27 +159,39 @@ def _within(angle: np.ndarray, low: float, high: float) -> np.ndarray:
     return np.mod(angle - low, 2 * math.pi) <= (high - low)
 
 
-def _stretches(section, kind, low, high, branch, domain, u_map):
-    """τ intervals of one loop that pass through the domain (each padded beyond it)."""
-    if domain is None:
-        return [(0.0, 2 * math.pi)]
-    tau = np.linspace(0.0, 2 * math.pi, DOMAIN_SAMPLES, endpoint=False)
-    u, v = section.uv(kind, low, high, branch, tau)
-    u0, u1, v0, v1 = domain
-    inside = (_within(u_map[0] + u_map[1] * u, u0 - DOMAIN_MARGIN, u1 + DOMAIN_MARGIN)
-              & _within(v, v0 - DOMAIN_MARGIN, v1 + DOMAIN_MARGIN))
-    if inside.all():
-        return [(0.0, 2 * math.pi)]
-    if not inside.any():
-        return []
-    step = 2 * math.pi / DOMAIN_SAMPLES
-    start = int(np.argmin(inside))           # an outside sample: runs never wrap past it
-    rolled = np.roll(inside, -start)
-    edges = np.flatnonzero(np.diff(np.concatenate(([0], rolled.astype(int), [0]))))
-    stretches = []
-    for first, last in zip(edges[::2], edges[1::2]):
-        stretches.append(((start + first - 1) * step, (start + last) * step))
-    return stretches
+#: The τ samples every loop is scanned at (read-only: shared by all scans).
+_DOMAIN_TAU = np.linspace(0.0, 2 * math.pi, DOMAIN_SAMPLES, endpoint=False)
+_DOMAIN_TAU.setflags(write=False)
+
+
+class _DomainScan:
+    """One loop scanned at `DOMAIN_SAMPLES` τ for the stretches inside a face's (u, v) box,
+    widened by `DOMAIN_MARGIN` (rad) so stretch ends fall outside the face. Both branches of
+    a loop going around share its u samples and v's middle and swing (half of a nut's
+    section time went to scanning each branch afresh)."""
+
+    def __init__(self, section, kind, low, high, domain, u_map) -> None:
+        tau, u, self._middle, self._swing = section.halves(kind, low, high, _DOMAIN_TAU)
+        self._turning = np.where(tau <= math.pi, 1.0, -1.0) if kind == "turning" else None
+        u0, u1, self._v0, self._v1 = domain
+        self._u_inside = _within(u_map[0] + u_map[1] * u, u0 - DOMAIN_MARGIN, u1 + DOMAIN_MARGIN)
+
+    def stretches(self, branch: int) -> list[tuple[float, float]]:
+        """τ intervals of the loop (`branch` of one going around) that pass through the
+        domain (each padded beyond it)."""
+        sign = self._turning if self._turning is not None else float(branch)
+        v = self._middle + sign * self._swing
+        inside = self._u_inside & _within(v, self._v0 - DOMAIN_MARGIN, self._v1 + DOMAIN_MARGIN)
+        if inside.all():
+            return [(0.0, 2 * math.pi)]
+        if not inside.any():
+            return []
+        step = 2 * math.pi / DOMAIN_SAMPLES
+        start = int(np.argmin(inside))           # an outside sample: runs never wrap past it
+        rolled = np.roll(inside, -start)
+        edges = np.flatnonzero(np.diff(np.concatenate(([0], rolled.astype(int), [0]))))
+        return [((start + first - 1) * step, (start + last) * step)
+                for first, last in zip(edges[::2], edges[1::2])]
 
 
 def _fit(section, kind, low, high, branch, first, last, App, Part):
@@ -182,10 +203,12 @@ def _fit(section, kind, low, high, branch, first, last, App, Part):
         tau = np.linspace(first, last, count, endpoint=not closed)
         points = section.points(*section.uv(kind, low, high, branch, tau))
         spline = Part.BSplineCurve()
-        spline.interpolate(Points=[App.Vector(*p) for p in points], PeriodicFlag=closed)
+        spline.interpolate(Points=[App.Vector(x, y, z) for x, y, z in points.tolist()],
+                           PeriodicFlag=closed)
         knots = spline.getKnots()
-        middles = [0.5 * (a + b) for a, b in zip(knots, knots[1:])]
-        check = np.array([tuple(spline.value(t)) for t in middles])
+        value = spline.value
+        check = np.array([(p.x, p.y, p.z) for p in
+                          (value(0.5 * (a + b)) for a, b in zip(knots, knots[1:]))])
         deviation = section.deviation(check)
         if deviation <= FIT_TOLERANCE:
             return spline
