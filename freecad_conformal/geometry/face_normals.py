@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.rows import find_rows, unique_rows
 from freecad_conformal.geometry.shape_cache import ShapeCache
 from freecad_conformal.tolerances import ZERO_LENGTH
 
@@ -47,25 +48,19 @@ def node_normals(face, points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     of its `triangles`, oriented as OCC's around it."""
     surface = face.Surface
     uv = face.getUVNodes()
-    normals = np.zeros((len(uv), 3))
-    for k, (u, v) in enumerate(uv):
-        try:
-            normals[k] = tuple(surface.normal(u, v))
-        except Exception:  # OCC raises where the normal is undefined (poles, apexes)
-            normals[k] = 0.0
+    normals = np.array([_normal_or_zero(surface, u, v) for u, v in uv]).reshape(-1, 3)
     if face.Orientation == "Reversed":
         normals = -normals
-    nodes = np.array([tuple(surface.value(u, v)) for u, v in uv]).reshape(-1, 3)
-    # Reversed so the first of duplicate nodes (a seam) is the one kept.
-    where = dict(zip(reversed(_position_keys(nodes)), range(len(uv) - 1, -1, -1)))
+    value = surface.value
+    nodes = np.array([(p.x, p.y, p.z) for p in (value(u, v) for u, v in uv)]).reshape(-1, 3)
+    # Each point takes the first node at its position (a seam's two nodes share one).
+    node_keys = _position_keys(nodes)
+    first, _ = unique_rows(node_keys)
+    at = find_rows(node_keys[first], _position_keys(points))
+    known = at >= 0
     result = np.zeros((len(points), 3))
-    missed = []
-    for i, key in enumerate(_position_keys(points)):
-        k = where.get(key)
-        if k is None:
-            missed.append(i)
-        else:
-            result[i] = normals[k]
+    result[known] = normals[first[at[known]]]
+    missed = np.flatnonzero(~known).tolist()
     if missed:
         # Nodes on edges: BRepMesh puts them on the edge's 3D curve and their UV on its
         # pcurve, which lie up to the edge's tolerance apart (2.7e-5 mm on the screw thread,
@@ -118,8 +113,17 @@ def _fill_missing(normals: np.ndarray, points: np.ndarray, triangles: np.ndarray
     return normals
 
 
-def _position_keys(points: np.ndarray) -> list[tuple]:
-    return [tuple(row) for row in np.round(points / NODE_MATCH).astype(np.int64).tolist()]
+def _position_keys(points: np.ndarray) -> np.ndarray:
+    return np.round(points / NODE_MATCH).astype(np.int64).reshape(-1, 3)
+
+
+def _normal_or_zero(surface, u: float, v: float) -> tuple[float, float, float]:
+    """The surface's normal at (u, v); zero where OCC has none (poles, apexes)."""
+    try:
+        n = surface.normal(u, v)
+    except Exception:  # noqa: BLE001 - OCC raises bare Standard_Failure types here
+        return 0.0, 0.0, 0.0
+    return n.x, n.y, n.z
 
 
 def _vector(point: np.ndarray):
