@@ -92,11 +92,25 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
         budget = max_subparts - len(pieces)
         plan = Planner(solid, solid_index, overhang_angle, method, axis_step, budget)
         trial = None
+        worth = auto and worth_a_trial(solid)
+        if worth and can_start_child():
+            # Starting up (interpreter, FreeCAD) while the solid is meshed and the direction
+            # found: it then reads the request at once (CrankArm's arm waited 0.14 s for it).
+            trial = Trial()
         if auto:
-            # Its mesh first: the overhang in every candidate direction reads faces from it.
-            plan.root_mesh()
-            whole = _support_free_whole(solid, root, overhang_angle)
+            try:
+                # Its mesh first: the overhang in every candidate direction reads faces
+                # from it.
+                plan.root_mesh()
+                whole = _support_free_whole(solid, root, overhang_angle)
+            except BaseException:
+                if trial is not None:
+                    trial.stop()
+                raise
             if whole is not None:
+                if trial is not None:
+                    trial.stop()
+                    trial = None
                 # Turned whole it prints without support: one piece beats any split of the
                 # part as placed (a planar slicer would simply turn it over).
                 axis, refined = plan(whole, notes)
@@ -111,9 +125,6 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
         try:
             pristine = None
             if auto:
-                worth = worth_a_trial(solid)
-                if worth and can_start_child():
-                    trial = Trial()  # starting up while the direction is found
                 direction, area = best_single_direction(solid, overhang_angle)
                 turn = angle_between(direction, root) > SAME_DIRECTION
                 if (worth and turn
