@@ -166,9 +166,9 @@ _DOMAIN_TAU.setflags(write=False)
 
 class _DomainScan:
     """One loop scanned at `DOMAIN_SAMPLES` τ for the stretches inside a face's (u, v) box,
-    widened by `DOMAIN_MARGIN` (rad) so stretch ends fall outside the face. Both branches of
-    a loop going around share its u samples and v's middle and swing (half of a nut's
-    section time went to scanning each branch afresh)."""
+    widened by `DOMAIN_MARGIN` (rad) so stretch ends fall outside the face, on one shared
+    array of samples. Both branches of a loop going around share its u samples and v's
+    middle and swing (most loops of the bottle's and the nut's fillets turn, one branch)."""
 
     def __init__(self, section, kind, low, high, domain, u_map) -> None:
         tau, u, self._middle, self._swing = section.halves(kind, low, high, _DOMAIN_TAU)
