@@ -97,32 +97,24 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
             # Starting up (interpreter, FreeCAD) while the solid is meshed and the direction
             # found: it then reads the request at once (CrankArm's arm waited 0.14 s for it).
             trial = Trial()
-        if auto:
-            try:
+        try:
+            if auto:
                 # Its mesh first: the overhang in every candidate direction reads faces
                 # from it.
                 plan.root_mesh()
                 whole = _support_free_whole(solid, root, overhang_angle)
-            except BaseException:
-                if trial is not None:
-                    trial.stop()
-                raise
-            if whole is not None:
-                if trial is not None:
-                    trial.stop()
-                    trial = None
-                # Turned whole it prints without support: one piece beats any split of the
-                # part as placed (a planar slicer would simply turn it over).
-                axis, refined = plan(whole, notes)
-                notes.append(f"solid {solid_index + 1}: root built along {_text(whole)}: "
-                             "the whole solid is support-free that way")
-                if with_axes:
-                    axes.append(_label(axis, refined))
-                first = len(pieces)
-                pieces.extend(refined)
-                parents.extend(_parents_of(refined, first))
-                continue
-        try:
+                if whole is not None:
+                    # Turned whole it prints without support: one piece beats any split of
+                    # the part as placed (a planar slicer would simply turn it over).
+                    axis, refined = plan(whole, notes)
+                    notes.append(f"solid {solid_index + 1}: root built along {_text(whole)}: "
+                                 "the whole solid is support-free that way")
+                    if with_axes:
+                        axes.append(_label(axis, refined))
+                    first = len(pieces)
+                    pieces.extend(refined)
+                    parents.extend(_parents_of(refined, first))
+                    continue
             pristine = None
             if auto:
                 direction, area = best_single_direction(solid, overhang_angle)

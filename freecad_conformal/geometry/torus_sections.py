@@ -100,10 +100,7 @@ class _TorusSection:
     def uv(self, kind: str, low: float, high: float, branch: int, tau: np.ndarray):
         """(u, v) on one closed loop (turning) or one branch going around, at τ ∈ [0, 2π)."""
         tau, u, middle, swing = self.halves(kind, low, high, tau)
-        if kind == "turning":
-            sign = np.where(tau <= math.pi, 1.0, -1.0)
-        else:
-            sign = np.full_like(tau, float(branch))
+        sign = _turning_sign(tau) if kind == "turning" else np.full_like(tau, float(branch))
         return u, middle + sign * swing
 
     def halves(self, kind: str, low: float, high: float, tau: np.ndarray):
@@ -159,6 +156,12 @@ def _within(angle: np.ndarray, low: float, high: float) -> np.ndarray:
     return np.mod(angle - low, 2 * math.pi) <= (high - low)
 
 
+def _turning_sign(tau: np.ndarray) -> np.ndarray:
+    """v's branch along a turning loop: +swing out to the far turning point (τ ≤ π), then
+    back along −swing."""
+    return np.where(tau <= math.pi, 1.0, -1.0)
+
+
 #: The τ samples every loop is scanned at (read-only: shared by all scans).
 _DOMAIN_TAU = np.linspace(0.0, 2 * math.pi, DOMAIN_SAMPLES, endpoint=False)
 _DOMAIN_TAU.setflags(write=False)
@@ -172,7 +175,7 @@ class _DomainScan:
 
     def __init__(self, section, kind, low, high, domain, u_map) -> None:
         tau, u, self._middle, self._swing = section.halves(kind, low, high, _DOMAIN_TAU)
-        self._turning = np.where(tau <= math.pi, 1.0, -1.0) if kind == "turning" else None
+        self._turning = _turning_sign(tau) if kind == "turning" else None
         u0, u1, self._v0, self._v1 = domain
         self._u_inside = _within(u_map[0] + u_map[1] * u, u0 - DOMAIN_MARGIN, u1 + DOMAIN_MARGIN)
 
