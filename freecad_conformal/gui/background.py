@@ -32,6 +32,8 @@ class _Job:
     inputs: dict
     worker: object
     started: float = field(default_factory=time.monotonic)
+    #: The finished worker's outcome with its shapes read, applied on the next turn.
+    ready: dict | None = None
 
 
 _RUNNING: dict[tuple[str, str], _Job] = {}
@@ -104,7 +106,11 @@ def _timer():
 
 
 def _poll() -> None:
-    from freecad_conformal.objects.computed import precompute
+    """Look at each running worker. A finished one's shapes are read in this turn of the
+    event loop and its result applied in the next: the two together held the window for
+    0.5 s on a 1,440-layer section of CrankArm (0.1 s reading 14,000 edges, 0.3 s drawing
+    them), each alone for at most the larger."""
+    from freecad_conformal.objects.computed import precompute, read_shapes
 
     for key, job in list(_RUNNING.items()):
         document = FreeCAD.listDocuments().get(job.document)
@@ -113,19 +119,25 @@ def _poll() -> None:
             job.worker.cancel()
             del _RUNNING[key]
             continue
+        if job.ready is not None:
+            del _RUNNING[key]
+            precompute(obj, job.inputs, job.ready)
+            obj.touch()
+            document.recompute()                # applies it, then what depends on it
+            _status(f"Conformal: {job.label} {'done' if obj.isValid() else 'failed'}")
+            continue
         outcome = job.worker.poll()
         if outcome is None:
             fraction, text = job.worker.progress()
             _status(f"Conformal: {job.label}: {text or 'computing'} "
                     f"({time.monotonic() - job.started:.0f} s)")
             continue
-        del _RUNNING[key]
         if outcome.traceback:
             FreeCAD.Console.PrintLog(f"Conformal worker:\n{outcome.traceback}\n")
-        precompute(obj, job.inputs, outcome.as_precomputed())
-        obj.touch()
-        document.recompute()                    # applies it, then what depends on it
-        _status(f"Conformal: {job.label} {'done' if obj.isValid() else 'failed'}")
+        job.ready = outcome.as_precomputed()
+        if outcome.ok:
+            job.ready["result"] = read_shapes(outcome.result)
+        QtCore.QTimer.singleShot(0, _poll)      # apply once the window has had its turn
     if not _RUNNING:
         _timer().stop()
 

@@ -105,8 +105,11 @@ def shape_to_bytes(shape) -> bytes:
     return to_binary(without_meshes(shape))
 
 
-def shape_from_bytes(written: bytes | str):
-    """The shape `shape_to_bytes` wrote (BREP text too, as earlier versions wrote it)."""
+def shape_from_bytes(written):
+    """The shape `shape_to_bytes` wrote (BREP text too, as earlier versions wrote it; a shape
+    `read_shapes` already read is itself)."""
+    if not isinstance(written, (bytes, str)):
+        return written
     if isinstance(written, bytes):
         from freecad_conformal.geometry.occ_binary import from_binary
 
@@ -117,3 +120,12 @@ def shape_from_bytes(written: bytes | str):
     shape = Part.Shape()
     shape.importBrepFromString(written)
     return shape
+
+
+def read_shapes(result: dict) -> dict:
+    """The result with the shape it carries ("brep", as `shape_to_bytes` wrote it) read
+    already: the GUI reads a worker's shapes apart from the recompute that applies them
+    (gui/background.py), and `apply` takes either form through `shape_from_bytes`."""
+    if isinstance(result.get("brep"), (bytes, str)):
+        return {**result, "brep": shape_from_bytes(result["brep"])}
+    return result

@@ -22,10 +22,15 @@ def test_mesh_parity_agrees_with_the_sphere_and_a_hollow_box_off_the_surface():
     assert (MeshInside(hollow)(points) == exact).all()
 
 
-def test_the_exact_classifier_serves_where_it_is_quick():
+def test_the_exact_classifier_serves_within_its_budget_and_the_mesh_beyond():
     App, Part = import_freecad()
     box = Part.makeBox(10, 10, 10)
-    inside = inside_test(box)
-    on_face = np.array([[5.0, 5.0, 10.0]])
+    points = np.array([[5.0, 5.0, 10.0], [5.0, 5.0, 5.0], [5.0, 5.0, 11.0]])
     # only OCC tells a point on the surface apart (the flag): so it is OCC here
-    assert inside(on_face, True)[0] and not inside(on_face, False)[0]
+    exact = inside_test(box, budget=float("inf"))
+    assert exact(points, True).tolist() == [True, True, False]
+    assert exact(points, False).tolist() == [False, True, False]
+    # no call is free: the mesh, whose answer does not depend on the flag
+    mesh = inside_test(box, budget=0.0)
+    assert mesh(points, True).tolist() == mesh(points, False).tolist()
+    assert mesh(points, True)[1:].tolist() == [True, False]

@@ -2,6 +2,8 @@
 before the settings schema (capitalised modes, a separate cylinder axis) still recompute."""
 from __future__ import annotations
 
+import math
+
 import pytest
 
 
@@ -62,3 +64,33 @@ def test_a_file_from_before_the_schema_recomputes(doc, App):
     # four cylinders about the rod's own axis (X, from the old AxisDirection): 2πr·40 each
     assert old.LayerCount == 4
     assert old.SectionArea.Value == pytest.approx(2 * 3.141592653589793 * 40 * 10, rel=1e-3)
+
+
+def test_a_result_read_ahead_applies_as_the_worker_wrote_it(doc, App):
+    """The GUI reads a worker's shapes in one event-loop turn and applies them in the next
+    (gui/background.py): the object gets the very shape, not a recomputed one."""
+    import Part
+
+    from freecad_conformal.objects.computed import precompute, read_shapes
+    from freecad_conformal.objects.sections_feature import create_sections
+    from freecad_conformal.objects.work import compute
+
+    body = doc.addObject("Part::Feature", "Body")
+    body.Shape = Part.makeCylinder(10, 30)
+    obj = create_sections(doc, body)
+    obj.Heights = "2.5, 7.5"
+    doc.recompute()                             # the body as the worker would have read it
+    inputs = obj.Proxy.inputs(obj)
+    result = compute("sections", inputs)
+    read = read_shapes(result)
+    assert isinstance(result["brep"], bytes) and not isinstance(read["brep"], bytes)
+    assert read_shapes(read)["brep"] is read["brep"]          # read once only
+    # a result the object could not have computed itself: only a handed-in one gives it
+    marker = Part.Compound([read["brep"], Part.makeCircle(1.0)])
+    precompute(obj, inputs, {"result": {**read, "brep": marker, "layers": 7}})
+    obj.touch()
+    doc.recompute()
+    assert obj.isValid(), obj.getStatusString()
+    assert obj.LayerCount == 7
+    assert len(obj.Shape.Edges) == len(read["brep"].Edges) + 1
+    assert obj.Shape.Length == pytest.approx(read["brep"].Length + 2 * math.pi)

@@ -22,6 +22,15 @@ def _ticking():
     return timer, ticks
 
 
+def _spin(seconds: float) -> None:
+    """Let the event loop run for `seconds`, as it does while a user edits a property (a
+    sleep here would stop the very ticks the check counts)."""
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        QtCore.QCoreApplication.processEvents()
+        time.sleep(0.01)
+
+
 def main(params: dict) -> dict:
     gui_support.prepare_main_window()
     FreeCADGui.activateWorkbench("ConformalWorkbench")
@@ -46,13 +55,14 @@ def main(params: dict) -> dict:
     out["recompute_s"] = time.monotonic() - began
     out["running"] = background.running()
     out["layers_meanwhile"] = sections.LayerCount
-    time.sleep(0.3)
+    _spin(0.3)
     sections.LayerHeight = 0.05                  # changed again while it computes
     doc.recompute()
     out["finished"] = background.wait(params["timeout"])
     out["seconds"] = time.monotonic() - began
     timer.stop()
-    out["max_gap"] = max((b - a for a, b in zip(ticks, ticks[1:])), default=99.0)
+    gaps = [(b - a, a - began) for a, b in zip(ticks, ticks[1:])]
+    out["max_gap"], out["max_gap_at"] = max(gaps, default=(99.0, 0.0))
     out["layers_after"] = sections.LayerCount
     out["valid"] = bool(sections.isValid())
 
