@@ -145,8 +145,19 @@ def test_a_part_past_the_time_limit_is_stopped_and_the_others_finish(parts, tmp_
         == ["ok"] * 3
 
 
+@pytest.fixture()
+def ctrl_c_raises():
+    """SIGINT raising KeyboardInterrupt, as at a terminal, however the tests were started: a
+    shell ignores SIGINT in the jobs it starts in the background (`cmd &`), and Python
+    then leaves it ignored."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
 @pytest.mark.slow
-def test_ctrl_c_writes_the_report_of_the_parts_finished(parts, tmp_path, monkeypatch):
+def test_ctrl_c_writes_the_report_of_the_parts_finished(parts, tmp_path, monkeypatch,
+                                                        ctrl_c_raises):
     marker = tmp_path / "started"
     monkeypatch.setenv(STARTED, str(marker))
     inputs = [str(parts[name]) for name in ("box", "two", "cyl")]      # the stall comes last
