@@ -11,8 +11,8 @@ PACKAGE = Path(__file__).resolve().parents[2] / "freecad_conformal"
 
 #: Rooms from the bottom up: a room may import its own modules and rooms below it only.
 ROOMS = [
-    {"package", "errors", "tolerances", "fileio", "progress", "freecad_env", "settings",
-     "dependencies"},
+    {"package", "errors", "tolerances", "fileio", "progress", "freecad_env", "child_python",
+     "settings", "dependencies"},
     {"toolpath"},
     {"process", "post", "stream"},
     {"geometry"},

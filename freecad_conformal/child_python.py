@@ -1,0 +1,113 @@
+"""One request answered in a child Python on the other core (`python -m MODULE`).
+
+The child starts (interpreter, FreeCAD, the modules it preloads) when the `ChildPython` is
+made, so that it is ready by the time the parent knows what to ask. The request and the
+answer cross as pickles on the child's stdin and stdout; shapes travel inside them in OCC's
+binary format (geometry/occ_binary.py: bit for bit, so the child computes on the very
+solid the parent holds). A child is a fresh interpreter, not a fork: OCC's thread pool,
+once started in the parent, deadlocks a forked child in its next Boolean (seen in
+`generalFuse` under pytest). Used only outside FreeCAD's GUI and with two or more cores
+(`can_start_child`); the caller computes in place otherwise, or when the child dies.
+"""
+from __future__ import annotations
+
+import os
+import pickle
+import subprocess
+import sys
+from pathlib import Path
+from typing import Callable
+
+from freecad_conformal import ADDON_ROOT
+from freecad_conformal.freecad_env import import_freecad
+
+
+def can_start_child() -> bool:
+    """Whether a child Python may compute here."""
+    if (os.cpu_count() or 1) < 2:
+        return False
+    if not Path(sys.executable).name.lower().startswith("python"):
+        return False  # embedded (FreeCADCmd): no interpreter to start the child with
+    App, _ = import_freecad()
+    return not getattr(App, "GuiUp", False)
+
+
+class ChildPython:
+    """`python -m module` started now: `ask()` sends the one request, `answer()` waits for
+    (ok, value), `stop()` ends it (also unasked)."""
+
+    def __init__(self, module: str) -> None:
+        env = dict(os.environ)
+        env["PYTHONPATH"] = os.pathsep.join(
+            [str(ADDON_ROOT)] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
+        try:
+            self._process = subprocess.Popen([sys.executable, "-m", module],
+                                             stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                             env=env)
+        except OSError:
+            self._process = None  # no interpreter to start: answer() says so
+
+    def ask(self, request) -> None:
+        """Send the request (picklable) and close the child's input."""
+        if self._process is None:
+            return
+        try:
+            self._process.stdin.write(pickle.dumps(request))
+        except OSError:
+            pass  # the child died at once (BrokenPipe): answer() sees its exit code
+        try:
+            self._process.stdin.close()
+        except OSError:
+            pass  # same: nothing left to flush to
+
+    def answer(self) -> tuple[bool, object] | None:
+        """(True, value) or (False, the error it raised); None when the child gave no
+        answer (it did not start, or died): the caller then computes in place."""
+        if self._process is None:
+            return None
+        data = self._process.stdout.read()
+        self._process.stdout.close()
+        code = self._process.wait()
+        if code != 0 or not data:
+            return None
+        try:
+            ok, value = pickle.loads(data)
+        except (pickle.UnpicklingError, EOFError, AttributeError, ImportError, ValueError):
+            return None
+        return bool(ok), value
+
+    def stop(self) -> None:
+        """End the child (its answer is not needed)."""
+        if self._process is None:
+            return
+        if self._process.poll() is None:
+            self._process.kill()
+        for stream in (self._process.stdin, self._process.stdout):
+            try:
+                stream.close()
+            except OSError:
+                pass  # a pipe the killed child left unread
+        self._process.wait()
+
+
+def serve(compute: Callable[[object], object], preload: Callable[[], None]) -> None:
+    """Child side: `preload()` while the parent decides, then read the request on stdin and
+    write (True, compute(request)) or (False, the error) on stdout. An error that is not the
+    package's own travels as a GeometryError naming it."""
+    out = os.fdopen(os.dup(1), "wb")
+    os.dup2(2, 1)  # anything FreeCAD prints goes to stderr, not into the answer
+    preload()
+    try:
+        request = pickle.load(sys.stdin.buffer)
+    except EOFError:
+        return  # not needed after all
+    try:
+        answer = (True, compute(request))
+    except Exception as exc:  # sent to the parent, which raises it
+        from freecad_conformal.errors import ConformalError, GeometryError
+
+        error = exc if isinstance(exc, ConformalError) else GeometryError(
+            f"{compute.__name__} failed in the child: {type(exc).__name__}: {exc}")
+        answer = (False, error)
+    pickle.dump(answer, out)
+    out.close()
