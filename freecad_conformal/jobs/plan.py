@@ -26,6 +26,7 @@ from freecad_conformal.decomposition.subparts import BuildPlan
 from freecad_conformal.post.branches import choose_rotary
 from freecad_conformal.post.kinematics import rotary_candidates
 from freecad_conformal.settings.plan import SPEED_ROLES
+from freecad_conformal.tolerances import ZERO_LENGTH
 from freecad_conformal.post.machine import Machine, load_machine
 from freecad_conformal.post.program import PostResult, post_toolpath
 
@@ -361,9 +362,17 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
         return machine_plan(shape, dataclasses.replace(options, root=root, decompose=split),
                             decompose, tool=tool, machine=machine)
 
+    def child_request() -> dict:
+        from freecad_conformal.jobs.coarse_child import coarse_request
+
+        return coarse_request(shape, options, tool, machine)
+
+    # A child lays out and costs orientations as make_plan does only with the decomposition
+    # it would import itself (a caller's own cannot cross).
     candidates = ranked(plan_candidates(solids[0], make_plan, options.layers, path_settings,
                                         Motion.of(machine, options.jerk),
-                                        DEFAULT_OVERHANG_ANGLE, progress, options.objective),
+                                        DEFAULT_OVERHANG_ANGLE, progress, options.objective,
+                                        child_request if decompose is None else None),
                         options.objective)
     best = candidates[0]
     if centred:
@@ -532,7 +541,10 @@ def single_plan(shape, direction=(0.0, 0.0, 1.0)) -> BuildPlan:
     from freecad_conformal.decomposition.subparts import SubPart
 
     d = np.asarray(direction, dtype=float)
-    d = d / np.linalg.norm(d)
+    length = float(np.linalg.norm(d)) if d.shape == (3,) else 0.0
+    if not np.isfinite(length) or length < ZERO_LENGTH:
+        raise PlanError(f"build direction must be a non-zero 3-vector, got {list(direction)!r}")
+    d = d / length
     subparts = [SubPart(index=k, shape=solid, build_direction=d, volume=float(solid.Volume),
                         name=f"solid {k}", solid_index=k, overhang_area=overhang_area(solid, d))
                 for k, solid in enumerate(solids_of(shape))]

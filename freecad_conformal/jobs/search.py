@@ -190,19 +190,52 @@ def _text(vector) -> str:
 def plan_candidates(solid, make_plan: Callable[[object, bool], tuple], layer_settings,
                     path_settings: PathSettings, motion: Motion, angle: float,
                     progress: Callable[[str], None] | None = None,
-                    objective: str = "balanced") -> list[Candidate]:
+                    objective: str = "balanced",
+                    child_request: Callable[[], dict] | None = None) -> list[Candidate]:
     """Every candidate for one solid (see the module docstring). `make_plan(root, split)`
     returns (placed shape, plan) as `jobs/plan.machine_plan` lays it out with that root
     ("auto" or a direction of the part as given) and split (decompose, or build whole).
-    `objective` picks which coarsely costed candidates are costed exactly."""
+    `objective` picks which coarsely costed candidates are costed exactly.
+    `child_request()` gives what a child Python needs to lay out and cost whole
+    orientations as `make_plan` does (`jobs/coarse_child.py`); None: all are costed here."""
+    directions = _whole_directions(solid, angle)
     makers: list[tuple[str, object, bool]] = [
-        (f"whole along {_text(d)}", tuple(float(c) for c in d), False)
-        for d in _whole_directions(solid, angle)]
+        (f"whole along {_text(d)}", tuple(float(c) for c in d), False) for d in directions]
     if not makers:
         makers = [("decomposed", "auto", True)]
+    child, given = None, set()
+    if child_request is not None and len(makers) > 1:
+        from freecad_conformal.jobs.coarse_child import start_child
+
+        weights = [_sampled_count(solid, d, layer_settings) for d in directions]
+        child = start_child(child_request, [m[:2] for m in makers], weights, layer_settings,
+                            path_settings, motion)
+        given = set(child.numbers) if child is not None else set()
+    try:
+        found = _made(solid, makers, make_plan, layer_settings, path_settings, motion, angle,
+                      progress, child, given)
+    finally:
+        if child is not None:
+            child.stop()
+    return _refined(found, layer_settings, path_settings, motion, objective)
+
+
+def _sampled_count(solid, direction: np.ndarray, layer_settings) -> float:
+    """About how many layers `coarse_candidate` slices of the solid built along
+    `direction`: the work a child would take."""
+    low, high = extent_along(solid, direction)
+    return (high - low) / (layer_settings.thickness * COARSE_EVERY)
+
+
+def _made(solid, makers: list, make_plan, layer_settings, path_settings: PathSettings,
+          motion: Motion, angle: float, progress, child, given: set[int]) -> list[Candidate]:
+    """The candidates of `makers` (the whole builds whose index is in `given` costed by
+    `child`, the rest here), in their order, before any is costed exactly."""
     candidates: list[Candidate] = []
     failures: list[tuple[str, PlanError]] = []
     notes: list[str] = []
+    numbers: list[int] = []       # the maker of each candidate, to keep their order
+    waiting: list[tuple[int, Candidate]] = []     # (maker, laid out) the child costs
 
     def whole_along_best() -> None:
         # This loop reaches it.
@@ -218,7 +251,7 @@ def plan_candidates(solid, make_plan: Callable[[object, bool], tuple], layer_set
             return
         makers.append((label, tuple(float(c) for c in direction), False))
 
-    for label, root, split in makers:
+    for number, (label, root, split) in enumerate(makers):
         if progress is not None:
             progress(label)
         try:
@@ -235,11 +268,16 @@ def plan_candidates(solid, make_plan: Callable[[object, bool], tuple], layer_set
         # where this one stands: the same layers and cost (the connecting rod sliced its 320
         # layers twice, 7 s each).
         made = _as_twin(Candidate(label, placed, plan, {}, None, split, exact=False), candidates)
+        if made is None and number in given:
+            # The child costs it meanwhile.
+            waiting.append((number, Candidate(label, placed, plan, {}, None, False,
+                                              exact=False)))
+            continue
         try:
             if made is None and (split or len(makers) == 1):
                 made = _exact(label, placed, plan, split, layer_settings, path_settings, motion)
             elif made is None:
-                made = _coarse(label, placed, plan, layer_settings, path_settings, motion)
+                made = coarse_candidate(label, placed, plan, layer_settings, path_settings, motion)
         except GeometryError as exc:
             # A sub-part OCC cannot slice (the bottle's decomposition on OCCT 7.8): this
             # candidate is lost, not the plan.
@@ -254,18 +292,54 @@ def plan_candidates(solid, make_plan: Callable[[object, bool], tuple], layer_set
             continue
         plan.notes.extend(notes)
         candidates.append(made)
+        numbers.append(number)
         if split and plan.support_area > MIN_SAVING:
             # The decomposition did not remove all overhang (the table's splayed legs), or
             # kept more than turning the solid whole (a split OCC could not make): the solid
             # built whole along its best single direction is a candidate too, and wins when
             # it leaves no more overhang for less cost.
             whole_along_best()
+    if waiting:
+        for number, made in _collect(waiting, child, failures, layer_settings, path_settings,
+                                     motion):
+            candidates.append(made)
+            numbers.append(number)
+        candidates = [c for _, c in sorted(zip(numbers, candidates), key=lambda nc: nc[0])]
     if not candidates:
         if len(failures) == 1:
             raise failures[0][1]
         raise PlanError("no candidate plan could be made for the part: "
                         + "; ".join(f"{label}: {exc}" for label, exc in failures))
-    return _refined(candidates, layer_settings, path_settings, motion, objective)
+    return candidates
+
+
+def _collect(waiting: list[tuple[int, Candidate]], child, failures: list, layer_settings,
+             path_settings: PathSettings, motion: Motion) -> list[tuple[int, Candidate]]:
+    """(maker, candidate) of the whole builds the child costed, with its estimates (costed
+    here instead when the child gave no answer); what could not be costed fails as it would
+    have here."""
+    answers = child.results()
+    by_number = dict(zip(child.numbers, answers or []))
+    made: list[tuple[int, Candidate]] = []
+    for number, laid in waiting:
+        if answers is None:
+            try:
+                found = coarse_candidate(laid.label, laid.placed, laid.plan, layer_settings,
+                                         path_settings, motion)
+            except GeometryError as exc:
+                failures.append((laid.label, exc))
+                continue
+        else:
+            kind, value = by_number[number]
+            if kind == "error":
+                failures.append((laid.label, value))
+                continue
+            found = None if value is None else dataclasses.replace(laid, cost=value)
+        if found is None:
+            failures.append((laid.label, PlanError("the part is thinner than one layer")))
+            continue
+        made.append((number, found))
+    return made
 
 
 #: Sub-parts laid out within this (mm of box, relative volume, direction) are the same.
@@ -311,8 +385,8 @@ def _exact(label: str, placed, plan: BuildPlan, split: bool, layer_settings,
                      CostWhenRead(plan, layers, path_settings, motion), split)
 
 
-def _coarse(label: str, placed, plan: BuildPlan, layer_settings, path_settings: PathSettings,
-            motion: Motion) -> Candidate | None:
+def coarse_candidate(label: str, placed, plan: BuildPlan, layer_settings,
+                     path_settings: PathSettings, motion: Motion) -> Candidate | None:
     """The candidate costed on sampled layers (`sampled_layers`), each standing for the
     layers around it; None if no sub-part holds a layer."""
     sampled = {sub.index: sampled_layers(sub, layer_settings, COARSE_EVERY)
