@@ -41,9 +41,11 @@ class ChildPython:
         env["PYTHONPATH"] = os.pathsep.join(
             [str(ADDON_ROOT)] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
         try:
+            # In the addon's folder: `-m` puts the working folder first on the path, and
+            # another copy of the package there (a user's checkout) would answer instead.
             self._process = subprocess.Popen([sys.executable, "-m", module],
                                              stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                             env=env)
+                                             env=env, cwd=str(ADDON_ROOT))
         except OSError:
             self._process = None  # no interpreter to start: answer() says so
 

@@ -17,3 +17,16 @@ def test_stopping_a_child_never_asked_ends_it():
     trial = Trial()
     trial.stop()
     assert trial._process.poll() is not None
+
+
+def test_the_child_runs_this_package_whatever_folder_it_is_started_from(tmp_path, monkeypatch):
+    # `python -m` puts the working folder first on the path: a copy of the package there
+    # (a user's checkout of another version) must not be the one that answers.
+    decoy = tmp_path / "freecad_conformal"
+    decoy.mkdir()
+    (decoy / "__init__.py").write_text("raise SystemExit(3)\n")
+    monkeypatch.chdir(tmp_path)
+    trial = Trial()
+    trial._process.stdin.close()
+    assert trial._process.wait(timeout=60) == 0
+    trial._process.stdout.close()
