@@ -11,6 +11,7 @@ once started in the parent, deadlocks a forked child in its next Boolean (seen i
 """
 from __future__ import annotations
 
+import multiprocessing
 import os
 import pickle
 import subprocess
@@ -23,8 +24,12 @@ from freecad_conformal.freecad_env import import_freecad
 
 
 def can_start_child() -> bool:
-    """Whether a child Python may compute here."""
+    """Whether a child Python may compute here: not with one core, not in a process that is
+    itself a worker of a pool (batch's already fills the cores, and stops a part's process
+    without its children), not in FreeCAD's GUI or an embedded interpreter."""
     if (os.cpu_count() or 1) < 2:
+        return False
+    if multiprocessing.parent_process() is not None:
         return False
     if not Path(sys.executable).name.lower().startswith("python"):
         return False  # embedded (FreeCADCmd): no interpreter to start the child with

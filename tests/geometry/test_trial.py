@@ -30,3 +30,14 @@ def test_the_child_runs_this_package_whatever_folder_it_is_started_from(tmp_path
     trial._process.stdin.close()
     assert trial._process.wait(timeout=60) == 0
     trial._process.stdout.close()
+
+
+def test_a_pool_worker_starts_no_child():
+    # batch's workers already fill the cores, and a stopped part's process leaves no child
+    import multiprocessing
+
+    from freecad_conformal.child_python import can_start_child
+
+    assert can_start_child()
+    with multiprocessing.get_context("spawn").Pool(1) as pool:
+        assert pool.apply(can_start_child) is False
