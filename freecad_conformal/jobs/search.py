@@ -203,17 +203,16 @@ def plan_candidates(solid, make_plan: Callable[[object, bool], tuple], layer_set
         (f"whole along {_text(d)}", tuple(float(c) for c in d), False) for d in directions]
     if not makers:
         makers = [("decomposed", "auto", True)]
-    child, given = None, set()
+    child = None
     if child_request is not None and len(makers) > 1:
         from freecad_conformal.jobs.coarse_child import start_child
 
         weights = [_sampled_count(solid, d, layer_settings) for d in directions]
         child = start_child(child_request, [m[:2] for m in makers], weights, layer_settings,
                             path_settings, motion)
-        given = set(child.numbers) if child is not None else set()
     try:
         found = _made(solid, makers, make_plan, layer_settings, path_settings, motion, angle,
-                      progress, child, given)
+                      progress, child)
     finally:
         if child is not None:
             child.stop()
@@ -228,9 +227,10 @@ def _sampled_count(solid, direction: np.ndarray, layer_settings) -> float:
 
 
 def _made(solid, makers: list, make_plan, layer_settings, path_settings: PathSettings,
-          motion: Motion, angle: float, progress, child, given: set[int]) -> list[Candidate]:
-    """The candidates of `makers` (the whole builds whose index is in `given` costed by
-    `child`, the rest here), in their order, before any is costed exactly."""
+          motion: Motion, angle: float, progress, child) -> list[Candidate]:
+    """The candidates of `makers` (the whole builds `child` took costed there, the rest
+    here), in their order, before any is costed exactly."""
+    given = set(child.numbers) if child is not None else set()
     candidates: list[Candidate] = []
     failures: list[tuple[str, PlanError]] = []
     notes: list[str] = []
