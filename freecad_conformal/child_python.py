@@ -37,9 +37,14 @@ def can_start_child() -> bool:
     return not getattr(App, "GuiUp", False)
 
 
+#: Bytes of the length that precedes each item `serve_items` sends.
+FRAME_HEADER = 8
+
+
 class ChildPython:
     """`python -m module` started now: `ask()` sends the one request, `answer()` waits for
-    (ok, value), `stop()` ends it (also unasked)."""
+    (ok, value), or `received()` collects the items a child serving with `serve_items`
+    sends as it goes; `stop()` ends it (also unasked)."""
 
     def __init__(self, module: str) -> None:
         env = dict(os.environ)
@@ -53,6 +58,7 @@ class ChildPython:
                                              env=env, cwd=str(ADDON_ROOT))
         except OSError:
             self._process = None  # no interpreter to start: answer() says so
+        self._buffer: bytearray | None = None  # what `received` has read, not yet whole
 
     def ask(self, request) -> None:
         """Send the request (picklable) and close the child's input."""
@@ -82,6 +88,38 @@ class ChildPython:
         except (pickle.UnpicklingError, EOFError, AttributeError, ImportError, ValueError):
             return None
         return bool(ok), value
+
+    def received(self) -> list:
+        """The items a child serving with `serve_items` has sent since the last call, without
+        waiting (an item still crossing the pipe comes with a later call)."""
+        if self._process is None:
+            return []
+        fd = self._process.stdout.fileno()
+        if self._buffer is None:
+            self._buffer = bytearray()
+            os.set_blocking(fd, False)
+        while True:
+            try:
+                chunk = os.read(fd, 1 << 20)
+            except BlockingIOError:
+                break
+            except OSError:
+                chunk = b""
+            if not chunk:
+                break  # the child ended: what it sent is all there is
+            self._buffer += chunk
+        items = []
+        while len(self._buffer) >= FRAME_HEADER:
+            size = int.from_bytes(self._buffer[:FRAME_HEADER], "little")
+            if len(self._buffer) < FRAME_HEADER + size:
+                break
+            try:
+                items.append(pickle.loads(self._buffer[FRAME_HEADER:FRAME_HEADER + size]))
+            except (pickle.UnpicklingError, EOFError, AttributeError, ImportError, ValueError):
+                self._buffer.clear()  # garbled: nothing after it can be trusted
+                break
+            del self._buffer[:FRAME_HEADER + size]
+        return items
 
     def stop(self) -> None:
         """End the child (its answer is not needed)."""
@@ -118,3 +156,28 @@ def serve(compute: Callable[[object], object], preload: Callable[[], None]) -> N
         answer = (False, error)
     pickle.dump(answer, out)
     out.close()
+
+
+def serve_items(compute: Callable[[object, Callable[[object], None]], None],
+                preload: Callable[[], None]) -> None:
+    """Child side of `ChildPython.received`: `preload()`, read the request on stdin, then
+    `compute(request, send)`, each `send(item)` written at once. The child just stops on
+    an error: its parent does the work it did not send (and meets the error there), and
+    stops it when it no longer needs it (a closed pipe)."""
+    out = os.fdopen(os.dup(1), "wb")
+    os.dup2(2, 1)  # anything FreeCAD prints goes to stderr, not into the items
+    preload()
+    try:
+        request = pickle.load(sys.stdin.buffer)
+    except EOFError:
+        return  # not needed after all
+
+    def send(item) -> None:
+        data = pickle.dumps(item, protocol=pickle.HIGHEST_PROTOCOL)
+        out.write(len(data).to_bytes(FRAME_HEADER, "little") + data)
+        out.flush()
+
+    try:
+        compute(request, send)
+    except Exception:  # noqa: BLE001 - the parent does what is left (see above)
+        return

@@ -19,14 +19,14 @@ from dataclasses import dataclass, field
 from typing import Sequence
 
 import numpy as np
-import shapely
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.paths.bead import bead_area
 from freecad_conformal.paths.approach import (SAFE_MARGIN, bounding_sphere, check_clearance,
                                               exit_distance, transition)
-from freecad_conformal.paths.fill2d import FillSettings, fill_layer
+from freecad_conformal.paths.fill2d import FillSettings, ordered_fill
 from freecad_conformal.paths.map3d import Path3D, bridge_regions, map_paths, skin_regions
+from freecad_conformal.paths.stack_fill import StackFill, stack_fills
 from freecad_conformal.layers.model import Layer
 from freecad_conformal.decomposition.subparts import BuildPlan
 from freecad_conformal.toolpath import Toolpath, ToolpathBuilder
@@ -36,12 +36,6 @@ from freecad_conformal.tolerances import COINCIDENT_POINTS
 #: rule, a circle of 6.5 mm radius.
 SMALL_PERIMETER_LENGTH = 2.0 * math.pi * 6.5
 PERIMETER_ROLES = ("external_perimeter", "perimeter")
-
-#: Region polygons are simplified to this fraction of the bead width before path planning:
-#: sections come at a 1 µm chord tolerance, far finer than a bead can follow, and the
-#: points only cost time downstream.
-SIMPLIFY_FRACTION = 1.0 / 40.0
-
 
 @dataclass
 class Feeds:
@@ -135,47 +129,58 @@ def solid_areas(layers: Sequence[Layer], settings: PathSettings,
     apart as bridge infill (None where bridges are not filled apart): the fill's and the
     cost estimate's one reading of a stack (`paths.map3d`). Read once for the same layer
     objects and settings (callers do not change the lists returned)."""
-    for known, known_settings, known_rests, found in _SOLID_AREAS:
-        if (known_rests == rests_on_parent and len(known) == len(layers)
-                and all(a is b for a, b in zip(known, layers)) and known_settings == settings):
-            return found
+    found = _known_areas(layers, settings, rests_on_parent)
+    if found is not None:
+        return found
     skins = skin_regions(layers, settings.top_layers, settings.bottom_layers, rests_on_parent)
     bridges = (bridge_regions(layers, skins, settings.fill.solid_below_area)
                if settings.feeds.bridges_apart else [None] * len(layers))
     found = (skins, bridges)
-    _SOLID_AREAS.append((tuple(layers), settings, rests_on_parent, found))
-    del _SOLID_AREAS[:-SOLID_AREAS_KEPT]
+    _keep_areas(layers, settings, rests_on_parent, found)
     return found
 
 
+def _known_areas(layers: Sequence[Layer], settings: PathSettings,
+                 rests_on_parent: bool) -> tuple[list, list] | None:
+    for known, known_settings, known_rests, found in _SOLID_AREAS:
+        if (known_rests == rests_on_parent and len(known) == len(layers)
+                and all(a is b for a, b in zip(known, layers)) and known_settings == settings):
+            return found
+    return None
+
+
+def _keep_areas(layers: Sequence[Layer], settings: PathSettings, rests_on_parent: bool,
+                found: tuple[list, list]) -> None:
+    _SOLID_AREAS.append((tuple(layers), settings, rests_on_parent, found))
+    del _SOLID_AREAS[:-SOLID_AREAS_KEPT]
+
+
+def stacks_filled(stacks: Sequence[tuple[Sequence[Layer], bool]],
+                  settings: PathSettings) -> list[StackFill]:
+    """`stack_fills` of the stacks ((layers, rests on its parent)), with the skins and
+    bridges already read for them, and keeping those it reads (`solid_areas`)."""
+    known = [_known_areas(layers, settings, rests) for layers, rests in stacks]
+    filled = stack_fills(stacks, settings, known)
+    for (layers, rests), was, made in zip(stacks, known, filled):
+        if was is None:
+            _keep_areas(layers, settings, rests, (made.skins, made.bridges))
+    return filled
+
+
 def plan_paths(layers: Sequence[Layer], settings: PathSettings, rests_on_parent: bool,
-               position: np.ndarray | None) -> list[list[Path3D]]:
-    """Ordered 3D paths per layer of one sub-part, starting near `position`."""
-    tolerance = settings.fill.bead_width * SIMPLIFY_FRACTION
-    skins, bridges = solid_areas(layers, settings, rests_on_parent)
+               position: np.ndarray | None, filled: StackFill | None = None) -> list[list[Path3D]]:
+    """Ordered 3D paths per layer of one sub-part, starting near `position`; `filled`: its
+    stack's fills where already made (`stacks_filled`)."""
+    if filled is None:
+        filled = stacks_filled([(layers, rests_on_parent)], settings)[0]
     result = []
-    filled: dict[tuple, list] = {}
-    for layer, skin, bridge in zip(layers, skins, bridges):
+    for layer, fill in zip(layers, filled.fills):
         here = layer.frame.to_2d(position[None])[0] if position is not None else None
-        region = layer.region.simplify(tolerance)
-        # A prism's layers repeat, and from the same start the fill repeats too (after a
-        # layer or two the start alternates between two points): filled once.
-        key = (wkb_key(region), wkb_key(skin), wkb_key(bridge),
-               None if here is None else here.tobytes(),
-               layer.thickness, layer.index % 2)
-        if key not in filled:
-            filled[key] = fill_layer(region, settings.fill, layer.index, skin, here,
-                                     height=layer.thickness, bridge=bridge)
-        paths = map_paths(layer, filled[key])
+        paths = map_paths(layer, ordered_fill(fill, settings.fill, here))
         if paths:
             position = paths[-1].points[-1]
         result.append(paths)
     return result
-
-
-def wkb_key(geometry) -> bytes | None:
-    """A region as a dictionary key: its exact coordinates (WKB); None stays None."""
-    return None if geometry is None else shapely.to_wkb(geometry)
 
 
 #: Two layer tops closer than this (mm) along the build direction are one level.
@@ -277,9 +282,15 @@ def assemble(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSett
         builder.add_segment(points, axes, kind="travel", feed=travel_feed, tool=tool)
         travels.append(np.vstack((position[None], points)) if position is not None else points)
 
-    for group in together(plan, layers):
-        per_layer = _levels([plan_paths(layers[sub.index], settings, sub.parent is not None, position)
-                             for sub in group], [layers[sub.index] for sub in group])
+    groups = together(plan, layers)
+    # Every stack's fills at once, before the order that depends on the nozzle's path: the
+    # child that shares them is started once for the plan.
+    filled = iter(stacks_filled([(layers[sub.index], sub.parent is not None)
+                                 for group in groups for sub in group], settings))
+    for group in groups:
+        per_layer = _levels([plan_paths(layers[sub.index], settings, sub.parent is not None,
+                                        position, next(filled)) for sub in group],
+                            [layers[sub.index] for sub in group])
         first = True
         for paths in per_layer:
             feeds = _layer_feeds(paths, settings)

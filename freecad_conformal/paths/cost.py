@@ -29,10 +29,10 @@ from shapely.geometry import Polygon
 from freecad_conformal.decomposition.subparts import BuildPlan
 from freecad_conformal.layers.model import Layer
 from freecad_conformal.paths.approach import SAFE_MARGIN, bounding_sphere, transition
-from freecad_conformal.paths.assemble import (PERIMETER_ROLES, SIMPLIFY_FRACTION,
-                                              SMALL_PERIMETER_LENGTH, PathSettings, solid_areas,
-                                              together, wkb_key)
+from freecad_conformal.paths.assemble import (PERIMETER_ROLES, SMALL_PERIMETER_LENGTH,
+                                              PathSettings, solid_areas, together)
 from freecad_conformal.paths.bead import bead_area, bead_spacing
+from freecad_conformal.paths.stack_fill import SIMPLIFY_FRACTION, wkb_key
 from freecad_conformal.paths.fill2d import (Rows, fill_area, infill_areas, infill_rows,
                                             perimeter_rings, polygons_of, scan_pieces,
                                             valid_region)

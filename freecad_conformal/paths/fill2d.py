@@ -467,30 +467,60 @@ def fill_layer(region, settings: FillSettings, layer_index: int = 0, solid=None,
         bridge: part of `solid` over sparse infill, filled apart as "bridge_infill"
             (`paths.map3d.bridge_regions`); None for none.
     """
+    return ordered_fill(layer_fill(region, settings, layer_index, solid, height, bridge),
+                        settings, position)
+
+
+@dataclass
+class IslandFill:
+    """One island's paths before they are ordered: its perimeter rings per depth (0 the
+    external one) and its infill chains. Nothing here depends on where the nozzle is, so
+    a layer's fill can be made anywhere (`paths/fill_child.py`) and ordered afterwards."""
+
+    island: Polygon
+    depths: list[list[np.ndarray]]
+    infill: list[Path2D]
+
+
+def layer_fill(region, settings: FillSettings, layer_index: int = 0, solid=None,
+               height: float | None = None, bridge=None) -> list[IslandFill]:
+    """The islands of one layer filled (`fill_layer`'s arguments), not yet ordered."""
     settings.validate()
     spacing = bead_spacing(settings.bead_width, height, settings.bead_model)
-    here = np.zeros(2) if position is None else np.asarray(position, dtype=float)
     # Offsets and scan lines of an invalid region (a self-touching section outline) raise
     # GEOS topology errors: repair first, so only what cannot be repaired is an error.
     islands = polygons_of(valid_region(region))
     solid = None if solid is None else valid_region(solid)
     bridge = None if bridge is None or bridge.is_empty else valid_region(bridge)
-    ordered: list[Path2D] = []
-    while islands:
-        k = int(np.argmin([island.exterior.distance(shapely.Point(here)) for island in islands]))
-        island = islands.pop(k)
+    filled = []
+    for island in islands:
         try:
-            paths = _island_paths(island, settings, spacing, layer_index, solid, here, bridge)
+            depths, infill = _island_fill(island, settings, spacing, layer_index, solid, bridge)
         except shapely.errors.GEOSException:
             try:
                 # Nearly coincident edges of the island and its skin (non-noded
                 # intersections): the same on a fixed grid, where GEOS's overlay is robust.
-                paths = _island_paths(_snapped(island), settings, spacing, layer_index,
-                                      _snapped(solid), here, _snapped(bridge))
+                depths, infill = _island_fill(_snapped(island), settings, spacing, layer_index,
+                                              _snapped(solid), _snapped(bridge))
             except shapely.errors.GEOSException as exc:
                 raise PlanError(f"layer {layer_index}: the island at "
                                 f"{island.representative_point().wkt} ({island.area:.3f} mm²) "
                                 f"cannot be filled: {exc}") from None
+        filled.append(IslandFill(island, depths, infill))
+    return filled
+
+
+def ordered_fill(filled: list[IslandFill], settings: FillSettings,
+                 position: np.ndarray | None = None) -> list[Path2D]:
+    """A layer's paths in print order from the nozzle at `position`: islands nearest
+    first; in each, its rings innermost depth first, each ring nearest first and started at
+    its seam, then its infill chains nearest first, each from its nearer end."""
+    here = np.zeros(2) if position is None else np.asarray(position, dtype=float)
+    islands = list(filled)
+    ordered: list[Path2D] = []
+    while islands:
+        k = int(np.argmin([f.island.exterior.distance(shapely.Point(here)) for f in islands]))
+        paths = _island_order(islands.pop(k), settings, here)
         ordered.extend(paths)
         if paths:
             here = paths[-1].points[-1]
@@ -596,23 +626,14 @@ def _line_area(area, spacing: float):
     return inset(area, LINE_END_INSET * spacing)
 
 
-def _island_paths(island: Polygon, settings: FillSettings, spacing: float, layer_index: int,
-                  solid, here: np.ndarray, bridge=None) -> list[Path2D]:
+def _island_fill(island: Polygon, settings: FillSettings, spacing: float, layer_index: int,
+                 solid, bridge=None) -> tuple[list[list[np.ndarray]], list[Path2D]]:
+    """(perimeter rings per depth, infill chains) of one island."""
     width = settings.bead_width
-    paths: list[Path2D] = []
     depths = perimeter_rings(island, width, settings.perimeters, spacing)
-    for depth in reversed(range(len(depths))):
-        role = "external_perimeter" if depth == 0 else "perimeter"
-        rings = list(depths[depth])
-        while rings:
-            k = int(np.argmin([np.min(np.linalg.norm(r - here, axis=1)) for r in rings]))
-            ring = rings.pop(k)
-            ring = start_ring_at(ring, _seam_index(ring, settings.seam, here))
-            paths.append(Path2D(ring, role, closed=True))
-            here = ring[-1]
     inner = fill_area(island, len(depths), width, spacing, settings.infill_overlap)
     if inner.is_empty:
-        return paths
+        return depths, []
     infill: list[Path2D] = []
     for area, pitch, role, fill in infill_areas(inner, solid, bridge, settings, spacing):
         if area.is_empty or pitch <= 0 or area.area < width * width:
@@ -621,6 +642,21 @@ def _island_paths(island: Polygon, settings: FillSettings, spacing: float, layer
         # The bead that fills the wider pitch of spread rows.
         line_width = width + rows.wider if rows.wider else None
         infill += zigzag(area, rows.pitch, rows.angle, width, role, rows.phase, line_width)
+    return depths, infill
+
+
+def _island_order(filled: IslandFill, settings: FillSettings, here: np.ndarray) -> list[Path2D]:
+    paths: list[Path2D] = []
+    for depth in reversed(range(len(filled.depths))):
+        role = "external_perimeter" if depth == 0 else "perimeter"
+        rings = list(filled.depths[depth])
+        while rings:
+            k = int(np.argmin([np.min(np.linalg.norm(r - here, axis=1)) for r in rings]))
+            ring = rings.pop(k)
+            ring = start_ring_at(ring, _seam_index(ring, settings.seam, here))
+            paths.append(Path2D(ring, role, closed=True))
+            here = ring[-1]
+    infill = list(filled.infill)
     while infill:
         k, flip = _nearest(infill, here, reversible=True)
         path = infill.pop(k)

@@ -79,25 +79,30 @@ def skin_regions(layers: Sequence[Layer], top_layers: int, bottom_layers: int,
     """Per layer, the area to print solid: not covered `top_layers` above or
     `bottom_layers` below within the sub-part. A sub-part that rests on its parent has no
     bottom skin (its base is inside the part, not on the bed)."""
-    skins = []
-    for i, layer in enumerate(layers):
-        covered = layer.region
-        for offset in [*range(1, top_layers + 1), *(-k for k in range(1, bottom_layers + 1))]:
-            j = i + offset
-            if j < 0 and rests_on_parent:
-                continue
-            if not 0 <= j < len(layers):
-                covered = MultiPolygon()
-                break
-            other = region_in(layer, layers[j])
-            if covered is layer.region and shapely.equals_exact(other, covered, SAME_REGION):
-                continue
-            covered = _boolean(covered, other, "intersection")
-            if covered.is_empty:
-                break
-        skins.append(MultiPolygon() if covered is layer.region
-                     else as_multipolygon(_boolean(layer.region, covered, "difference")))
-    return skins
+    return [skin_at(layers, i, top_layers, bottom_layers, rests_on_parent)
+            for i in range(len(layers))]
+
+
+def skin_at(layers: Sequence[Layer], i: int, top_layers: int, bottom_layers: int,
+            rests_on_parent: bool) -> MultiPolygon:
+    """`skin_regions` of layer i alone (it reads the layers around it)."""
+    layer = layers[i]
+    covered = layer.region
+    for offset in [*range(1, top_layers + 1), *(-k for k in range(1, bottom_layers + 1))]:
+        j = i + offset
+        if j < 0 and rests_on_parent:
+            continue
+        if not 0 <= j < len(layers):
+            covered = MultiPolygon()
+            break
+        other = region_in(layer, layers[j])
+        if covered is layer.region and shapely.equals_exact(other, covered, SAME_REGION):
+            continue
+        covered = _boolean(covered, other, "intersection")
+        if covered.is_empty:
+            break
+    return (MultiPolygon() if covered is layer.region
+            else as_multipolygon(_boolean(layer.region, covered, "difference")))
 
 
 def bridge_regions(layers: Sequence[Layer], skins: Sequence[MultiPolygon],
@@ -106,17 +111,20 @@ def bridge_regions(layers: Sequence[Layer], skins: Sequence[MultiPolygon],
     infill: its rows span the sparse grid's gaps, an internal bridge (PrusaSlicer prints it
     at bridge speed). Sparse pieces under `solid_below_area` print solid, so they carry no
     bridge; the first layer has none below."""
-    bridges = [MultiPolygon()]
-    for below, layer, skin, below_skin in zip(layers, layers[1:], skins[1:], skins):
-        if skin.is_empty:
-            bridges.append(MultiPolygon())
-            continue
-        sparse = (below.region if below_skin.is_empty
-                  else _boolean(below.region, below_skin, "difference"))
-        pieces = [p for p in polygons_of(sparse) if p.area >= solid_below_area]
-        if not pieces:
-            bridges.append(MultiPolygon())
-            continue
-        over = region_in(layer, below, MultiPolygon(pieces))
-        bridges.append(as_multipolygon(_boolean(skin, over, "intersection")))
-    return bridges[:len(layers)]
+    return [bridge_at(layers, i, skins[i], skins[i - 1] if i else None, solid_below_area)
+            for i in range(len(layers))]
+
+
+def bridge_at(layers: Sequence[Layer], i: int, skin: MultiPolygon,
+              below_skin: MultiPolygon | None, solid_below_area: float) -> MultiPolygon:
+    """`bridge_regions` of layer i alone, from its skin and the layer below's."""
+    if i == 0 or skin.is_empty:
+        return MultiPolygon()
+    below, layer = layers[i - 1], layers[i]
+    sparse = (below.region if below_skin.is_empty
+              else _boolean(below.region, below_skin, "difference"))
+    pieces = [p for p in polygons_of(sparse) if p.area >= solid_below_area]
+    if not pieces:
+        return MultiPolygon()
+    over = region_in(layer, below, MultiPolygon(pieces))
+    return as_multipolygon(_boolean(skin, over, "intersection"))

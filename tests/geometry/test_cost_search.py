@@ -366,9 +366,11 @@ def test_repeated_layers_are_costed_once_and_cost_the_same(monkeypatch):
 
 
 def test_repeated_layers_are_filled_once_and_give_the_same_paths(monkeypatch):
-    """The paths of a prism's repeated layers come from one fill per distinct layer and
-    start, and are the paths each layer's own fill gives, in order."""
-    from freecad_conformal.paths import assemble
+    """The paths of a prism's repeated layers come from one fill per distinct layer (the
+    fill does not depend on the nozzle's start; only its order does), and are the paths
+    each layer's own fill gives from where the last layer ended, in order."""
+    from freecad_conformal.paths import assemble, stack_fill
+    from freecad_conformal.paths.fill2d import fill_layer
     from freecad_conformal.paths.map3d import map_paths
 
     plan = single_plan(samples.t_block())
@@ -377,23 +379,23 @@ def test_repeated_layers_are_filled_once_and_give_the_same_paths(monkeypatch):
     # Seams nearest the nozzle: each layer's paths depend on where the last one ended.
     settings = check_options(samples.t_block(), plan_options({"seam": "nearest"}), None)[3]
     calls = []
-    original = assemble.fill_layer
+    original = stack_fill.layer_fill
 
     def counted(*args, **kwargs):
         calls.append(1)
         return original(*args, **kwargs)
 
-    monkeypatch.setattr(assemble, "fill_layer", counted)
+    monkeypatch.setattr(stack_fill, "layer_fill", counted)
     start = np.array([0.0, 0.0, 0.0])
     memo = assemble.plan_paths(layers, settings, False, start)
     assert len(calls) < len(layers) // 4
     skins, bridges = assemble.solid_areas(layers, settings, False)
-    position, tolerance = start, settings.fill.bead_width * assemble.SIMPLIFY_FRACTION
+    position, tolerance = start, settings.fill.bead_width * stack_fill.SIMPLIFY_FRACTION
     for layer, skin, bridge, got in zip(layers, skins, bridges, memo):
         here = layer.frame.to_2d(position[None])[0]
-        own = map_paths(layer, original(layer.region.simplify(tolerance), settings.fill,
-                                        layer.index, skin, here, height=layer.thickness,
-                                        bridge=bridge))
+        own = map_paths(layer, fill_layer(layer.region.simplify(tolerance), settings.fill,
+                                          layer.index, skin, here, height=layer.thickness,
+                                          bridge=bridge))
         assert [p.role for p in got] == [p.role for p in own]
         assert all(np.array_equal(a.points, b.points) for a, b in zip(got, own))
         position = own[-1].points[-1] if own else position

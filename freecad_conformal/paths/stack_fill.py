@@ -1,0 +1,160 @@
+"""Every layer's skin, bridge and fill of a plan's stacks, made from both ends at once.
+
+A layer's skin and bridge (`paths.map3d`) and its islands filled (`fill2d.layer_fill`) do not
+depend on where the nozzle is: only their order does (`fill2d.ordered_fill`, done later
+along the plan). With enough layers a child Python (`child_python.py`) makes them from the
+last layer back while this process goes from the first; where the two meet this process
+stops and the child is ended. The child's layers come back pickled (exact doubles): the
+same fills, bit for bit, as this process makes. Without a child (FreeCAD's GUI, one core,
+a pool's worker, a child that died) this process makes them all.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Callable, Sequence
+
+import shapely
+
+from freecad_conformal.child_python import ChildPython, can_start_child, serve_items
+from freecad_conformal.paths.fill2d import IslandFill, layer_fill
+from freecad_conformal.paths.map3d import bridge_at, skin_at
+
+if TYPE_CHECKING:
+    from freecad_conformal.layers.model import Layer
+
+#: `paths.assemble.PathSettings`, which imports this module (fill, feeds, skins).
+PathSettings = Any
+
+#: Region polygons are simplified to this fraction of the bead width before path planning:
+#: sections come at a 1 µm chord tolerance, far finer than a bead can follow, and the
+#: points only cost time downstream.
+SIMPLIFY_FRACTION = 1.0 / 40.0
+
+#: Layers from which a child pays: it starts in ~0.3 s (interpreter, numpy, shapely) and a
+#: layer's fill takes 3-10 ms, so below this the child would barely have begun.
+MIN_CHILD_LAYERS = 120
+
+
+@dataclass
+class StackFill:
+    """One stack's skins, bridges (None per layer where bridges are not filled apart) and
+    per layer its islands filled, in layer order."""
+
+    skins: list
+    bridges: list
+    fills: list[list[IslandFill]]
+
+
+class _Maker:
+    """Makes the layers of the stacks one at a time, in either direction: a layer's skin is
+    kept for the layer above's bridge, and a fill already made for the same region, skin,
+    bridge, thickness and layer parity is reused (a prism's layers repeat)."""
+
+    def __init__(self, stacks: Sequence[tuple[Sequence[Layer], bool]], settings: PathSettings,
+                 known: Sequence[tuple[list, list] | None]) -> None:
+        self.stacks, self.settings = stacks, settings
+        self.skins = [dict(enumerate(k[0])) if k else {} for k in known]
+        self.bridges = [dict(enumerate(k[1])) if k else {} for k in known]
+        self.fills: list[dict[int, list[IslandFill]]] = [{} for _ in stacks]
+        self.made: dict[tuple, list[IslandFill]] = {}
+
+    def skin(self, stack: int, i: int):
+        found = self.skins[stack].get(i)
+        if found is None:
+            layers, rests = self.stacks[stack]
+            found = skin_at(layers, i, self.settings.top_layers, self.settings.bottom_layers,
+                            rests)
+            self.skins[stack][i] = found
+        return found
+
+    def make(self, stack: int, i: int) -> tuple[object, object, list[IslandFill], tuple]:
+        """(skin, bridge, fill, key) of layer i of the stack."""
+        layers, _ = self.stacks[stack]
+        settings, layer = self.settings, layers[i]
+        skin = self.skin(stack, i)
+        bridge = self.bridges[stack].get(i)
+        if bridge is None and settings.feeds.bridges_apart:
+            bridge = bridge_at(layers, i, skin, self.skin(stack, i - 1) if i else None,
+                               settings.fill.solid_below_area)
+        region = layer.region.simplify(settings.fill.bead_width * SIMPLIFY_FRACTION)
+        key = (wkb_key(region), wkb_key(skin), wkb_key(bridge), layer.thickness,
+               layer.index % 2)
+        fill = self.made.get(key)
+        if fill is None:
+            fill = layer_fill(region, settings.fill, layer.index, skin, layer.thickness, bridge)
+            self.made[key] = fill
+        self.put(stack, i, skin, bridge, fill)
+        return skin, bridge, fill, key
+
+    def put(self, stack: int, i: int, skin, bridge, fill: list[IslandFill]) -> None:
+        self.skins[stack][i] = skin
+        self.bridges[stack][i] = bridge
+        self.fills[stack][i] = fill
+
+    def result(self) -> list[StackFill]:
+        return [StackFill([self.skins[s][i] for i in range(len(layers))],
+                          [self.bridges[s].get(i) for i in range(len(layers))],
+                          [self.fills[s][i] for i in range(len(layers))])
+                for s, (layers, _) in enumerate(self.stacks)]
+
+
+def wkb_key(geometry) -> bytes | None:
+    """A region as a dictionary key: its exact coordinates (WKB); None stays None."""
+    return None if geometry is None else shapely.to_wkb(geometry)
+
+
+def stack_fills(stacks: Sequence[tuple[Sequence[Layer], bool]], settings: PathSettings,
+                known: Sequence[tuple[list, list] | None] | None = None,
+                child: bool = True) -> list[StackFill]:
+    """Skins, bridges and fills of every stack ((layers, rests on its parent)); `known`:
+    per stack its (skins, bridges) where already read (`assemble.solid_areas`), else None.
+    `child`: whether a child may take a share (see the module docstring)."""
+    known = list(known) if known is not None else [None] * len(stacks)
+    maker = _Maker(stacks, settings, known)
+    units = [(s, i) for s, (layers, _) in enumerate(stacks) for i in range(len(layers))]
+    helper = None
+    if child and len(units) >= MIN_CHILD_LAYERS and can_start_child():
+        helper = ChildPython("freecad_conformal.paths.stack_fill")
+        helper.ask({"stacks": stacks, "settings": settings, "known": known})
+    done_from = len(units)      # the child has made every unit from here on
+    child_fills: dict[int, list[IslandFill]] = {}
+    try:
+        for k, (s, i) in enumerate(units):
+            if helper is not None:
+                for index, skin, bridge, number, fill in helper.received():
+                    if fill is not None:
+                        child_fills[number] = fill
+                    maker.put(*units[index], skin, bridge, child_fills[number])
+                    done_from = index
+            if k >= done_from:
+                break
+            maker.make(s, i)
+    finally:
+        if helper is not None:
+            helper.stop()
+    return maker.result()
+
+
+def _from_the_end(request: dict, send: Callable[[object], None]) -> None:
+    """Child side: make the units from the last back, sending each as (unit, skin, bridge,
+    fill number, fill or None when that number was sent before)."""
+    stacks, settings = request["stacks"], request["settings"]
+    maker = _Maker(stacks, settings, request["known"])
+    units = [(s, i) for s, (layers, _) in enumerate(stacks) for i in range(len(layers))]
+    numbers: dict[tuple, int] = {}
+    for index in reversed(range(len(units))):
+        skin, bridge, fill, key = maker.make(*units[index])
+        number = numbers.get(key)
+        if number is None:
+            number = numbers[key] = len(numbers)
+            send((index, skin, bridge, number, fill))
+        else:
+            send((index, skin, bridge, number, None))
+
+
+def _preload() -> None:
+    """Nothing beyond this module's imports: the request's settings bring `paths.assemble`."""
+
+
+if __name__ == "__main__":
+    serve_items(_from_the_end, _preload)

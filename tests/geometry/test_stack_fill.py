@@ -1,0 +1,192 @@
+"""Layer fills made from both ends of a plan's stacks (`paths/stack_fill.py`): whatever share
+a child makes, the skins, bridges and fills are those this process makes alone, bit for bit;
+where the two sides meet, nothing is made twice over or left out; a child that sends
+nothing leaves all the work here."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.layers.model import LayerSettings
+from freecad_conformal.layers.plan import plan_layers
+from freecad_conformal.paths import stack_fill
+from freecad_conformal.paths.assemble import PathSettings, plan_paths
+from freecad_conformal.paths.fill2d import fill_layer
+from freecad_conformal.paths.map3d import map_paths
+from freecad_conformal.decomposition.subparts import SubPart
+
+
+def _stacks() -> list:
+    """Two stacks whose layers all differ: a cone (tapered: each circle its own) and a
+    tilted box on it (rests on its parent: no bottom skin)."""
+    App, Part = import_freecad()
+    cone = Part.makeCone(9.0, 4.0, 16.0)
+    box = Part.makeBox(8.0, 5.0, 6.0, App.Vector(-4.0, -2.5, 16.0))
+    box.rotate(App.Vector(0, 0, 19.0), App.Vector(1, 0, 0), 20.0)
+    subs = [SubPart(0, cone, np.array([0.0, 0.0, 1.0]), volume=cone.Volume),
+            SubPart(1, box, np.array([0.0, 0.0, 1.0]), parent=0, volume=box.Volume)]
+    settings = LayerSettings()
+    return [(plan_layers(sub, settings), sub.parent is not None) for sub in subs]
+
+
+def _settings() -> PathSettings:
+    settings = PathSettings()
+    settings.feeds.bridge_infill = 30.0 * 60    # bridges filled apart: their regions count
+    return settings
+
+
+def _same(a: list, b: list) -> bool:
+    """Two stacks' fills are the same: skins, bridges, islands, rings and chains exact."""
+    for x, y in zip(a, b):
+        if not (all(s.equals_exact(t, 0.0) for s, t in zip(x.skins, y.skins))
+                and all((s is None and t is None) or s.equals_exact(t, 0.0)
+                        for s, t in zip(x.bridges, y.bridges))):
+            return False
+        for f, g in zip(x.fills, y.fills):
+            if len(f) != len(g):
+                return False
+            for i, j in zip(f, g):
+                if not i.island.equals_exact(j.island, 0.0):
+                    return False
+                if [len(d) for d in i.depths] != [len(d) for d in j.depths] or not all(
+                        np.array_equal(r, s) for d, e in zip(i.depths, j.depths)
+                        for r, s in zip(d, e)):
+                    return False
+                if [(p.role, p.width) for p in i.infill] != [(p.role, p.width) for p in j.infill]:
+                    return False
+                if not all(np.array_equal(p.points, q.points) for p, q in zip(i.infill, j.infill)):
+                    return False
+    return len(a) == len(b)
+
+
+#: The fill itself, before a test counts its calls.
+MADE_ALONE = stack_fill.layer_fill
+
+
+class _Replay:
+    """A child that sends what `_from_the_end` makes for the request, `per_call` items at
+    each `received()` (all at once when None; never, with per_call 0)."""
+
+    per_call: int | None = None
+
+    def __init__(self, module: str) -> None:
+        self.items: list = []
+        self.stopped = False
+
+    def ask(self, request) -> None:
+        counted, stack_fill.layer_fill = stack_fill.layer_fill, MADE_ALONE
+        try:                           # the child's layers are not made here
+            stack_fill._from_the_end(request, self.items.append)
+        finally:
+            stack_fill.layer_fill = counted
+
+    def received(self) -> list:
+        count = len(self.items) if self.per_call is None else self.per_call
+        sent, self.items = self.items[:count], self.items[count:]
+        return sent
+
+    def stop(self) -> None:
+        self.stopped = True
+
+
+@pytest.fixture(scope="module")
+def stacks():
+    return _stacks()
+
+
+@pytest.fixture(scope="module")
+def alone(stacks):
+    return stack_fill.stack_fills(stacks, _settings(), child=False)
+
+
+def _made_here(monkeypatch) -> list:
+    made: list = []
+    original = stack_fill.layer_fill
+
+    def counted(*args, **kwargs):
+        made.append(args[2])
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(stack_fill, "layer_fill", counted)
+    return made
+
+
+@pytest.mark.parametrize("per_call", [None, 1, 3, 0])
+def test_fills_shared_with_a_child_are_those_made_alone(stacks, alone, monkeypatch, per_call):
+    monkeypatch.setattr(stack_fill, "MIN_CHILD_LAYERS", 0)
+    monkeypatch.setattr(stack_fill, "can_start_child", lambda: True)
+    monkeypatch.setattr(_Replay, "per_call", per_call)
+    monkeypatch.setattr(stack_fill, "ChildPython", _Replay)
+    made = _made_here(monkeypatch)
+    shared = stack_fill.stack_fills(stacks, _settings())
+    assert _same(shared, alone)
+    total = sum(len(layers) for layers, _ in stacks)
+    if per_call is None:
+        assert made == []                      # the child had it all before the first layer
+    elif per_call == 0:
+        assert len(made) == total              # a mute child: all here
+    else:
+        # One side each from its end: here gets the first layers, the child the rest.
+        assert 0 < len(made) < total
+
+
+def test_a_real_child_makes_the_same_fills(stacks, alone, monkeypatch):
+    monkeypatch.setattr(stack_fill, "MIN_CHILD_LAYERS", 0)
+    shared = stack_fill.stack_fills(stacks, _settings())
+    assert _same(shared, alone)
+
+
+def test_too_few_layers_take_no_child(stacks, monkeypatch):
+    started = []
+    monkeypatch.setattr(stack_fill, "ChildPython", lambda module: started.append(module))
+    monkeypatch.setattr(stack_fill, "can_start_child", lambda: True)
+    monkeypatch.setattr(stack_fill, "MIN_CHILD_LAYERS", sum(len(s[0]) for s in stacks) + 1)
+    stack_fill.stack_fills(stacks, _settings())
+    assert started == []
+
+
+def test_paths_from_shared_fills_are_each_layers_own_fill_in_order(stacks, monkeypatch):
+    """Ordered from where the last layer ended, the shared fills give the paths each layer's
+    own `fill_layer` gives from there (seams nearest the nozzle: the order matters)."""
+    monkeypatch.setattr(stack_fill, "MIN_CHILD_LAYERS", 0)
+    monkeypatch.setattr(stack_fill, "can_start_child", lambda: True)
+    monkeypatch.setattr(stack_fill, "ChildPython", _Replay)
+    settings = _settings()
+    settings.fill.seam = "nearest"
+    layers, _ = stacks[0]
+    position = np.array([30.0, 0.0, 0.0])
+    got = plan_paths(layers, settings, False, position)
+    skins = stack_fill.stack_fills(stacks[:1], settings, child=False)[0]
+    tolerance = settings.fill.bead_width * stack_fill.SIMPLIFY_FRACTION
+    for layer, skin, bridge, paths in zip(layers, skins.skins, skins.bridges, got):
+        here = layer.frame.to_2d(position[None])[0]
+        own = map_paths(layer, fill_layer(layer.region.simplify(tolerance), settings.fill,
+                                          layer.index, skin, here, height=layer.thickness,
+                                          bridge=bridge))
+        assert [p.role for p in paths] == [p.role for p in own]
+        assert all(np.array_equal(a.points, b.points) for a, b in zip(paths, own))
+        position = own[-1].points[-1] if own else position
+
+
+def test_skins_read_for_the_paths_serve_the_cost_and_back(stacks, monkeypatch):
+    """The paths keep the skins and bridges they read for the cost estimate (and use those
+    it read): one reading of a stack either way."""
+    from freecad_conformal.paths import assemble
+
+    read: list[int] = []
+    original = stack_fill.skin_at
+
+    def counted(layers, i, *args):
+        read.append(i)
+        return original(layers, i, *args)
+
+    monkeypatch.setattr(stack_fill, "skin_at", counted)
+    settings = _settings()
+    layers, rests = stacks[1]
+    filled = assemble.stacks_filled([(layers, rests)], settings)[0]
+    assert len(read) == len(layers)
+    skins, bridges = assemble.solid_areas(layers, settings, rests)
+    assert skins == filled.skins and bridges == filled.bridges and len(read) == len(layers)
+    again = assemble.stacks_filled([(layers, rests)], settings)[0]
+    assert again.skins == skins and len(read) == len(layers)
