@@ -16,6 +16,7 @@ import os
 import pickle
 import subprocess
 import sys
+import threading
 from pathlib import Path
 from typing import Callable
 
@@ -41,6 +42,12 @@ def can_start_child() -> bool:
 FRAME_HEADER = 8
 
 
+def can_stream() -> bool:
+    """Whether a child's items can be read without waiting (`ChildPython.received`): a pipe
+    set non-blocking, which Windows' Python before 3.12 cannot do."""
+    return os.name == "posix"
+
+
 class ChildPython:
     """`python -m module` started now: `ask()` sends the one request, `answer()` waits for
     (ok, value), or `received()` collects the items a child serving with `serve_items`
@@ -59,15 +66,23 @@ class ChildPython:
         except OSError:
             self._process = None  # no interpreter to start: answer() says so
         self._buffer: bytearray | None = None  # what `received` has read, not yet whole
+        self._writer: threading.Thread | None = None
 
     def ask(self, request) -> None:
-        """Send the request (picklable) and close the child's input."""
+        """Send the request (picklable) and close the child's input. A thread writes it: a
+        request larger than a pipe holds (the stacks of a plan's layers) would otherwise
+        hold this process until the child, still starting, reads it."""
         if self._process is None:
             return
+        data = pickle.dumps(request, protocol=pickle.HIGHEST_PROTOCOL)
+        self._writer = threading.Thread(target=self._write, args=(data,), daemon=True)
+        self._writer.start()
+
+    def _write(self, data: bytes) -> None:
         try:
-            self._process.stdin.write(pickle.dumps(request))
+            self._process.stdin.write(data)
         except OSError:
-            pass  # the child died at once (BrokenPipe): answer() sees its exit code
+            pass  # the child died or was stopped (BrokenPipe): answer() sees its exit code
         try:
             self._process.stdin.close()
         except OSError:
@@ -127,12 +142,14 @@ class ChildPython:
             return
         if self._process.poll() is None:
             self._process.kill()
+        self._process.wait()
+        if self._writer is not None:
+            self._writer.join()   # its write fails at once on the dead child's pipe
         for stream in (self._process.stdin, self._process.stdout):
             try:
                 stream.close()
             except OSError:
                 pass  # a pipe the killed child left unread
-        self._process.wait()
 
 
 def serve(compute: Callable[[object], object], preload: Callable[[], None]) -> None:

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any, Callable, Sequence
 
 import shapely
 
-from freecad_conformal.child_python import ChildPython, can_start_child, serve_items
+from freecad_conformal.child_python import ChildPython, can_start_child, can_stream, serve_items
 from freecad_conformal.paths.fill2d import IslandFill, layer_fill
 from freecad_conformal.paths.map3d import bridge_at, skin_at
 
@@ -113,7 +113,7 @@ def stack_fills(stacks: Sequence[tuple[Sequence[Layer], bool]], settings: PathSe
     maker = _Maker(stacks, settings, known)
     units = [(s, i) for s, (layers, _) in enumerate(stacks) for i in range(len(layers))]
     helper = None
-    if child and len(units) >= MIN_CHILD_LAYERS and can_start_child():
+    if child and len(units) >= MIN_CHILD_LAYERS and can_stream() and can_start_child():
         helper = ChildPython("freecad_conformal.paths.stack_fill")
         helper.ask({"stacks": stacks, "settings": settings, "known": known})
     done_from = len(units)      # the child has made every unit from here on
