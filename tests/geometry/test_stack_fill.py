@@ -146,6 +146,20 @@ def test_too_few_layers_take_no_child(stacks, monkeypatch):
     assert started == []
 
 
+def test_a_prism_of_many_layers_but_few_regions_takes_no_child(stacks, monkeypatch):
+    """Its repeated layers are filled once here (the jack: 850 layers, 7 regions, 0.19 s
+    of fills): a child would only start."""
+    import dataclasses
+
+    started = []
+    monkeypatch.setattr(stack_fill, "ChildPython", lambda module: started.append(module))
+    monkeypatch.setattr(stack_fill, "can_start_child", lambda: True)
+    first = stacks[0][0][0]
+    prism = [dataclasses.replace(first, index=i) for i in range(3 * stack_fill.MIN_CHILD_LAYERS)]
+    made = stack_fill.stack_fills([(prism, False)], _settings())
+    assert started == [] and len(made[0].fills) == len(prism)
+
+
 def test_paths_from_shared_fills_are_each_layers_own_fill_in_order(stacks, monkeypatch):
     """Ordered from where the last layer ended, the shared fills give the paths each layer's
     own `fill_layer` gives from there (seams nearest the nozzle: the order matters)."""
