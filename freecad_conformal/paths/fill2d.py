@@ -15,7 +15,8 @@
 - Seams: "aligned" (the rearmost vertex: +v), "nearest" (closest to the nozzle) or
   "sharpest" (the sharpest corner hides it).
 - Order: islands, loops and infill chains are taken greedily nearest-first from the
-  nozzle's position, infill chains in whichever direction starts closer.
+  nozzle's position, infill chains in whichever direction starts closer (`ordered_fill`,
+  apart from the fill itself, `layer_fill`, which does not depend on the position).
 """
 from __future__ import annotations
 
@@ -475,7 +476,7 @@ def fill_layer(region, settings: FillSettings, layer_index: int = 0, solid=None,
 class IslandFill:
     """One island's paths before they are ordered: its perimeter rings per depth (0 the
     external one) and its infill chains. Nothing here depends on where the nozzle is, so
-    a layer's fill can be made anywhere (`paths/fill_child.py`) and ordered afterwards."""
+    a layer's fill can be made anywhere (`paths/stack_fill.py`) and ordered afterwards."""
 
     island: Polygon
     depths: list[list[np.ndarray]]
