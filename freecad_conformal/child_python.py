@@ -152,17 +152,28 @@ class ChildPython:
                 pass  # a pipe the killed child left unread
 
 
+def _request(preload: Callable[[], None] | None):
+    """Child side: (the parent's pipe for the answer, the request), or None when the parent
+    closed its input unasked (not needed after all). Anything FreeCAD prints from here on
+    goes to stderr, not into the answer; `preload()` runs while the parent decides."""
+    out = os.fdopen(os.dup(1), "wb")
+    os.dup2(2, 1)
+    if preload is not None:
+        preload()
+    try:
+        return out, pickle.load(sys.stdin.buffer)
+    except EOFError:
+        return None
+
+
 def serve(compute: Callable[[object], object], preload: Callable[[], None]) -> None:
     """Child side: `preload()` while the parent decides, then read the request on stdin and
     write (True, compute(request)) or (False, the error) on stdout. An error that is not the
     package's own travels as a GeometryError naming it."""
-    out = os.fdopen(os.dup(1), "wb")
-    os.dup2(2, 1)  # anything FreeCAD prints goes to stderr, not into the answer
-    preload()
-    try:
-        request = pickle.load(sys.stdin.buffer)
-    except EOFError:
-        return  # not needed after all
+    asked = _request(preload)
+    if asked is None:
+        return
+    out, request = asked
     try:
         answer = (True, compute(request))
     except Exception as exc:  # sent to the parent, which raises it
@@ -176,18 +187,15 @@ def serve(compute: Callable[[object], object], preload: Callable[[], None]) -> N
 
 
 def serve_items(compute: Callable[[object, Callable[[object], None]], None],
-                preload: Callable[[], None]) -> None:
-    """Child side of `ChildPython.received`: `preload()`, read the request on stdin, then
+                preload: Callable[[], None] | None = None) -> None:
+    """Child side of `ChildPython.received`: read the request on stdin, then
     `compute(request, send)`, each `send(item)` written at once. The child just stops on
     an error: its parent does the work it did not send (and meets the error there), and
     stops it when it no longer needs it (a closed pipe)."""
-    out = os.fdopen(os.dup(1), "wb")
-    os.dup2(2, 1)  # anything FreeCAD prints goes to stderr, not into the items
-    preload()
-    try:
-        request = pickle.load(sys.stdin.buffer)
-    except EOFError:
-        return  # not needed after all
+    asked = _request(preload)
+    if asked is None:
+        return
+    out, request = asked
 
     def send(item) -> None:
         data = pickle.dumps(item, protocol=pickle.HIGHEST_PROTOCOL)

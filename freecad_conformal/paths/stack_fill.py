@@ -163,9 +163,5 @@ def _from_the_end(request: dict, send: Callable[[object], None]) -> None:
             send((index, skin, bridge, number, None))
 
 
-def _preload() -> None:
-    """Nothing beyond this module's imports: the request's settings bring `paths.assemble`."""
-
-
 if __name__ == "__main__":
-    serve_items(_from_the_end, _preload)
+    serve_items(_from_the_end)   # nothing to preload: the request's settings bring the rest

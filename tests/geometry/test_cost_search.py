@@ -370,8 +370,7 @@ def test_repeated_layers_are_filled_once_and_give_the_same_paths(monkeypatch):
     fill does not depend on the nozzle's start; only its order does), and are the paths
     each layer's own fill gives from where the last layer ended, in order."""
     from freecad_conformal.paths import assemble, stack_fill
-    from freecad_conformal.paths.fill2d import fill_layer
-    from freecad_conformal.paths.map3d import map_paths
+    from tests.geometry.own_fills import assert_each_layers_own_fill
 
     plan = single_plan(samples.t_block())
     sub = plan.subparts[0]
@@ -390,15 +389,7 @@ def test_repeated_layers_are_filled_once_and_give_the_same_paths(monkeypatch):
     memo = assemble.plan_paths(layers, settings, False, start)
     assert len(calls) < len(layers) // 4
     skins, bridges = assemble.solid_areas(layers, settings, False)
-    position, tolerance = start, settings.fill.bead_width * stack_fill.SIMPLIFY_FRACTION
-    for layer, skin, bridge, got in zip(layers, skins, bridges, memo):
-        here = layer.frame.to_2d(position[None])[0]
-        own = map_paths(layer, fill_layer(layer.region.simplify(tolerance), settings.fill,
-                                          layer.index, skin, here, height=layer.thickness,
-                                          bridge=bridge))
-        assert [p.role for p in got] == [p.role for p in own]
-        assert all(np.array_equal(a.points, b.points) for a, b in zip(got, own))
-        position = own[-1].points[-1] if own else position
+    assert_each_layers_own_fill(layers, skins, bridges, memo, settings, start)
 
 
 @pytest.mark.parametrize("whole_overhang, made", [(800.0, False), (500.5, True)])

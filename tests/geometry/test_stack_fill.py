@@ -12,9 +12,8 @@ from freecad_conformal.layers.model import LayerSettings
 from freecad_conformal.layers.plan import plan_layers
 from freecad_conformal.paths import stack_fill
 from freecad_conformal.paths.assemble import PathSettings, plan_paths
-from freecad_conformal.paths.fill2d import fill_layer
-from freecad_conformal.paths.map3d import map_paths
 from freecad_conformal.decomposition.subparts import SubPart
+from tests.geometry.own_fills import assert_each_layers_own_fill
 
 
 def _stacks() -> list:
@@ -172,15 +171,7 @@ def test_paths_from_shared_fills_are_each_layers_own_fill_in_order(stacks, monke
     position = np.array([30.0, 0.0, 0.0])
     got = plan_paths(layers, settings, False, position)
     skins = stack_fill.stack_fills(stacks[:1], settings, child=False)[0]
-    tolerance = settings.fill.bead_width * stack_fill.SIMPLIFY_FRACTION
-    for layer, skin, bridge, paths in zip(layers, skins.skins, skins.bridges, got):
-        here = layer.frame.to_2d(position[None])[0]
-        own = map_paths(layer, fill_layer(layer.region.simplify(tolerance), settings.fill,
-                                          layer.index, skin, here, height=layer.thickness,
-                                          bridge=bridge))
-        assert [p.role for p in paths] == [p.role for p in own]
-        assert all(np.array_equal(a.points, b.points) for a, b in zip(paths, own))
-        position = own[-1].points[-1] if own else position
+    assert_each_layers_own_fill(layers, skins.skins, skins.bridges, got, settings, position)
 
 
 def test_skins_read_for_the_paths_serve_the_cost_and_back(stacks, monkeypatch):

@@ -1,0 +1,21 @@
+"""The check both path tests make: a stack's paths are, layer by layer, what each layer's
+own `fill_layer` gives from where the last layer ended."""
+from __future__ import annotations
+
+import numpy as np
+
+from freecad_conformal.paths import stack_fill
+from freecad_conformal.paths.fill2d import fill_layer
+from freecad_conformal.paths.map3d import map_paths
+
+
+def assert_each_layers_own_fill(layers, skins, bridges, got, settings, position) -> None:
+    tolerance = settings.fill.bead_width * stack_fill.SIMPLIFY_FRACTION
+    for layer, skin, bridge, paths in zip(layers, skins, bridges, got):
+        here = layer.frame.to_2d(position[None])[0]
+        own = map_paths(layer, fill_layer(layer.region.simplify(tolerance), settings.fill,
+                                          layer.index, skin, here, height=layer.thickness,
+                                          bridge=bridge))
+        assert [p.role for p in paths] == [p.role for p in own]
+        assert all(np.array_equal(a.points, b.points) for a, b in zip(paths, own))
+        position = own[-1].points[-1] if own else position
