@@ -5,10 +5,11 @@ candidate cuts are tried exactly (a Boolean split along one planar region): regi
 planes of faces with concave edges, checked against the centroidal axis' break links
 (section 3), then the area-jump planes of section 4. The cut that leaves the least total
 overhang wins, the piece beyond it becomes a child built away from its parent along the
-plane's normal, and both halves are refined again. A cut that saves nothing is not made,
-so a part that is already support-free stays whole, except where several members leave one
-face along the build direction (a table's legs): those become sub-parts built on it, as in
-section 4's partition (decomposition/members.py).
+plane's normal, and both halves are refined again. A cut that saves nothing (or under
+2 % of the piece's overhang: planner.MIN_SAVING_FRACTION) is not made, so a part that is
+already support-free stays whole, except where several members leave one face along the
+build direction (a table's legs): those become sub-parts built on it, as in section 4's
+partition (decomposition/members.py).
 """
 from __future__ import annotations
 

@@ -23,10 +23,15 @@ from freecad_conformal.geometry.overhang import lowest_level, overhang_report
 from freecad_conformal.tolerances import (
     BASE_LEVEL_TOLERANCE, PARALLEL_COS_SLACK, SAME_DIRECTION_ANGLE)
 
-#: A cut must save at least this much overhang (mm², and this fraction of what remains) to
-#: be worth a new sub-part: below it the split only adds a rotation and a seam.
+#: A cut must save at least this much overhang (mm², and this fraction of the piece's) to
+#: be worth a new sub-part: below it the split only adds a turn of the table and a seam.
+#: The fraction stops chains of slivers: the fan built as placed (+Z) had 15 area-jump cuts
+#: in a row, each taking a 7-75 mm³ sliver off a blade for 1-10 % of the hub's overhang
+#: (the first 10.5 of 855 mm²), 37 s of its plan, and then lost to the plan from the side.
+#: Every cut of the plans chosen for the shared parts, the samples and the own parts saves
+#: 4.3 % or more (the fan's last: 3.1 of 72.6 mm²); their G-code is the same with 2 %.
 MIN_SAVING = 1e-3
-MIN_SAVING_FRACTION = 1e-4
+MIN_SAVING_FRACTION = 0.02
 SAME_DIRECTION = SAME_DIRECTION_ANGLE
 #: A piece reaches its base level when its lowest point is within this (mm) of it.
 LEVEL_TOLERANCE = BASE_LEVEL_TOLERANCE

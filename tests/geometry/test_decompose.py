@@ -250,3 +250,28 @@ def test_a_cuts_saving_reads_each_face_once_per_direction(Part, monkeypatch):
     # Built along +X the lower quarter of the lateral face no longer overhangs: all saved.
     assert fresh[0] == pytest.approx(report.area) and fresh[1] == 0.0
     assert len(read) == 2     # the lateral face, along +X and +Z
+
+
+@pytest.mark.parametrize("fraction, pieces", [(None, 1), (0.005, 2)])
+def test_a_cut_saving_a_sliver_of_the_overhang_is_not_made(App, Part, monkeypatch,
+                                                            fraction, pieces):
+    """A 400 mm long wall whose cap overhangs by 0.5 mm along its length (200 mm², too thin
+    to cut off) and a 2 x 1 mm lip on its other side: cutting the lip off saves 2 of 202 mm²,
+    under the 2 % a cut must save (the fan's chain of slivers), so the part stays whole; the
+    same cut is made where the rule asks less (the cut itself is possible)."""
+    from freecad_conformal.decomposition import planner
+
+    if fraction is not None:
+        monkeypatch.setattr(planner, "MIN_SAVING_FRACTION", fraction)
+    V = App.Vector
+    part = (Part.makeBox(10, 400, 20).fuse(Part.makeBox(10.5, 400, 5, V(0, 0, 20)))
+            .fuse(Part.makeBox(2, 1, 5, V(-2, 0, 20)))).removeSplitter().Solids[0]
+    plan = planner.Planner(part, 0, math.radians(45), "true-direction", None, 24)
+    found, _ = plan.pieces(np.array([0.0, 0.0, 1.0]))
+    assert len(found) == pieces
+    assert sum(p.overhang for p in found) == pytest.approx(202.0 if pieces == 1 else 200.0,
+                                                           abs=1e-3)
+    if pieces == 2:
+        lip = min(found, key=lambda p: p.shape.Volume)
+        assert lip.shape.Volume == pytest.approx(10.0)
+        assert np.allclose(lip.direction, [-1.0, 0.0, 0.0])
