@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from freecad_conformal.decomposition.planner import MIN_SAVING_FRACTION
+
 
 def format_duration(seconds: float) -> str:
     """h:mm:ss"""
@@ -30,7 +32,8 @@ def summary_text(result) -> str:
                      f"{sub.tilted_layers:>6} {sub.deposit_length / 1000:>8.2f} {sub.material / 1000:>8.3f}")
     plan = result.plan
     support = ("none" if plan.support_area <= 0 else f"{plan.support_area:.1f} mm2 of overhang "
-               "beyond the allowed angle left (no cut found removes it: it needs support)")
+               "beyond the allowed angle left (no cut found saves "
+               f"{MIN_SAVING_FRACTION:.0%} of a sub-part's overhang or more: it needs support)")
     if plan.support_area > 0 and any(sub.tilted_layers for sub in result.subparts):
         # the decomposition measures its sub-parts as built in planar layers
         where = ("; the hybrid support line below has what the deposited layers need"
