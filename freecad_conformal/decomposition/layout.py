@@ -5,10 +5,14 @@ is several objects on one platform. The decomposition plans each solid as a tree
 its root built from the solid's lowest level along the root's direction, and `root="auto"`
 may choose a direction other than +Z for a solid. On the machine every root must stand on
 the platform: `lay_out` turns each solid about its own centre so its root direction points
-up (+Z), lowers it onto the platform (the lowest point of the part as placed) and sets each
-solid that had to move beside the others along +X, `gap` apart, so the tool building one
-never brushes another. A solid already standing on the platform along +Z, clear of the
-others, stays where it is; so does a part of one solid whose root is built along +Z.
+up (+Z), lowers it to the level of the others (the lowest root built along +Z as placed,
+else the part's lowest point) and sets each solid that had to move beside the others along
++X, `gap` apart, so the tool building one never brushes another. A solid already standing
+along +Z, clear of the others, keeps its place across. Then the whole arrangement is set on
+the platform itself, the plane z = `PLATFORM_Z` of the machine's part frame (a 3-axis bed, a
+trunnion's or a C table's part zero): a part modelled anywhere else in Z (CrankArm at
+z = -149, a part centred on its origin) would otherwise be built in the air or below the
+table. A part of one solid whose root is built along +Z from the platform stays as placed.
 """
 from __future__ import annotations
 
@@ -30,6 +34,11 @@ UP = np.array([0.0, 0.0, 1.0])
 
 #: A solid whose lowest point is within this (mm) of the platform stands on it.
 ON_PLATFORM = 1e-6
+
+#: Height (mm) of the platform's top in the machine's part frame, where the G-code's Z0 is:
+#: the bed of a 3-axis machine (its Z travel starts there), the part zero where a
+#: trunnion's or a table's rotary axes meet (machines/*.json). Parts are built up from it.
+PLATFORM_Z = 0.0
 
 #: Sub-parts reaching further than this (mm) below their root's base are noted: the
 #: decomposition does not treat the platform as an obstacle.
@@ -56,10 +65,14 @@ class SolidMove:
     def shape(self, shape):
         """A moved copy of a FreeCAD shape."""
         App, _ = import_freecad()
-        moved = shape.copy()
         if self.angle > 0.0:
+            moved = shape.copy()
             moved.rotate(App.Vector(*self.pivot), App.Vector(*self.axis), math.degrees(self.angle))
-        moved.translate(App.Vector(*self.shift))
+            moved.translate(App.Vector(*self.shift))
+        else:
+            # Only a new location: the same faces and their meshes (a copy of the screw's
+            # geometry, set down on the platform, was meshed again to be sliced).
+            moved = shape.translated(App.Vector(*self.shift))
         moved_rigidly(shape, moved)
         return moved
 
@@ -78,7 +91,11 @@ def lay_out(plan: BuildPlan, gap: float) -> BuildPlan:
     docstring); the same plan when nothing has to move. Notes say what moved."""
     roots = {sub.solid_index: sub for sub in plan.subparts if sub.parent is None}
     if len(roots) == 1 and _upright(next(iter(roots.values()))):
-        return plan
+        (k, root), = roots.items()
+        lift = PLATFORM_Z - lowest_along(root.shape, UP)
+        if abs(lift) <= ON_PLATFORM:
+            return plan
+        return _moved(plan, {k: SolidMove(k, UP.copy(), 0.0, np.zeros(3), np.array([0.0, 0.0, lift]))})
     shapes = {k: [s.shape for s in plan.subparts if s.solid_index == k] for k in roots}
     # The platform: under the lowest root built along +Z as placed (else the part's bottom).
     upright = [lowest_along(root.shape, UP) for root in roots.values() if _upright(root)]
@@ -123,6 +140,9 @@ def lay_out(plan: BuildPlan, gap: float) -> BuildPlan:
                 boxes[k] = (boxes[k][0] + shift[0], boxes[k][1] + shift[0],
                             boxes[k][2] + shift[1], boxes[k][3] + shift[1])
         placed[k] = boxes[k]
+    # The arrangement, standing on its own level, onto the platform.
+    for move in moves.values():
+        move.shift[2] += PLATFORM_Z - platform
     moving = {k: m for k, m in moves.items() if m.angle > 0.0 or np.linalg.norm(m.shift) > ON_PLATFORM}
     if not moving:
         return plan

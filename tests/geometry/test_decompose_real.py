@@ -105,12 +105,13 @@ def test_crank_arm_plans_both_solids(parts_dir):
         low, high = extent_along(sub.shape, sub.build_direction)
         assert high - low >= MIN_SUBPART_THICKNESS, sub.name
     # On the machine the pin stands where it is and the arm, turned to its root direction,
-    # stands beside it on the same platform (as placed it hovers around the pin).
+    # stands beside it on the same platform (as placed it hovers around the pin); both are
+    # set on the machine's platform, z = 0 (the part is modelled at z = -149).
     from freecad_conformal.decomposition.layout import lay_out
     from tests.geometry.test_layout import check_standing, footprints_apart
 
     laid = lay_out(plan, 10.0)
-    check_standing(laid, shape.BoundBox.ZMin)
+    check_standing(laid, 0.0)
     assert footprints_apart(laid, 10.0)
     assert laid.support_area == pytest.approx(plan.support_area, abs=AREA_TOLERANCE)
     np.testing.assert_allclose(remaining(laid), remaining(plan), atol=1e-3)

@@ -37,9 +37,23 @@ def check_standing(plan, platform: float) -> None:
         assert angle == pytest.approx(math.acos(np.clip(sub.build_direction @ UP, -1, 1)), abs=1e-9)
 
 
-def test_a_part_of_one_solid_built_along_z_stays_as_placed(App, Part):
-    plan = single_plan(Part.makeBox(10, 10, 10, App.Vector(3, 4, 5)))
+def test_a_part_of_one_solid_built_along_z_from_the_platform_stays_as_placed(App, Part):
+    plan = single_plan(Part.makeBox(10, 10, 10, App.Vector(3, 4, 0)))
     assert lay_out(plan, GAP) is plan
+
+
+@pytest.mark.parametrize("z", [5.0, -149.0])
+def test_a_part_modelled_above_or_below_the_platform_is_set_down_on_it(App, Part, z):
+    """Built as modelled, a box at z = 5 had its first layer 5 mm in the air, and CrankArm
+    (modelled at z = -149) was refused by a 3-axis machine whose Z starts at the bed. The
+    part moves in Z only, onto z = 0, and the note says by how much."""
+    box = Part.makeBox(10, 10, 10, App.Vector(3, 4, z))
+    laid = lay_out(single_plan(box), GAP)
+    check_standing(laid, 0.0)
+    moved = laid.subparts[0].shape.BoundBox
+    assert (moved.XMin, moved.YMin) == pytest.approx((3.0, 4.0), abs=1e-9)
+    assert laid.notes == [f"solid 1 laid out on the platform: moved by (+0.000, +0.000, "
+                          f"{-z:+.3f}) mm; its G-code is in that frame"]
 
 
 def test_a_solid_hovering_over_another_is_set_down_beside_it(App, Part):
@@ -67,8 +81,7 @@ def test_a_turned_root_stands_up_with_its_children_turned_alike(App, Part):
     shape = samples.l_block()
     plan = decompose(shape, root_direction=(-1.0, 0.0, 0.0), check_collisions=False)
     laid = lay_out(plan, GAP)
-    low = extent_along(shape, UP)[0]
-    check_standing(laid, low)
+    check_standing(laid, 0.0)
     for before, after in zip(plan.subparts, laid.subparts):
         assert after.volume == before.volume
         assert after.shape.Volume == pytest.approx(before.shape.Volume, rel=1e-12)
@@ -94,6 +107,21 @@ def test_the_plan_builds_every_solid_from_the_platform(App, Part):
     for sub in plan.subparts:
         tips = np.vstack([path.points for path in result.assembly.paths if path.subpart == sub.index])
         assert tips[:, 2].min() == pytest.approx(options.layers.thickness, abs=1e-9), sub.name
+
+
+def test_a_part_modelled_below_the_bed_is_built_up_from_it(App, Part):
+    """Through the plan command's pipeline on a 3-axis machine, whose Z travel starts at the
+    bed: a cylinder modelled at z = -30..-18 (a part centred on another CAD system's origin)
+    was refused ("Z = -29.8 mm ... outside the limits [0, 300]"); its layers now start one
+    layer above the bed and end at its height."""
+    from freecad_conformal.jobs.plan import PlanOptions, machine_plan, run_job
+
+    options = PlanOptions(machine="three_axis", decompose=False)
+    placed, plan = machine_plan(Part.makeCylinder(5, 12, App.Vector(20, 20, -30)), options)
+    result = run_job(placed, plan, options, part="sunk cylinder")
+    tips = np.vstack([path.points for path in result.assembly.paths])
+    assert tips[:, 2].min() == pytest.approx(options.layers.thickness, abs=1e-9)
+    assert tips[:, 2].max() == pytest.approx(12.0, abs=1e-9)
 
 
 def test_solids_set_side_by_side_past_the_travel_are_moved_back_over_the_platform(App, Part):
