@@ -340,7 +340,6 @@ def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
                               material=material_name, tool=tool.id,
                               process=f"hybrid: deposit {tool.id}, mill "
                                       f"{', '.join(m.id for m in mills)}")
-    post = post_toolpath(program.toolpath, machine, options.dialect)
     seconds, segments = move_seconds(program.toolpath, machine.acceleration, options.jerk,
                                      max_feed=machine.max_feed, rapid_feed=machine.rapid_feed)
     kinds = program.toolpath.kind[segments]
@@ -348,6 +347,9 @@ def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
     milling_s = float(seconds[kinds == KINDS.index("cut")].sum())
     travel_s = float(seconds.sum()) - deposit_s - milling_s
     switch_s = sequence.switches * machine.process_switch_s
+    total_s = float(seconds.sum()) + switch_s
+    # The program's header says the time the summary and report say.
+    post = post_toolpath(program.toolpath, machine, options.dialect, time_s=total_s)
     check = None
     if options.hybrid.material_check:
         sweeps = [p.sweep for s in sequence.sessions for p in s.passes]
@@ -377,7 +379,7 @@ def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
     plan.notes.extend(notes + sequence.notes)
     return JobResult(part=part, plan=plan, layers=layers, assembly=assembly, post=post,
                      machine=machine, tool_id=tool.id, material_name=material_name,
-                     bead_width=width, time_s=float(seconds.sum()) + switch_s,
+                     bead_width=width, time_s=total_s,
                      subparts=summaries, settings=dict(options.settings),
                      objective=options.objective, jerk=options.jerk,
                      speeds={role: path_settings.feeds.for_role(role) / 60.0

@@ -421,9 +421,10 @@ def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
             progress(sub.index)
     assembly = assemble(plan, layers, path_settings, tool.envelope, part=part,
                         material=material_name, tool=tool.id)
-    post = post_toolpath(assembly.toolpath, machine, options.dialect)
     seconds = estimate_time(assembly.toolpath, machine.acceleration, options.jerk,
                             max_feed=machine.max_feed, rapid_feed=machine.rapid_feed)
+    # The program's header says the time the summary and report say.
+    post = post_toolpath(assembly.toolpath, machine, options.dialect, time_s=seconds)
     summaries = [subpart_summary(sub, layers[sub.index], assembly, width, path_settings.fill.bead_model)
                  for sub in plan.ordered()
                  if layers[sub.index]]

@@ -77,9 +77,9 @@ class PostFeature(Computed, StoredState):
 
 
 def compute_post(inputs: dict, progress) -> dict:
-    """G-code of toolpath bytes for a machine; the time is the plan's estimate (paths/
-    timing.estimate_time, corners and the machine's feed limits counted), so a Job and its
-    Post report the same time for the same program."""
+    """G-code of toolpath bytes for a machine; the time (property and the program's header)
+    is the plan's estimate (paths/timing.estimate_time, corners and the machine's feed
+    limits counted), so a Job and its Post report the same time for the same program."""
     from freecad_conformal.objects.toolpath_feature import toolpath_from_bytes
     from freecad_conformal.paths.timing import estimate_time
     from freecad_conformal.post.machine import load_machine
@@ -88,11 +88,11 @@ def compute_post(inputs: dict, progress) -> dict:
     toolpath = toolpath_from_bytes(inputs["toolpath"])
     machine = load_machine(inputs["machine"])
     progress(0.1, f"posting {toolpath.segment_count} segments for {machine.name}")
-    result = post_toolpath(toolpath, machine, inputs["dialect"], inputs["tolerance"],
-                           inputs["angular_tolerance"],
-                           relative_e=inputs.get("relative_e", True))
     seconds = estimate_time(toolpath, machine.acceleration, max_feed=machine.max_feed,
                             rapid_feed=machine.rapid_feed)
+    result = post_toolpath(toolpath, machine, inputs["dialect"], inputs["tolerance"],
+                           inputs["angular_tolerance"],
+                           relative_e=inputs.get("relative_e", True), time_s=seconds)
     return {"gcode": result.text, "blocks": int(len(result.values)), "seconds": seconds}
 
 

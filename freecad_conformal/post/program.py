@@ -1,12 +1,14 @@
 """Toolpath + machine + dialect -> G-code text (the post-processor's entry point)."""
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from freecad_conformal.errors import PostError
 from freecad_conformal.fileio import write_text_atomic
 from freecad_conformal.post.dialects import get_dialect
 from freecad_conformal.post.dialects.base import Dialect, feed_number, number
@@ -28,7 +30,7 @@ class PostResult:
     values: np.ndarray       # (b, J) as written: mm, degrees (wrapped where the machine wraps)
     rapid: np.ndarray        # (b,) row moved by G0
     names: tuple[str, ...]   # axis letters of the columns of `values`
-    time_s: float            # estimated run time (toolpath summary, machine acceleration)
+    time_s: float            # estimated run time: the caller's, else the toolpath summary's
 
 
 def machine_values(machine: Machine, joints: np.ndarray, wrap: bool = True) -> np.ndarray:
@@ -45,8 +47,14 @@ def machine_values(machine: Machine, joints: np.ndarray, wrap: bool = True) -> n
 def post_toolpath(tp: Toolpath, machine: Machine, dialect: str | None = None,
                   tolerance: float = DEFAULT_LINEAR_TOLERANCE,
                   angular_tolerance: float = DEFAULT_ANGULAR_TOLERANCE,
-                  relative_e: bool = True) -> PostResult:
-    """Post-process a toolpath; raises ConformalError subclasses on bad input."""
+                  relative_e: bool = True, time_s: float | None = None) -> PostResult:
+    """Post-process a toolpath; raises ConformalError subclasses on bad input. `time_s` is
+    the run time the caller estimated (a job's: paths/timing.estimate_time, with its jerk
+    and the machine's feed limits), written in the header so the program says what the
+    plan's summary and report say; None: the toolpath's own estimate (trapezoidal moves,
+    corners not slowed down)."""
+    if time_s is not None and not (math.isfinite(time_s) and time_s >= 0.0):
+        raise PostError(f"estimated run time must be a finite number of seconds >= 0, got {time_s!r}")
     tp.validate()
     writer = get_dialect(dialect or machine.dialect, tolerance)
     blocks = linearize_by_tool(tp, machine, tolerance, angular_tolerance)
@@ -58,6 +66,8 @@ def post_toolpath(tp: Toolpath, machine: Machine, dialect: str | None = None,
         tools = tp.tool[blocks.segment]
         rapid[1:] |= tools[1:] != tools[:-1]
     summary = tp.summary(acceleration=machine.acceleration, rapid_feed=machine.rapid_feed)
+    if time_s is not None:
+        summary = dataclasses.replace(summary, time_s=float(time_s))
     moves = _move_lines(tp, machine, writer, blocks, values, rapid, relative_e)
     lines = _header(tp, machine, writer, summary, tolerance, angular_tolerance, len(values))
     lines += writer.preamble(machine, relative_e)

@@ -147,6 +147,10 @@ def test_cross_hole_block_plans_verifies_and_matches_the_part(tmp_path):
     assert check.points > 1000 and check.max_deviation == 0
     text = result.post.text
     assert text.count("T2 M6") == 1 and "G43 H2" in text and "M3 S3200" in text
+    # the header says the job's time: moves with their corners, and the process switch
+    assert f"[{result.time_s:.1f} s])" in text.splitlines()[5]
+    assert result.time_s == pytest.approx(hybrid.deposit_s + hybrid.milling_s + hybrid.travel_s
+                                          + hybrid.switch_s)
     assert text.count("M68 E0 Q40") == text.count("M68 E0 Q0") > 50
     program = tmp_path / "block.ngc"
     program.write_text(text)

@@ -38,6 +38,11 @@ def test_summary_figures_agree_with_the_toolpath():
     assert result.deposit_length == pytest.approx(summary.length_by_kind["deposit"], rel=1e-9)
     # trapezoids with jerk-limited corners are slower than one trapezoid per polyline
     assert result.time_s > summary.time_s * 0.9
+    # the program's header says the summary's time, not the toolpath's own estimate
+    seconds = round(result.time_s)
+    assert (f"(estimated time: {seconds // 3600}:{seconds // 60 % 60:02d}:{seconds % 60:02d} "
+            f"[{result.time_s:.1f} s])") in result.post.text.splitlines()[:8]
+    assert result.post.time_s == result.time_s
     # 2 perimeters of 0.4 mm, 20 % infill, 3 solid layers: well under the solid volume
     assert 0.3 * shape.Volume < result.material_volume < 0.8 * shape.Volume
 

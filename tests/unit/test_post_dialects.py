@@ -95,3 +95,21 @@ def test_marlin_feed_gives_tip_speed_on_helix():
 def test_unknown_dialect():
     with pytest.raises(PostError, match="unknown G-code dialect 'fanuc'.*linuxcnc"):
         post_toolpath(samples.flat_square(), load_machine("three_axis"), "fanuc")
+
+
+def test_the_header_says_the_callers_time():
+    """A plan's summary estimates its time with jerk-limited corners and the machine's feed
+    limits; its program's header said the toolpath's own trapezoid estimate (the elbow:
+    0:30:05 in the G-code, 0:32:59 in the summary). Given, the caller's time is written."""
+    machine = load_machine("trunnion_ac")
+    own = post_toolpath(samples.tilted_ring(), machine, "linuxcnc")
+    given = post_toolpath(samples.tilted_ring(), machine, "linuxcnc", time_s=1234.5)
+    assert given.time_s == 1234.5 != own.time_s
+    assert "(estimated time: 0:20:34 [1234.5 s])" in given.text.splitlines()[:8]
+    def rest(text: str) -> list[str]:
+        return [line for line in text.splitlines() if "estimated time" not in line]
+
+    assert rest(given.text) == rest(own.text)
+    for bad in (float("nan"), -1.0, float("inf")):
+        with pytest.raises(PostError, match="estimated run time .* got"):
+            post_toolpath(samples.tilted_ring(), machine, "linuxcnc", time_s=bad)

@@ -62,6 +62,13 @@ def test_cli_post_and_verify(tmp_path, capsys):
     out = tmp_path / "ring.ngc"
     assert main(["post", str(toolpath_file), "--machine", "trunnion_ac", "-o", str(out)]) == 0
     assert out.read_text().startswith("(Conformal post-processor)")
+    # the time a plan of this toolpath reports (corners, the machine's feed limits)
+    from freecad_conformal.paths.timing import estimate_time
+
+    machine = load_machine("trunnion_ac")
+    seconds = estimate_time(samples.tilted_ring(), machine.acceleration,
+                            max_feed=machine.max_feed, rapid_feed=machine.rapid_feed)
+    assert f"[{seconds:.1f} s])" in out.read_text().splitlines()[5]
     if rs274_path() is not None:                      # every LinuxCNC program goes through rs274
         assert len(canonical_moves(out)[0]) > 10
     assert main(["verify", str(out), "--machine", "trunnion_ac", "--toolpath", str(toolpath_file),
