@@ -34,8 +34,8 @@ from freecad_conformal.paths.assemble import (PERIMETER_ROLES, SMALL_PERIMETER_L
 from freecad_conformal.paths.bead import bead_area, bead_spacing
 from freecad_conformal.paths.stack_fill import SIMPLIFY_FRACTION, wkb_key
 from freecad_conformal.paths.fill2d import (Rows, fill_area, infill_areas, infill_rows,
-                                            perimeter_rings, polygons_of, scan_pieces,
-                                            valid_region)
+                                            inset, perimeter_rings, polygons_of,
+                                            scan_pieces, thin_wall_paths, valid_region)
 from freecad_conformal.paths.timing import DEFAULT_JERK, junction_speeds, move_times
 
 #: The estimate's promise: within 10 % of the full plan's time and material (issue 16).
@@ -153,9 +153,9 @@ class _Tally:
 
 
 def _perimeters(island: Polygon, settings: PathSettings, spacing: float, motion: Motion,
-                tally: _Tally) -> int:
+                tally: _Tally, external) -> int:
     width = settings.fill.bead_width
-    depths = perimeter_rings(island, width, settings.fill.perimeters, spacing)
+    depths = perimeter_rings(island, width, settings.fill.perimeters, spacing, external)
     for depth, rings in enumerate(depths):
         role = PERIMETER_ROLES[0] if depth == 0 else PERIMETER_ROLES[1]
         for ring in rings:
@@ -167,6 +167,17 @@ def _perimeters(island: Polygon, settings: PathSettings, spacing: float, motion:
             tally.work(length, _ring_time(ring, speed, motion), speed)
             tally.travel(spacing)
     return len(depths)
+
+
+def _thin_walls(island: Polygon, settings: PathSettings, motion: Motion, tally: _Tally,
+                external) -> None:
+    """The beads along the island's features narrower than a bead (`paths/thin_walls.py`),
+    at the external perimeter's speed, each as wide as its feature."""
+    for path in thin_wall_paths(island, settings.fill, external):
+        speed = motion.work_speed(settings.feeds.for_role(path.role))
+        tally.work(path.length, _ring_time(path.points, speed, motion), speed,
+                   (path.width or 0.0) - settings.fill.bead_width)
+        tally.travel(settings.fill.bead_width)
 
 
 def _rows(area, laid: Rows, speed: float, motion: Motion, tally: _Tally) -> None:
@@ -224,7 +235,9 @@ def layer_cost(layer: Layer, skin, settings: PathSettings, motion: Motion,
     islands = polygons_of(region)
     for island in islands:
         try:
-            depths = _perimeters(island, settings, spacing, motion, tally)
+            external = inset(island, 0.5 * width)
+            depths = _perimeters(island, settings, spacing, motion, tally, external)
+            _thin_walls(island, settings, motion, tally, external)
             _infill(island, depths, solid, settings, spacing, layer.index, motion, tally,
                     bridge)
         except shapely.errors.GEOSException:

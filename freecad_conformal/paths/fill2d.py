@@ -30,6 +30,7 @@ from shapely.geometry import LineString, MultiPolygon, Polygon
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.paths.bead import BEAD_MODELS, bead_spacing
+from freecad_conformal.paths.thin_walls import thin_wall_beads
 
 ROLES = ("external_perimeter", "perimeter", "infill", "solid_infill")
 #: Infill roles laid at one spacing (solid areas and bridges over sparse infill).
@@ -151,13 +152,17 @@ def polygons_of(geometry) -> list[Polygon]:
 
 
 def perimeter_rings(island: Polygon, width: float, count: int,
-                    spacing: float | None = None) -> list[list[np.ndarray]]:
+                    spacing: float | None = None, external=None) -> list[list[np.ndarray]]:
     """Rings per depth (0 = external, half a width in; each next one `spacing` further,
-    default the width): each an (N, 2) closed polyline."""
+    default the width): each an (N, 2) closed polyline. `external`: the island inset by
+    half a width, when the caller has it."""
     spacing = width if spacing is None else spacing
     depths = []
     for k in range(count):
-        offset = inset(island, 0.5 * width + k * spacing)
+        if k == 0 and external is not None:
+            offset = external
+        else:
+            offset = inset(island, 0.5 * width + k * spacing)
         rings = [np.asarray(ring.coords) for poly in polygons_of(offset)
                  for ring in [poly.exterior, *poly.interiors] if ring.length >= MIN_LOOP_WIDTHS * width]
         if not rings:
@@ -631,11 +636,12 @@ def _island_fill(island: Polygon, settings: FillSettings, spacing: float, layer_
                  solid, bridge=None) -> tuple[list[list[np.ndarray]], list[Path2D]]:
     """(perimeter rings per depth, infill chains) of one island."""
     width = settings.bead_width
-    depths = perimeter_rings(island, width, settings.perimeters, spacing)
+    external = inset(island, 0.5 * width)
+    depths = perimeter_rings(island, width, settings.perimeters, spacing, external)
+    infill: list[Path2D] = thin_wall_paths(island, settings, external)
     inner = fill_area(island, len(depths), width, spacing, settings.infill_overlap)
     if inner.is_empty:
-        return depths, []
-    infill: list[Path2D] = []
+        return depths, infill
     for area, pitch, role, fill in infill_areas(inner, solid, bridge, settings, spacing):
         if area.is_empty or pitch <= 0 or area.area < width * width:
             continue
@@ -644,6 +650,17 @@ def _island_fill(island: Polygon, settings: FillSettings, spacing: float, layer_
         line_width = width + rows.wider if rows.wider else None
         infill += zigzag(area, rows.pitch, rows.angle, width, role, rows.phase, line_width)
     return depths, infill
+
+
+def thin_wall_paths(island: Polygon, settings: FillSettings, external) -> list[Path2D]:
+    """One external-perimeter bead along each feature of the island narrower than a bead
+    (`paths/thin_walls.py`; `external`: the island inset by half a bead), as wide as the
+    feature; none without perimeters."""
+    if not settings.perimeters:
+        return []
+    return [Path2D(points, "external_perimeter", closed, bead)
+            for points, bead, closed in thin_wall_beads(island, settings.bead_width, external,
+                                                        MITRE_LIMIT)]
 
 
 def _island_order(filled: IslandFill, settings: FillSettings, here: np.ndarray) -> list[Path2D]:

@@ -235,6 +235,19 @@ def test_the_cost_is_calibrated_on_the_real_parts(parts_dir, name):
     _check_calibrated(load_shape(parts_dir / name), name)
 
 
+def test_a_box_with_walls_thinner_than_a_bead_gets_them_and_its_cost_counts_them(App, Part):
+    """A 20 mm box with 0.3 mm walls under a 0.4 mm bead: no perimeter fits the walls, and
+    they were left out (0.16 of its 0.42 cm³ deposited, silently). Each wall layer now gets
+    one bead along the wall's middle, and the estimate the choice reads counts it too."""
+    box = Part.makeBox(20, 20, 10).cut(Part.makeBox(19.4, 19.4, 10, App.Vector(0.3, 0.3, 0.5)))
+    _check_calibrated(box, "thin box")
+    result = plan_job(box, plan_options({}), part="thin box")
+    assert result.material_volume > 0.85 * box.Volume
+    walls = [path for path in result.assembly.paths
+             if path.closed and path.width == pytest.approx(0.34)]
+    assert len(walls) >= 45                  # one per layer of wall above the 0.5 mm floor
+
+
 @pytest.mark.slow
 def test_a_decomposition_that_cannot_be_built_gives_way_to_the_whole_part():
     """No support-free orientation, and the decomposition fails (as with no collision-free

@@ -1,0 +1,75 @@
+"""Thin walls: features narrower than a bead get one bead along their middle."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+from shapely.geometry import LineString, Point, Polygon, box
+
+from freecad_conformal.paths.fill2d import MITRE_LIMIT, FillSettings, fill_layer, inset
+from freecad_conformal.paths.thin_walls import MIN_BEAD_SHARE, MIN_WIDTH_SHARE, thin_wall_beads
+
+WIDTH = 0.4
+
+
+def beads_of(island):
+    return thin_wall_beads(island, WIDTH, inset(island, 0.5 * WIDTH), MITRE_LIMIT)
+
+
+def test_a_wall_narrower_than_the_bead_gets_one_closed_bead_along_its_middle():
+    """A 0.3 mm box wall under a 0.4 mm bead: no perimeter fits, so it was left out; now
+    one loop runs along its middle, 0.34 mm wide (no bead is laid narrower)."""
+    wall = box(0, 0, 20, 20).difference(box(0.3, 0.3, 19.7, 19.7))
+    (points, width, closed), = beads_of(wall)
+    assert closed and np.allclose(points[0], points[-1])
+    assert width == pytest.approx(MIN_BEAD_SHARE * WIDTH)
+    middle = box(0.15, 0.15, 19.85, 19.85).exterior
+    assert LineString(points).length == pytest.approx(middle.length, rel=0.01)
+    assert shapely.hausdorff_distance(LineString(points), middle) < 0.05
+    paths = fill_layer(wall, FillSettings(bead_width=WIDTH, perimeters=2, density=0.2))
+    assert [(p.role, p.closed) for p in paths] == [("external_perimeter", True)]
+    assert paths[0].width == pytest.approx(width)
+
+
+def test_a_fin_on_a_block_gets_a_bead_from_the_block_to_its_end():
+    fin = box(10, 4.82, 20, 5.18)                                     # 0.36 mm
+    (points, width, closed), = beads_of(box(0, 0, 10, 10).union(fin))
+    assert not closed and width == pytest.approx(0.36, abs=0.02)
+    assert np.allclose(points[:, 1], 5.0, atol=1e-6)
+    assert points[:, 0].max() == pytest.approx(20 - 0.18, abs=0.05)
+    assert points[:, 0].min() < 10.0 + WIDTH
+    # the bead stays on the fin: its sides reach the fin's sides, not beyond
+    assert LineString(points).buffer(0.5 * width, cap_style="flat").difference(
+        box(0, 0, 10, 10).union(fin)).area < 1e-3
+
+
+def test_three_fins_meeting_make_three_beads_that_meet():
+    tee = box(0, 0, 20, 0.3).union(box(9.85, 0, 10.15, 10))
+    beads = beads_of(tee)
+    assert len(beads) == 3
+    ends = [tuple(np.round(p[k], 6)) for p, _, _ in beads for k in (0, -1)]
+    assert max(ends.count(end) for end in ends) == 3      # one junction shared by all
+
+
+@pytest.mark.parametrize("island", [box(0, 0, 10, 10), Point(0, 0).buffer(5, quad_segs=32),
+                                    box(0, 0, 20, WIDTH * 1.2)])
+def test_regions_every_bead_fits_get_none(island):
+    assert beads_of(island) == []
+
+
+def test_features_narrower_than_a_quarter_bead_or_shorter_than_two_are_left_out():
+    hair = box(0, 0, 10, 10).union(box(10, 4.96, 20, 5.04))          # 0.08 mm
+    stub = box(0, 0, 10, 10).union(box(10, 4.85, 10.5, 5.15))         # 0.5 mm long
+    assert beads_of(hair) == [] and beads_of(stub) == []
+    assert 0.08 < MIN_WIDTH_SHARE * WIDTH
+
+
+def test_no_thin_walls_without_perimeters():
+    wall = box(0, 0, 20, 20).difference(box(0.3, 0.3, 19.7, 19.7))
+    assert fill_layer(wall, FillSettings(bead_width=WIDTH, perimeters=0, density=0.2)) == []
+
+
+def test_a_tapering_fin_is_as_wide_as_its_middle():
+    fin = Polygon([(10, 4.8), (20, 4.85), (20, 5.15), (10, 5.2)])     # 0.4 to 0.3 mm
+    (_, width, _), = beads_of(box(0, 0, 10, 10).union(fin))
+    assert 0.34 < width < 0.37
