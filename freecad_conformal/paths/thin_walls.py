@@ -2,9 +2,10 @@
 
 A perimeter is a bead's width inside the island's outline, so a wall narrower than a bead
 (a 0.3 mm wall of a box under a 0.4 mm nozzle) gets no perimeter and no infill: it was left
-out without a word. Such features are the island less its opening by half a bead (what the
-external perimeter's bead can reach). Each is laid as one bead along its medial axis, as
-wide as the feature there (PrusaSlicer's "thin walls" / Arachne do the same): the axis is
+out without a word. Such features are the island less what its external perimeter covers
+(the island inset by half a bead, grown back). Each is laid as one bead along its medial
+axis, as wide as the feature there (PrusaSlicer's "thin walls" / Arachne do the same): the
+axis is
 the chordal axis of its constrained Delaunay triangulation (the Voronoi diagram of its
 sampled outline with shapely < 2.1); spurs into the feature's corners are trimmed, features
 too small or too narrow are left out (`MIN_WIDTH_SHARE`, `MIN_LENGTH_WIDTHS`), and a bead is
@@ -25,9 +26,8 @@ MIN_WIDTH_SHARE = 0.25
 #: (Arachne's `min_bead_width`, 85 % of the nozzle).
 MIN_BEAD_SHARE = 0.85
 
-#: A thin-wall bead shorter than this many bead widths is a corner's sliver (the opening
-#: rounds a convex corner off: a 90° one leaves a 0.009 mm² sliver under a 0.4 mm bead),
-#: not a wall.
+#: A thin-wall bead shorter than this many bead widths is a corner's sliver (the tip of an
+#: acute corner the mitre limit bevels off the perimeter), not a wall.
 MIN_LENGTH_WIDTHS = 2.0
 
 #: Outline samples per bead width where the axis comes from a Voronoi diagram (shapely

@@ -73,3 +73,16 @@ def test_a_tapering_fin_is_as_wide_as_its_middle():
     fin = Polygon([(10, 4.8), (20, 4.85), (20, 5.15), (10, 5.2)])     # 0.4 to 0.3 mm
     (_, width, _), = beads_of(box(0, 0, 10, 10).union(fin))
     assert 0.34 < width < 0.37
+
+
+def test_without_constrained_delaunay_the_voronoi_axis_gives_the_same_bead(monkeypatch):
+    """shapely < 2.1 (an Addon Manager install may have 2.0) has no constrained Delaunay
+    triangulation: the axis then comes from a Voronoi diagram of the sampled outline."""
+    wall = box(0, 0, 20, 20).difference(box(0.3, 0.3, 19.7, 19.7))
+    fin = box(0, 0, 10, 10).union(box(10, 4.82, 20, 5.18))
+    chordal = [beads_of(wall), beads_of(fin)]
+    monkeypatch.delattr(shapely, "constrained_delaunay_triangles")
+    for (points, width, closed), ((other, other_width, other_closed),) in zip(
+            (beads_of(wall)[0], beads_of(fin)[0]), chordal):
+        assert closed == other_closed and width == pytest.approx(other_width, abs=0.02)
+        assert shapely.hausdorff_distance(LineString(points), LineString(other)) < 0.05
