@@ -157,11 +157,11 @@ def face_part(face, deflection: float) -> FacePart | None:
 
 
 def share_face_parts(original, copy) -> None:
-    """Give the faces of `copy`, made of `original` with its mesh (`Shape.copy(False,
-    True)`, jobs/placement.turn_up) and not moved, the parts already made of the original's faces: the same triangles,
-    points and normals, bit for bit (the sphere's face read again cost 0.02 s of its 0.2 s
-    plan choice). Should BRepMesh re-mesh such a face, the solid's mesh no longer closes
-    and is made afresh (`surface_mesh`)."""
+    """Give the faces of `copy`, made of `original` with its mesh (`Shape.copy(False, True)`:
+    jobs/placement.turn_up) and not moved, the parts already made of the original's faces:
+    the same triangles, points and normals, bit for bit (the sphere's face read again cost
+    0.02 s of its 0.2 s plan choice). Should BRepMesh re-mesh such a face, the solid's mesh
+    no longer closes and is made afresh (`surface_mesh`)."""
     for face, twin in zip(original.Faces, copy.Faces):
         part = _FACES.peek((face,))
         if part is not None:

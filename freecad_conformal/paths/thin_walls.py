@@ -5,13 +5,14 @@ A perimeter is a bead's width inside the island's outline, so a wall narrower th
 out without a word. Such features are the island less what its external perimeter covers
 (the island inset by half a bead, grown back). Each is laid as one bead along its medial
 axis, as wide as the feature there (PrusaSlicer's "thin walls" / Arachne do the same): the
-axis is
-the chordal axis of its constrained Delaunay triangulation (the Voronoi diagram of its
-sampled outline with shapely < 2.1); spurs into the feature's corners are trimmed, features
-too small or too narrow are left out (`MIN_WIDTH_SHARE`, `MIN_LENGTH_WIDTHS`), and a bead is
-never narrower than `MIN_BEAD_SHARE` of the bead width.
+axis is the chordal axis of its constrained Delaunay triangulation (the Voronoi diagram of
+its sampled outline with shapely < 2.1); spurs into the feature's corners are trimmed,
+features too small or too narrow are left out (`MIN_WIDTH_SHARE`, `MIN_LENGTH_WIDTHS`), and
+a bead is never narrower than `MIN_BEAD_SHARE` of the bead width.
 """
 from __future__ import annotations
+
+from collections import Counter
 
 import numpy as np
 import shapely
@@ -130,9 +131,7 @@ def _merged(lines: list[LineString]) -> list[LineString]:
 def _without_spurs(lines: list[LineString], shortest: float) -> list[LineString]:
     """The lines less those shorter than `shortest` with an end no other line meets."""
     ends = [tuple(np.round(line.coords[k], 9)) for line in lines for k in (0, -1)]
-    counts: dict[tuple, int] = {}
-    for end in ends:
-        counts[end] = counts.get(end, 0) + 1
+    counts = Counter(ends)
     kept = []
     for k, line in enumerate(lines):
         free = counts[ends[2 * k]] == 1 or counts[ends[2 * k + 1]] == 1
@@ -146,9 +145,9 @@ def thin_wall_beads(island: Polygon, width: float, eroded,
                     mitre_limit: float) -> list[tuple[np.ndarray, float, bool]]:
     """(points (N, 2), bead width, closed) of each thin-wall bead of `island` (`eroded`:
     the island inset by half a width with mitred corners up to `mitre_limit`, see
-    `thin_features`): along the medial axis of each
-    feature narrower than `width`, as wide as the feature there on average (at least
-    `MIN_WIDTH_SHARE` of `width`, at most `width`)."""
+    `thin_features`): along the medial axis of each feature narrower than `width` whose
+    median width along it is `MIN_WIDTH_SHARE` of `width` at least; the bead as wide as
+    that median, but `MIN_BEAD_SHARE` of `width` at least and `width` at most."""
     beads = []
     for feature in thin_features(island, width, eroded, mitre_limit):
         boundary = feature.boundary
@@ -158,9 +157,9 @@ def thin_wall_beads(island: Polygon, width: float, eroded,
             along = shapely.get_coordinates(shapely.segmentize(line, 0.5 * width))
             wide = 2.0 * shapely.distance(boundary, shapely.points(along))
             bead = float(np.median(wide))     # its ends and joins are narrower
-            points = np.asarray(line.simplify(0.25 * width / SAMPLES_PER_WIDTH).coords)
             if bead < MIN_WIDTH_SHARE * width:
                 continue
+            points = np.asarray(line.simplify(0.25 * width / SAMPLES_PER_WIDTH).coords)
             beads.append((points, min(max(bead, MIN_BEAD_SHARE * width), width),
                           bool(line.is_ring)))
     return beads
