@@ -18,7 +18,7 @@ import numpy as np
 from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry.face_normals import plane_normal
 from freecad_conformal.geometry.shape_cache import ShapeCache
-from freecad_conformal.geometry.surface_mesh import face_part, mesh_deflection
+from freecad_conformal.geometry.surface_mesh import face_part, mesh_deflection, mesh_faces
 from freecad_conformal.tolerances import PARALLEL_COS_SLACK, ZERO_LENGTH
 
 #: Default allowed overhang from the build direction (the common 45° self-support rule of FDM).
@@ -109,6 +109,7 @@ def overhang_report(shape, direction: Sequence[float], angle: float = DEFAULT_OV
     threshold = math.sin(check_angle(angle))
     low = lowest_level(shape, d) if on_bed else None
     deflection = mesh_deflection(shape)
+    mesh_faces(shape, deflection)
     faces = []
     for index, face in enumerate(shape.Faces):
         normal = plane_normal(face)

@@ -156,6 +156,16 @@ def face_part(face, deflection: float) -> FacePart | None:
     return _FACES.get((face,), lambda: _face_part(face, deflection))
 
 
+def mesh_faces(shape, deflection: float) -> None:
+    """Mesh `shape`'s faces that have no part yet in one BRepMesh call, before they are read
+    one by one (`face_part`): meshing a solid whole shares each edge's polygon between its
+    two faces, where meshing face by face meshes it again for each (Pump_Nut's 25 faces:
+    0.11 s against 0.21 s). Faces already triangulated keep their triangles. Only curved
+    faces count: a plane's overhang is read from its normal, without a mesh."""
+    if any(_FACES.peek((face,)) is None and plane_normal(face) is None for face in shape.Faces):
+        shape.tessellate(deflection)
+
+
 def share_face_parts(original, copy) -> None:
     """Give the faces of `copy`, made of `original` with its mesh (`Shape.copy(False, True)`:
     jobs/placement.turn_up) and not moved, the parts already made of the original's faces:
