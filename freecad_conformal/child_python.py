@@ -49,9 +49,10 @@ def can_stream() -> bool:
 
 
 class ChildPython:
-    """`python -m module` started now: `ask()` sends the one request, `answer()` waits for
-    (ok, value), or `received()` collects the items a child serving with `serve_items`
-    sends as it goes; `stop()` ends it (also unasked)."""
+    """`python -m module` started now: `ask()` sends the one request (or its parts, for a
+    child serving with `serve_prepared`), `answer()` waits for (ok, value), or `received()`
+    collects the items a child serving with `serve_items` sends as it goes; `stop()` ends
+    it (also unasked)."""
 
     def __init__(self, module: str) -> None:
         env = dict(os.environ)
@@ -68,21 +69,30 @@ class ChildPython:
         self._buffer: bytearray | None = None  # what `received` has read, not yet whole
         self._writer: threading.Thread | None = None
 
-    def ask(self, request) -> None:
-        """Send the request (picklable) and close the child's input. A thread writes it: a
-        request larger than a pipe holds (the stacks of a plan's layers) would otherwise
-        hold this process until the child, still starting, reads it."""
+    def ask(self, request, last: bool = True) -> None:
+        """Send the request (picklable) and, when it is the `last` part, close the child's
+        input. A thread writes it: a request larger than a pipe holds (the stacks of a
+        plan's layers) would otherwise hold this process until the child, still starting,
+        reads it. Parts go in the order asked."""
         if self._process is None:
             return
         data = pickle.dumps(request, protocol=pickle.HIGHEST_PROTOCOL)
-        self._writer = threading.Thread(target=self._write, args=(data,), daemon=True)
+        before = self._writer
+        self._writer = threading.Thread(target=self._write, args=(data, last, before),
+                                        daemon=True)
         self._writer.start()
 
-    def _write(self, data: bytes) -> None:
+    def _write(self, data: bytes, last: bool, before: threading.Thread | None) -> None:
+        if before is not None:
+            before.join()
         try:
             self._process.stdin.write(data)
-        except OSError:
-            pass  # the child died or was stopped (BrokenPipe): answer() sees its exit code
+            self._process.stdin.flush()
+        except (OSError, ValueError):
+            pass  # the child died or was stopped (BrokenPipe, or its pipe closed already):
+            # answer() sees its exit code
+        if not last:
+            return
         try:
             self._process.stdin.close()
         except OSError:
@@ -174,6 +184,11 @@ def serve(compute: Callable[[object], object], preload: Callable[[], None]) -> N
     if asked is None:
         return
     out, request = asked
+    _answer(out, compute, request)
+
+
+def _answer(out, compute: Callable[[object], object], request) -> None:
+    """Write (True, compute(request)) or (False, the error) on the parent's pipe `out`."""
     try:
         answer = (True, compute(request))
     except Exception as exc:  # sent to the parent, which raises it
@@ -184,6 +199,35 @@ def serve(compute: Callable[[object], object], preload: Callable[[], None]) -> N
         answer = (False, error)
     pickle.dump(answer, out)
     out.close()
+
+
+def serve_prepared(prepare: Callable[[object], object], compute: Callable[[object, object], object],
+                   preload: Callable[[], None]) -> None:
+    """Child side of a request sent in two parts (`ChildPython.ask(first, last=False)`, then
+    `ask(second)`): `prepare(first)` runs while the parent decides the second part, then
+    (True, compute(prepared, second)) or (False, the error) is written, as `serve` does.
+    The child just stops when the parent closes its input after the first part."""
+    asked = _request(preload)
+    if asked is None:
+        return
+    out, first = asked
+    try:
+        prepared = (True, prepare(first))
+    except Exception as exc:  # noqa: BLE001 - answered once the second part has come
+        prepared = (False, exc)
+    try:
+        second = pickle.load(sys.stdin.buffer)
+    except EOFError:
+        return   # not needed after all
+
+    def computed(request):
+        ok, value = prepared
+        if not ok:
+            raise value
+        return compute(value, request)
+
+    computed.__name__ = compute.__name__
+    _answer(out, computed, second)
 
 
 def serve_items(compute: Callable[[object, Callable[[object], None]], None],

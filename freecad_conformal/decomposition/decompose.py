@@ -94,10 +94,20 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
         plan = Planner(solid, solid_index, overhang_angle, method, axis_step, budget)
         trial = None
         worth = auto and worth_a_trial(solid)
+        # The solid as given, for the plan from the best single direction wherever it is
+        # made (a child on the command line, here in FreeCAD's GUI): the plan from the root
+        # cuts this very solid, and what OCC's Booleans and the caches keep of it changed
+        # CrankArm's plan from there (six sub-parts here, seven in the child). Written before
+        # it is meshed here: a mesh sets flags on some edges that binary keeps, and the
+        # child meshes it again anyway. A solid not worth a child is planned here
+        # everywhere, on the solid itself (sharing its meshes).
+        written = to_binary(solid) if worth else None
         if worth and can_start_child():
-            # Starting up (interpreter, FreeCAD) while the solid is meshed and the direction
-            # found: it then reads the request at once (CrankArm's arm waited 0.14 s for it).
+            # Starting up (interpreter, FreeCAD) and meshing the solid while it is meshed
+            # here and the direction found: it then plans at once (the fan's child meshed
+            # for 1.6 s after the request; CrankArm's arm waited 0.14 s for it).
             trial = Trial()
+            trial.prepare(written)
         try:
             if auto:
                 # Its mesh first: the overhang in every candidate direction reads faces
@@ -122,13 +132,7 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
                 turn = angle_between(direction, root) > SAME_DIRECTION
                 if (worth and turn
                         and overhang_area(solid, root, overhang_angle) > area + MIN_SAVING):
-                    # The solid as it is now, for the plan from that direction wherever it
-                    # is made (a child on the command line, here in FreeCAD's GUI): the plan
-                    # from the root cuts this very solid, and what OCC's Booleans and the
-                    # caches keep of it changed CrankArm's plan from there (six sub-parts
-                    # here, seven in the child). A solid not worth a child is planned here
-                    # everywhere, on the solid itself (sharing its meshes).
-                    pristine = to_binary(solid)
+                    pristine = written
                 if trial is not None and pristine is not None:
                     # The as-placed plan may keep more overhang than turning the solid
                     # whole: plan from that direction on the other core meanwhile.

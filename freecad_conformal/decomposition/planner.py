@@ -112,6 +112,9 @@ class Planner:
     method: str
     axis_step: float | None
     budget: int
+    #: the mesh deflection for the solid and its pieces (default: `mesh_deflection` of the
+    #: solid when planning starts)
+    deflection: float | None = None
 
     def axis(self, root: np.ndarray) -> LazyAxis:
         """The solid's centroidal axis from `root`, computed when first needed."""
@@ -132,7 +135,7 @@ class Planner:
 
         axis = self.axis(root)
         start = Piece(self.solid, root, [], self.solid_index, "root",
-                       deflection=mesh_deflection(self.solid))
+                       deflection=self.deflection or mesh_deflection(self.solid))
         return axis, refine(start, self.angle, axis, budget=self.budget, notes=notes)
 
     def pieces(self, root: np.ndarray) -> tuple[list, list[str]]:

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from freecad_conformal.child_python import ChildPython, can_start_child, serve
+from freecad_conformal.child_python import ChildPython, can_start_child, serve_prepared
 
 if TYPE_CHECKING:  # imported where used: the child must redirect stdout before FreeCAD loads
     from freecad_conformal.decomposition.planner import Piece, Planner
@@ -47,9 +47,15 @@ class Trial:
     def _process(self):
         return self._child._process
 
+    def prepare(self, written: bytes) -> None:
+        """Send the solid as `written` (OCC binary, geometry/occ_binary.py) at once: the
+        child reads and meshes it (`prepared`) while this process decides whether to ask
+        (the fan's 1.6 s mesh, which the child made after the request)."""
+        self._child.ask(written, last=False)
+
     def plan(self, planner: Planner, direction, written: bytes) -> None:
         """Ask the child for `planner`'s pieces from `direction`, planned on its solid as
-        `written` (OCC binary, geometry/occ_binary.py)."""
+        `written` (the bytes `prepare` sent)."""
         self._child.ask(trial_spec(planner, direction, written))
 
     def result(self) -> tuple[list[Piece], list[str]] | None:
@@ -79,19 +85,42 @@ def trial_spec(planner: Planner, direction, written: bytes) -> dict:
             "budget": planner.budget, "direction": [float(c) for c in direction]}
 
 
-def planned(spec: dict) -> tuple[list[dict], list[str]]:
+def prepared(written: bytes) -> tuple[bytes, object, float]:
+    """(`written`, the solid read from it, its mesh deflection) with the solid meshed as the
+    plan meshes it first (`Planner.root_mesh`, at the deflection its box gives before a
+    mesh: `BoundBox` reads a triangulation once there is one)."""
+    from freecad_conformal.geometry.occ_binary import from_binary
+    from freecad_conformal.geometry.surface_mesh import mesh_deflection, surface_mesh
+
+    solid = from_binary(written).Solids[0]
+    deflection = mesh_deflection(solid)
+    surface_mesh(solid, deflection)
+    return written, solid, deflection
+
+
+def planned(spec: dict, ready: tuple[bytes, object, float] | None = None
+            ) -> tuple[list[dict], list[str]]:
     """The pieces (as `Piece.to_data`) and notes `spec` asks for: the child's answer, and
-    what the parent makes itself when no child could plan, by the same steps."""
+    what the parent makes itself when no child could plan, by the same steps. `ready`:
+    what `prepared` made of the solid, used when it is the one `spec` names."""
     import numpy as np
 
     from freecad_conformal.decomposition.planner import Planner
     from freecad_conformal.geometry.occ_binary import from_binary
 
-    solid = from_binary(spec["solid"]).Solids[0]
+    deflection = None
+    if ready is not None and ready[0] == spec["solid"]:
+        _, solid, deflection = ready
+    else:
+        solid = from_binary(spec["solid"]).Solids[0]
     planner = Planner(solid, spec["solid_index"], spec["angle"], spec["method"],
-                      spec["axis_step"], spec["budget"])
+                      spec["axis_step"], spec["budget"], deflection=deflection)
     pieces, notes = planner.pieces(np.array(spec["direction"]))
     return [p.to_data() for p in pieces], notes
+
+
+def _planned_when_ready(ready: tuple[bytes, object, float], spec: dict):
+    return planned(spec, ready)
 
 
 def _preload() -> None:
@@ -101,4 +130,4 @@ def _preload() -> None:
 
 
 if __name__ == "__main__":
-    serve(planned, _preload)
+    serve_prepared(prepared, _planned_when_ready, _preload)

@@ -41,3 +41,92 @@ def test_a_pool_worker_starts_no_child():
     assert can_start_child()
     with multiprocessing.get_context("spawn").Pool(1) as pool:
         assert pool.apply(can_start_child) is False
+
+
+def _t_block_spec():
+    """(planner, direction, written) for planning the T sample as placed (its arms split
+    off)."""
+    import math
+
+    import numpy as np
+
+    from freecad_conformal.decomposition.planner import Planner
+    from freecad_conformal.geometry.occ_binary import to_binary
+    from freecad_conformal.geometry.samples import SAMPLES
+
+    solid = SAMPLES["t_block"]().Solids[0]
+    planner = Planner(solid, 0, math.radians(45), "true-direction", None, 20)
+    return planner, np.array([0.0, 0.0, 1.0]), to_binary(solid)
+
+
+def test_a_child_given_the_solid_but_never_asked_exits_cleanly():
+    _, _, written = _t_block_spec()
+    trial = Trial()
+    trial.prepare(written)
+    trial._child._writer.join(timeout=60)
+    trial._process.stdin.close()          # the parent closes its input after the first part
+    assert trial._process.wait(timeout=60) == 0
+    assert trial._process.stdout.read() == b""
+    trial._process.stdout.close()
+
+
+def test_a_prepared_child_plans_the_pieces_this_process_would():
+    """The child meshes the solid it was sent before it is asked; its pieces are those
+    planned here from the same bytes, to the last bit."""
+    from freecad_conformal.decomposition.planner import Piece
+    from freecad_conformal.decomposition.trial import planned, trial_spec
+
+    planner, direction, written = _t_block_spec()
+    trial = Trial()
+    trial.prepare(written)
+    trial.plan(planner, direction, written)
+    pieces, notes = trial.result()
+    here, here_notes = planned(trial_spec(planner, direction, written))
+    here = [Piece.from_data(item) for item in here]
+    assert notes == here_notes and len(pieces) == len(here) >= 2
+    for a, b in zip(pieces, here):
+        assert (a.shape.Volume, a.overhang) == (b.shape.Volume, b.overhang)
+        assert [tuple(v.Point) for v in a.shape.Vertexes] == [tuple(v.Point) for v in b.shape.Vertexes]
+
+
+def test_a_child_asked_about_another_solid_than_it_was_sent_plans_that_one():
+    import math
+
+    from freecad_conformal.geometry.occ_binary import to_binary
+    from freecad_conformal.geometry.samples import SAMPLES
+
+    planner, direction, written = _t_block_spec()
+    other = SAMPLES["l_block"]().Solids[0]
+    trial = Trial()
+    trial.prepare(written)
+    trial.plan(planner, direction, to_binary(other))
+    pieces, _ = trial.result()
+    assert math.isclose(sum(p.shape.Volume for p in pieces), other.Volume, rel_tol=1e-9)
+    assert not math.isclose(other.Volume, planner.solid.Volume, rel_tol=1e-3)
+
+
+def test_a_child_sent_an_unreadable_solid_reports_the_error_when_asked():
+    import pytest
+
+    from freecad_conformal.errors import GeometryError
+
+    planner, direction, _ = _t_block_spec()
+    trial = Trial()
+    trial.prepare(b"not a shape")
+    trial.plan(planner, direction, b"not a shape")
+    with pytest.raises(GeometryError, match="in the child"):
+        trial.result()
+
+
+def test_the_child_meshes_at_the_deflection_the_unmeshed_solid_gives():
+    # `BoundBox` reads a triangulation once there is one (the dome's box shrinks with its
+    # mesh): the child's pieces must be meshed as a child that meshed after the request did.
+    from freecad_conformal.decomposition.trial import prepared
+    from freecad_conformal.geometry.occ_binary import from_binary, to_binary
+    from freecad_conformal.geometry.samples import SAMPLES
+    from freecad_conformal.geometry.surface_mesh import mesh_deflection
+
+    written = to_binary(SAMPLES["domed_cylinder"]().Solids[0])
+    _, solid, deflection = prepared(written)
+    assert deflection == mesh_deflection(from_binary(written).Solids[0])
+    assert deflection != mesh_deflection(solid)     # meshed: its box is read from the mesh
