@@ -21,6 +21,7 @@ import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.boxes import optimal_box
+from freecad_conformal.geometry.frames import cross
 from freecad_conformal.geometry.plane_curves import (ON_CURVE, VERTEX_CLEARANCE, closed_piece, curve_name,
                                                      curve_end, curve_spans, edge_crosser, finite,
                                                      surface_curves)
@@ -341,7 +342,7 @@ class FaceCutter:
             normal = np.array(tuple(surface.normal(u, v)))
         except Exception:  # noqa: BLE001 - OCC raises bare Standard_Failure types here
             return owner.reach
-        sine = float(np.linalg.norm(np.cross(normal, self.n)))
+        sine = float(np.linalg.norm(cross(normal, self.n)))
         if sine < MIN_SLANT_SINE:
             return owner.reach
         return max(owner.reach, EDGE_TOLERANCE_FACTOR * float(owner.edge.Tolerance) / sine)

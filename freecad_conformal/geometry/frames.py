@@ -24,6 +24,15 @@ def unit(vector: Sequence[float], what: str = "direction") -> np.ndarray:
     return array / length
 
 
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a × b of two 3-vectors, as `np.cross` gives it to the last bit (the same products
+    and differences) in a tenth of its time: sections take one or two per face, and
+    `np.cross` cost the bottle's 350 sections 0.19 s of their 4.6 s."""
+    a0, a1, a2 = float(a[0]), float(a[1]), float(a[2])
+    b0, b1, b2 = float(b[0]), float(b[1]), float(b[2])
+    return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
+
+
 def angle_between(a: Sequence[float], b: Sequence[float]) -> float:
     """Angle (rad) between two unit vectors (their dot product clipped to [-1, 1])."""
     return math.acos(float(np.clip(np.asarray(a, dtype=float) @ np.asarray(b, dtype=float),

@@ -22,6 +22,7 @@ import math
 import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.frames import cross
 from freecad_conformal.tolerances import ROUNDING_SLACK
 
 #: Largest distance (mm) of the fitted curve from the plane and from the torus. OCC's own
@@ -70,7 +71,7 @@ def torus_plane_curves(torus, normal: np.ndarray, height: float,
     if s < 1e-6 or (abs(c) < 1e-12 and abs(k) < 1e-9) or R <= r:
         return None  # OCC's analytic cases (circles) or a spindle torus
     e1 = across / s
-    e2 = np.cross(w, e1)
+    e2 = cross(w, e1)
     loops = _loops_in_u(R, r, s, c, k)
     if loops is None:
         return None
@@ -206,8 +207,8 @@ def _fit(section, kind, low, high, branch, first, last, App, Part):
         tau = np.linspace(first, last, count, endpoint=not closed)
         points = section.points(*section.uv(kind, low, high, branch, tau))
         spline = Part.BSplineCurve()
-        spline.interpolate(Points=[App.Vector(x, y, z) for x, y, z in points.tolist()],
-                           PeriodicFlag=closed)
+        # Rows of three floats, not Vectors: the same curve, without 256 objects a try.
+        spline.interpolate(Points=points.tolist(), PeriodicFlag=closed)
         knots = spline.getKnots()
         value = spline.value
         check = np.array([(p.x, p.y, p.z) for p in
