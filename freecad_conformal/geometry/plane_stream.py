@@ -207,7 +207,7 @@ class PlaneStream:
         left = range(self._filled, len(self._planes))
         if self._process is None:
             # Through the binary format as the worker's come back: inside FreeCAD the
-            # planes are cut here, on the command line mostly in the worker.
+            # planes are cut here, on the command line by both processes.
             for index in left:
                 self._cut[index] = _as_sent(_section(self._slicer, *self._planes[index]))
         else:
