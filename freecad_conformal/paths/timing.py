@@ -13,12 +13,36 @@ import math
 
 import numpy as np
 
-from freecad_conformal.toolpath import KINDS, Toolpath
+from freecad_conformal.toolpath import KINDS, Toolpath, ToolpathError
 from freecad_conformal.tolerances import COINCIDENT_POINTS
 
 #: Marlin's and PrusaSlicer's default X/Y jerk (mm/s): the instantaneous speed change a
 #: corner may take without slowing to it.
 DEFAULT_JERK = 10.0
+
+#: The toolpath metadata entry in which a plan records the jerk its times use: a toolpath
+#: saved with the plan and posted later (`post`, the Post object) then says the same time.
+JERK_KEY = "jerk"
+
+
+def recorded_jerk(tp: Toolpath) -> float:
+    """The jerk (mm/s) the plan that made `tp` estimated its time with (DEFAULT_JERK for a
+    toolpath that records none, as those saved before it was recorded).
+
+    Raises:
+        ToolpathError: the recorded value is not a jerk (a finite speed above 0).
+    """
+    text = tp.metadata.get(JERK_KEY)
+    if text is None:
+        return DEFAULT_JERK
+    try:
+        value = float(text)
+    except (TypeError, ValueError):
+        value = math.nan
+    if not (math.isfinite(value) and value > 0.0):
+        raise ToolpathError(f"toolpath metadata {JERK_KEY!r} must be a jerk in mm/s (finite, "
+                            f"above 0), got {text!r}")
+    return value
 
 
 def junction_speeds(directions: np.ndarray, speeds: np.ndarray, jerk: float) -> np.ndarray:

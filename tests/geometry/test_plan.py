@@ -16,7 +16,8 @@ def test_plan_command_writes_gcode_preview_and_summary(tmp_path, capsys):
     out = tmp_path / "jack.ngc"
     summary = tmp_path / "jack.txt"
     code = main(["plan", "jack", "--machine", "trunnion_ac", "--tool", "fdm_0p4", "--layer", "0.4",
-                 "-o", str(out), "--summary", str(summary), "--toolpath", str(tmp_path / "jack.npz")])
+                 "--jerk", "4", "-o", str(out), "--summary", str(summary),
+                 "--toolpath", str(tmp_path / "jack.npz")])
     assert code == 0
     printed = capsys.readouterr().out
     for word in ("sub-part", "layers:", "material:", "estimated time:", "support:"):
@@ -27,6 +28,12 @@ def test_plan_command_writes_gcode_preview_and_summary(tmp_path, capsys):
     assert (tmp_path / "jack.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert summary.read_text() == printed
     assert (tmp_path / "jack.npz").stat().st_size > 0
+    # The saved toolpath, posted on its own, says the plan's time (the jerk it used).
+    header = next(line for line in text.splitlines() if line.startswith("(estimated time:"))
+    again = tmp_path / "again.ngc"
+    assert main(["post", str(tmp_path / "jack.npz"), "--machine", "trunnion_ac",
+                 "-o", str(again)]) == 0
+    assert header in again.read_text().splitlines()
 
 
 @pytest.mark.slow

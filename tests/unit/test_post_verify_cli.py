@@ -82,6 +82,50 @@ def test_cli_post_and_verify(tmp_path, capsys):
         assert len(canonical_moves(out2)[0]) > 10
 
 
+def _with_jerk(toolpath, jerk: str):
+    import dataclasses
+
+    return dataclasses.replace(toolpath, metadata={**toolpath.metadata, "jerk": jerk})
+
+
+def test_post_says_the_time_at_the_jerk_the_plan_recorded(tmp_path):
+    """A plan records its jerk in the toolpath: posted later, the program says the plan's
+    time, not the default jerk's."""
+    from freecad_conformal.paths.timing import DEFAULT_JERK, estimate_time
+
+    machine = load_machine("trunnion_ac")
+    builder = ToolpathBuilder()
+    # a zigzag: its sharp turns slow down by the jerk
+    builder.add_segment([[x, 10.0 * (k % 2), 5.0] for k, x in enumerate(np.arange(0.0, 20.0, 0.5))],
+                        kind="deposit", feed=3000, flow=0.08)
+    zigzag = builder.build()
+    toolpath_file, out = tmp_path / "zigzag.npz", tmp_path / "zigzag.ngc"
+    _with_jerk(zigzag, "2.5").save(toolpath_file)
+    assert main(["post", str(toolpath_file), "--machine", "trunnion_ac", "-o", str(out)]) == 0
+    seconds = {jerk: estimate_time(zigzag, machine.acceleration, jerk, max_feed=machine.max_feed,
+                                   rapid_feed=machine.rapid_feed) for jerk in (2.5, DEFAULT_JERK)}
+    assert f"{seconds[2.5]:.1f}" != f"{seconds[DEFAULT_JERK]:.1f}"
+    assert f"[{seconds[2.5]:.1f} s])" in out.read_text().splitlines()[5]
+    # the Post object's time (its property and its program's header) is the same
+    from freecad_conformal.objects.post_feature import compute_post
+
+    posted = compute_post({"toolpath": toolpath_file.read_bytes(), "machine": "trunnion_ac",
+                           "dialect": "linuxcnc", "tolerance": TOL,
+                           "angular_tolerance": math.radians(ATOL_DEG)}, lambda *_: None)
+    assert posted["seconds"] == seconds[2.5]
+    assert f"[{seconds[2.5]:.1f} s])" in posted["gcode"].splitlines()[5]
+
+
+@pytest.mark.parametrize("jerk", ["fast", "0", "-1", "nan"])
+def test_a_toolpath_recording_no_jerk_is_refused_by_name(tmp_path, capsys, jerk):
+    toolpath_file, out = tmp_path / "ring.npz", tmp_path / "ring.ngc"
+    _with_jerk(samples.tilted_ring(), jerk).save(toolpath_file)
+    assert main(["post", str(toolpath_file), "--machine", "trunnion_ac", "-o", str(out)]) != 0
+    assert f"toolpath metadata 'jerk' must be a jerk in mm/s (finite, above 0), got '{jerk}'" \
+        in capsys.readouterr().err
+    assert not out.exists()
+
+
 def bad_toolpath_file(tmp_path):
     builder = ToolpathBuilder()
     # 250 mm from the table's axis: beyond X/Y ±150 mm at every C (the corner is 212 mm out)
