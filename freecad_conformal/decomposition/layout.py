@@ -124,16 +124,18 @@ def lay_out(plan: BuildPlan, gap: float) -> BuildPlan:
                          "below the root's base, into the platform")
         moves[k] = move
         boxes[k] = _footprint(turned, move.shift)
-    # Solids already standing on the platform along +Z, clear of each other, keep their place;
-    # each other one is set beside those placed, on the side its sub-parts and theirs do not
-    # point to (a tool building sideways, and its approach, then face away from the others).
+    # Solids built along +Z as modelled, clear of each other, keep their place over the
+    # platform (one modelled higher only comes down: two boxes side by side, one 20 mm up,
+    # were set apart although nothing was in the way); each other one is set beside those
+    # placed, on the side its sub-parts and theirs do not point to (a tool building
+    # sideways, and its approach, then face away from the others).
     directions = {k: np.array([m.rotate(np.asarray(s.build_direction, dtype=float))
                                for s in plan.subparts if s.solid_index == k]) for k, m in moves.items()}
     placed: dict[int, tuple[float, float, float, float]] = {}
     for k in sorted(moves):
         move = moves[k]
-        standing = move.angle == 0.0 and abs(move.shift[2]) <= ON_PLATFORM
-        if not (standing and not any(_overlap(boxes[k], other, gap) for other in placed.values())):
+        upright = move.angle == 0.0
+        if not (upright and not any(_overlap(boxes[k], other, gap) for other in placed.values())):
             if placed:
                 shift = _beside(boxes[k], placed, directions, k, gap)
                 move.shift[:2] += shift

@@ -73,6 +73,20 @@ def test_a_solid_hovering_over_another_is_set_down_beside_it(App, Part):
     assert not any("solid 1 laid out" in note for note in laid.notes)
 
 
+def test_solids_side_by_side_at_different_heights_come_down_where_they_are(App, Part):
+    """Two boxes modelled 30 mm apart, one 20 mm up: each is set down on the platform below
+    where it was (the higher one was set beside the other with the tool's gap)."""
+    low = Part.makeBox(10, 10, 10, App.Vector(0, 0, 0))
+    high = Part.makeBox(10, 10, 10, App.Vector(40, 0, 20))
+    laid = lay_out(single_plan(Part.Compound([low, high])), GAP)
+    check_standing(laid, 0.0)
+    for sub, box in zip(laid.subparts, (low, high)):
+        moved = sub.shape.BoundBox
+        assert (moved.XMin, moved.YMin) == pytest.approx((box.BoundBox.XMin, 0.0), abs=1e-9)
+    assert laid.notes == ["solid 2 laid out on the platform: moved by (+0.000, +0.000, "
+                          "-20.000) mm; its G-code is in that frame"]
+
+
 def test_a_turned_root_stands_up_with_its_children_turned_alike(App, Part):
     """An L-block planned from −X: the whole solid turns so −X points up; the child's
     direction turns with it, and the angle between the two directions stays."""
