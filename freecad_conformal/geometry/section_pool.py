@@ -144,7 +144,7 @@ def _worker(jobs: list, counter, results, spec: tuple | None = None,
     points too, `loop_points`)."""
     try:
         slicer = slicer_from(spec) if spec is not None else _WORKER_SLICER
-        while (index := claim(counter)) < len(jobs):
+        while (index := _claim(counter)) < len(jobs):
             sent = job_as_binary(_cut(*jobs[index]))
             loops = loop_points(job_from_binary(*sent), slicer) if with_loops else None
             results.put((index, (sent, loops)))
@@ -153,8 +153,7 @@ def _worker(jobs: list, counter, results, spec: tuple | None = None,
         results.put((None, f"{type(exc).__name__}: {exc}"))
 
 
-def claim(counter) -> int:
-    """The next index of a counter shared with other processes (each index once)."""
+def _claim(counter) -> int:
     with counter.get_lock():
         index = counter.value
         counter.value += 1
@@ -329,7 +328,7 @@ def _shared(slicer, levels: np.ndarray, jobs: list, boolean: list[bool], workers
                                       args=(work, counter, queue, spec, with_loops))
             process.start()
             processes.append(process)
-        while (index := claim(counter)) < len(jobs):
+        while (index := _claim(counter)) < len(jobs):
             sent = _as_sent(_cut(*work[index], slicer))
             results[index] = (sent, loop_points(sent, slicer) if with_loops else None)
             if report is not None:

@@ -17,11 +17,9 @@ build direction snaps to it exactly.
 Cost: each tilted plane is its own OCC Boolean (planar layers share one per 32 planes), so
 a trial plane is first checked against the lower section's boundary alone (numpy: the
 slab's thickness over the lower section), and cut only when that fits; a layer then costs
-about three cuts: the probe, the upper plane, the middle plane. The probe lies Δ above the
-upper plane (through C_low + Δ·D_low, and C_low lies on the lower plane), so it is asked
-of a second core as soon as the upper plane is chosen and cut there while the upper one
-is cut here; middle planes fill the waits (`geometry/plane_stream.py`). Slicers are kept
-for the last few normals only, so a long bend does not hold one slicer per layer. Centroids come
+about three cuts (the probe, the upper plane, the middle plane; the middle ones on a
+second core while the chain goes on, `geometry/plane_stream.py`). Slicers are kept for the
+last few normals only, so a long bend does not hold one slicer per layer. Centroids come
 from the section's polygons in its own frame; a section without a finite centroid (a
 plane grazing a face) ends the tilted stack there instead of passing NaN on.
 """
@@ -161,32 +159,24 @@ def _shape_change(lower: Layer, upper: Layer) -> float:
     return float(moved.symmetric_difference(upper.region).area) / max(lower.area, 1e-12)
 
 
-#: A plane this close (mm) to the last one cut, with the same normal, is that plane: the
-#: layer's plane through C_low + Δ·D_up and its probe through the lower plane's point
-#: + Δ·D_low differ by rounding where D_up = D_low.
-SAME_PLANE = 1e-9
-
-
 class _Sections:
     """Sections of one sub-part by planes of any normal (slicers of the last few normals
-    kept); probes through `stream` (`geometry/plane_stream.py`); `cuts` counts the OCC
-    Booleans."""
+    kept); `cuts` counts the OCC Booleans."""
 
-    def __init__(self, shape, subpart: int, base: PlanarSlicer | None = None,
-                 stream: PlaneStream | None = None) -> None:
+    def __init__(self, shape, subpart: int, base: PlanarSlicer | None = None) -> None:
         self.shape = shape
         self.subpart = subpart
         self.cuts = 0
         #: the sub-part's planar slicer, turned for each new normal (its checks reused)
         self._base = base
-        self._stream = stream
         self._slicers: OrderedDict[tuple[float, ...], PlanarSlicer] = OrderedDict()
         #: the last section cut (slicer, height, section): where the axis runs straight, a
         #: layer's plane is the very plane its probe was cut on (the fan's hub: 33 of its
         #: 588 sections, ~1.7 ms of B-spline intersections a face)
         self._last: tuple | None = None
 
-    def _slicer(self, normal: np.ndarray) -> PlanarSlicer:
+    def at(self, point: np.ndarray, normal: np.ndarray) -> PlanarSection:
+        _check_finite(self.subpart, point, normal)
         key = tuple(np.round(normal, 12))
         slicer = self._slicers.get(key)
         if slicer is None:
@@ -196,36 +186,12 @@ class _Sections:
                 self._slicers.popitem(last=False)
         else:
             self._slicers.move_to_end(key)
-        return slicer
-
-    def at(self, point: np.ndarray, normal: np.ndarray) -> PlanarSection:
-        _check_finite(self.subpart, point, normal)
-        slicer = self._slicer(normal)
         height = float(point @ slicer.frame.n)
-        if (self._last is not None and self._last[0] is slicer
-                and abs(self._last[1] - height) <= SAME_PLANE):
+        if self._last is not None and self._last[0] is slicer and self._last[1] == height:
             return self._last[2]
         self.cuts += 1
         section = slicer.section(height)
         self._last = (slicer, height, section)
-        return section
-
-    def ahead(self, point: np.ndarray, normal: np.ndarray) -> None:
-        """The probe plane the chain reads next, should the plane below it stand: asked of
-        the stream's worker now."""
-        if self._stream is not None and np.all(np.isfinite(point)) and np.all(np.isfinite(normal)):
-            self._stream.ahead(point, normal)
-
-    def probe(self, point: np.ndarray, normal: np.ndarray) -> PlanarSection:
-        """The probe plane's section, from the stream (cut on its worker when asked
-        `ahead`; through the binary trip either way, so it does not depend on where)."""
-        if self._stream is None:
-            return self.at(point, normal)
-        _check_finite(self.subpart, point, normal)
-        slicer = self._slicer(normal)
-        self.cuts += 1
-        section = self._stream.probe(point, normal)
-        self._last = (slicer, section.height, section)
         return section
 
 
@@ -266,15 +232,14 @@ def tilted_layers(subpart: SubPart, slicer: PlanarSlicer, low: float, high: floa
     """3-D layers of a sub-part whose centroidal axis bends (see the module docstring)."""
     d_min, d_max = settings.bounds
     nominal = settings.thickness if settings.mode == "uniform" else d_max
+    sections = _Sections(subpart.shape, subpart.index, slicer)
     normal = slicer.frame.n
     lower = _first_section(slicer, low, high, nominal)
     plane_point = lower.height * normal
     centroid = section_centroid(lower)
-    # Probes are cut on a second core while the chain cuts the plane below them; each
-    # layer's region is cut on its middle plane, which the chain does not read: those fill
-    # the waits and the end (`plane_stream.py`).
+    # Each layer's region is cut on its middle plane, which the chain does not read: those
+    # planes go to a second core as they are found (`plane_stream.py`).
     middles = PlaneStream(slicer, int((high - low) / nominal) + 1, settings.workers)
-    sections = _Sections(subpart.shape, subpart.index, slicer, middles)
     slabs: list[tuple] = []
     try:
         while centroid is not None:
@@ -321,8 +286,7 @@ def _next_plane(sections: _Sections, lower: PlanarSection, plane_point: np.ndarr
     worst: tuple[float, float] | None = None
     below = _points_3d(lower)
     while thickness >= d_min - 1e-12:
-        # Through C_low + Δ·D_low; C_low lies on the lower plane, as does its point.
-        probe = sections.probe(plane_point + thickness * normal, normal)
+        probe = sections.at(centroid + thickness * normal, normal)
         ahead = section_centroid(probe)
         if ahead is None:
             return None
@@ -336,7 +300,6 @@ def _next_plane(sections: _Sections, lower: PlanarSection, plane_point: np.ndarr
             point = centroid + thickness * direction
             thin, thick = _thickness_over(below, point, direction)
             if d_min - 1e-9 <= thin and thick <= d_max + 1e-9:
-                sections.ahead(point + nominal * direction, direction)   # the next probe
                 upper = sections.at(point, direction)
                 upper_centroid = section_centroid(upper)
                 if upper_centroid is None:
