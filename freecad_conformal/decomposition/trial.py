@@ -37,11 +37,12 @@ def worth_a_trial(solid) -> bool:
 
 class Trial:
     """`planner.pieces(direction)` running in a child Python, started when the Trial is
-    made: `plan()` sends the solid (OCC binary) and the direction, `result()` waits for the
-    pieces, `stop()` ends it (also unasked)."""
+    made: `prepare()` sends the solid (OCC binary), `plan()` the direction, `result()`
+    waits for the pieces, `stop()` ends it (also unasked)."""
 
     def __init__(self) -> None:
         self._child = ChildPython("freecad_conformal.decomposition.trial")
+        self._prepared = False
 
     @property
     def _process(self):
@@ -52,10 +53,14 @@ class Trial:
         child reads and meshes it (`prepared`) while this process decides whether to ask
         (the fan's 1.6 s mesh, which the child made after the request)."""
         self._child.ask(written, last=False)
+        self._prepared = True
 
     def plan(self, planner: Planner, direction, written: bytes) -> None:
         """Ask the child for `planner`'s pieces from `direction`, planned on its solid as
-        `written` (the bytes `prepare` sent)."""
+        `written` (sent first, unless `prepare` sent it: the child reads the solid, then the
+        request)."""
+        if not self._prepared:
+            self.prepare(written)
         self._child.ask(trial_spec(planner, direction, written))
 
     def result(self) -> tuple[list[Piece], list[str]] | None:

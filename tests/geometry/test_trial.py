@@ -89,6 +89,14 @@ def test_a_prepared_child_plans_the_pieces_this_process_would():
         assert [tuple(v.Point) for v in a.shape.Vertexes] == [tuple(v.Point) for v in b.shape.Vertexes]
 
 
+def test_a_child_asked_without_being_sent_the_solid_first_still_answers():
+    planner, direction, written = _t_block_spec()
+    trial = Trial()
+    trial.plan(planner, direction, written)
+    answer = trial.result()
+    assert answer is not None and len(answer[0]) >= 2
+
+
 def test_a_child_asked_about_another_solid_than_it_was_sent_plans_that_one():
     import math
 
