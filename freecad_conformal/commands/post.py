@@ -16,7 +16,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from freecad_conformal.paths.timing import estimate_time, recorded_jerk
+    from freecad_conformal.paths.timing import saved_toolpath_time
     from freecad_conformal.post.machine import load_machine
     from freecad_conformal.post.program import post_toolpath, write_program
     from freecad_conformal.settings.cli import values_from_args
@@ -27,10 +27,7 @@ def run(args: argparse.Namespace) -> int:
     v = validate(POST_SETTINGS, values_from_args(args, POST_SETTINGS))
     machine = load_machine(v["machine"])
     toolpath = Toolpath.load(args.toolpath)
-    # The time the plan that made this toolpath reports (corners at its jerk, the
-    # machine's feed limits).
-    seconds = estimate_time(toolpath, machine.acceleration, recorded_jerk(toolpath),
-                            max_feed=machine.max_feed, rapid_feed=machine.rapid_feed)
+    seconds = saved_toolpath_time(toolpath, machine)     # what the plan reported
     result = post_toolpath(toolpath, machine, v["dialect"], v["tolerance"],
                            math.radians(v["angular_tolerance"]), relative_e=not v["absolute_e"],
                            time_s=seconds)

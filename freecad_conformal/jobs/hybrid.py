@@ -32,7 +32,7 @@ from freecad_conformal.paths.hybrid_groups import group_tilted
 from freecad_conformal.paths.hybrid_sequence import hybrid_sequence
 from freecad_conformal.paths.hybrid_toolpath import DepositProcess, hybrid_toolpath
 from freecad_conformal.paths.milling import MillTool
-from freecad_conformal.paths.timing import JERK_KEY, move_seconds
+from freecad_conformal.paths.timing import jerk_record, move_seconds
 from freecad_conformal.post.program import post_toolpath
 from freecad_conformal.settings.plan import SPEED_ROLES
 from freecad_conformal.toolpath import KINDS
@@ -338,7 +338,7 @@ def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
                              path_settings.feeds, power)
     program = hybrid_toolpath(sequence, process, centre, radius, part=part,
                               material=material_name, tool=tool.id,
-                              **{JERK_KEY: repr(float(options.jerk))},
+                              **jerk_record(options.jerk),
                               process=f"hybrid: deposit {tool.id}, mill "
                                       f"{', '.join(m.id for m in mills)}")
     seconds, segments = move_seconds(program.toolpath, machine.acceleration, options.jerk,

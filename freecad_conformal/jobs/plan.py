@@ -19,7 +19,7 @@ from freecad_conformal.fileio import write_all
 from freecad_conformal.geometry.shape_cache import ShapeCache
 from freecad_conformal.paths.bead import bead_area
 from freecad_conformal.paths.assemble import Assembly, PathSettings, assemble
-from freecad_conformal.paths.timing import DEFAULT_JERK, JERK_KEY, estimate_time
+from freecad_conformal.paths.timing import DEFAULT_JERK, estimate_time, jerk_record
 from freecad_conformal.layers.model import Layer, LayerSettings, check_thickness
 from freecad_conformal.layers.plan import plan_layers
 from freecad_conformal.decomposition.subparts import BuildPlan
@@ -421,7 +421,7 @@ def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
             progress(sub.index)
     assembly = assemble(plan, layers, path_settings, tool.envelope, part=part,
                         material=material_name, tool=tool.id,
-                        **{JERK_KEY: repr(float(options.jerk))})
+                        **jerk_record(options.jerk))
     seconds = estimate_time(assembly.toolpath, machine.acceleration, options.jerk,
                             max_feed=machine.max_feed, rapid_feed=machine.rapid_feed)
     # The program's header says the time the summary and report say.

@@ -78,19 +78,18 @@ class PostFeature(Computed, StoredState):
 
 def compute_post(inputs: dict, progress) -> dict:
     """G-code of toolpath bytes for a machine; the time (property and the program's header)
-    is the plan's estimate (paths/timing.estimate_time, corners at the jerk the plan
-    recorded in the toolpath and the machine's feed limits counted), so a Job and its Post
-    report the same time for the same program."""
+    is the plan's estimate (paths/timing.saved_toolpath_time: corners at the jerk the plan
+    recorded in the toolpath, the machine's feed limits), so a Job and its Post report the
+    same time for the same program."""
     from freecad_conformal.objects.toolpath_feature import toolpath_from_bytes
-    from freecad_conformal.paths.timing import estimate_time, recorded_jerk
+    from freecad_conformal.paths.timing import saved_toolpath_time
     from freecad_conformal.post.machine import load_machine
     from freecad_conformal.post.program import post_toolpath
 
     toolpath = toolpath_from_bytes(inputs["toolpath"])
     machine = load_machine(inputs["machine"])
     progress(0.1, f"posting {toolpath.segment_count} segments for {machine.name}")
-    seconds = estimate_time(toolpath, machine.acceleration, recorded_jerk(toolpath),
-                            max_feed=machine.max_feed, rapid_feed=machine.rapid_feed)
+    seconds = saved_toolpath_time(toolpath, machine)
     result = post_toolpath(toolpath, machine, inputs["dialect"], inputs["tolerance"],
                            inputs["angular_tolerance"],
                            relative_e=inputs.get("relative_e", True), time_s=seconds)

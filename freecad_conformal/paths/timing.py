@@ -25,6 +25,12 @@ DEFAULT_JERK = 10.0
 JERK_KEY = "jerk"
 
 
+def jerk_record(jerk: float) -> dict[str, str]:
+    """The toolpath metadata recording `jerk` (its repr: `recorded_jerk` reads it back
+    exactly)."""
+    return {JERK_KEY: repr(float(jerk))}
+
+
 def recorded_jerk(tp: Toolpath) -> float:
     """The jerk (mm/s) the plan that made `tp` estimated its time with (DEFAULT_JERK for a
     toolpath that records none, as those saved before it was recorded).
@@ -111,3 +117,11 @@ def estimate_time(tp: Toolpath, acceleration: float, jerk: float = DEFAULT_JERK,
     `max_feed`, travel moves at most `rapid_feed`: the machine's own limits)."""
     seconds, _ = move_seconds(tp, acceleration, jerk, max_feed, rapid_feed)
     return float(seconds.sum()) + sum(e.seconds for e in tp.events if e.action == "dwell")
+
+
+def saved_toolpath_time(tp: Toolpath, machine) -> float:
+    """Seconds to run a saved toolpath on `machine` as the plan that made it estimated
+    them: at the jerk it recorded, with the machine's acceleration and feed limits (the
+    `post` command and the Post object)."""
+    return estimate_time(tp, machine.acceleration, recorded_jerk(tp),
+                         max_feed=machine.max_feed, rapid_feed=machine.rapid_feed)
