@@ -26,8 +26,8 @@ from freecad_conformal.decomposition.cuts import (LazyAxis)
 from freecad_conformal.geometry.rotation import rotation_to
 from freecad_conformal.decomposition.planner import (LEVEL_TOLERANCE, MIN_SAVING, SAME_DIRECTION,
                                                      Piece, Planner, touch_area)
-from freecad_conformal.decomposition.trial import (Trial, can_start_child, planned, trial_spec,
-                                                   worth_a_trial)
+from freecad_conformal.decomposition.trial import (EarlyTrial, Trial, can_start_child, planned,
+                                                   trial_spec, worth_a_trial)
 from freecad_conformal.decomposition.subparts import BuildPlan, SubPart
 from freecad_conformal.geometry.overhang import (DEFAULT_OVERHANG_ANGLE, MIN_BASE_AREA,
                                                 base_area, best_single_direction, check_angle,
@@ -48,7 +48,8 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
               method: str = "true-direction",
               root_direction: Sequence[float] | str = (0.0, 0.0, 1.0),
               max_subparts: int = DEFAULT_MAX_SUBPARTS, check_collisions: bool = True,
-              axis_step: float | None = None, with_axes: bool = True) -> BuildPlan:
+              axis_step: float | None = None, with_axes: bool = True,
+              early: EarlyTrial | None = None) -> BuildPlan:
     """Split `shape` into sub-parts that build without support, and order them.
 
     Args:
@@ -68,6 +69,7 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
             the preview and the JSON plan) and label the cuts it supports "axis-face".
             The search computes it only where it decides a tie; a job that only builds
             the plan skips the rest (the bottle's: 2.5 s of its 9 s plan choice).
+        early: a solid's trial begun before (`trial.EarlyTrial`), used for that solid.
     Raises:
         GeometryError: the shape is not a valid solid.
         PlanError: bad parameters, or no collision-free order exists.
@@ -101,13 +103,17 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
         # it is meshed here: a mesh sets flags on some edges that binary keeps, and the
         # child meshes it again anyway. A solid not worth a child is planned here
         # everywhere, on the solid itself (sharing its meshes).
-        written = to_binary(solid) if worth else None
-        if worth and can_start_child():
-            # Starting up (interpreter, FreeCAD) and meshing the solid while it is meshed
-            # here and the direction found: it then plans at once (the fan's child meshed
-            # for 1.6 s after the request; CrankArm's arm waited 0.14 s for it).
-            trial = Trial()
-            trial.prepare(written)
+        begun = early.take(solid) if worth and early is not None else None
+        if begun is not None:
+            written, trial = begun
+        else:
+            written = to_binary(solid) if worth else None
+            if worth and can_start_child():
+                # Starting up (interpreter, FreeCAD) and meshing the solid while it is
+                # meshed here and the direction found: it then plans at once (the fan's
+                # child meshed for 1.6 s after the request; CrankArm's arm waited 0.14 s).
+                trial = Trial()
+                trial.prepare(written)
         try:
             if auto:
                 # Its mesh first: the overhang in every candidate direction reads faces

@@ -19,8 +19,8 @@ from freecad_conformal.child_python import ChildPython, can_start_child, serve_p
 if TYPE_CHECKING:  # imported where used: the child must redirect stdout before FreeCAD loads
     from freecad_conformal.decomposition.planner import Piece, Planner
 
-__all__ = ["ANALYTIC_SURFACES", "Trial", "can_start_child", "planned", "trial_spec",
-           "worth_a_trial"]
+__all__ = ["ANALYTIC_SURFACES", "EarlyTrial", "Trial", "can_start_child", "planned",
+           "trial_spec", "worth_a_trial"]
 
 #: Surfaces OCC intersects in closed form; Booleans on the others (B-splines, offsets,
 #: revolutions) walk numerically and cost 0.1–1 s each.
@@ -80,6 +80,54 @@ class Trial:
     def stop(self) -> None:
         """End the trial (its plan is not needed)."""
         self._child.stop()
+
+
+class EarlyTrial:
+    """A solid's trial begun before `decompose` plans it: the plan search first scans the
+    whole solid's orientations (the fan: 2.4 s), and the child reads and meshes the solid
+    meanwhile. Made where no child can start too (FreeCAD's GUI): the solid's bytes are then
+    those `decompose` plans the turned root from in place, as the child would. `decompose`
+    takes it for that very solid (`take`); `stop()` ends a child nobody took."""
+
+    def __init__(self, solid) -> None:
+        from freecad_conformal.geometry.occ_binary import to_binary
+
+        self._solid = solid
+        self.written = to_binary(solid)
+        self._trial = None
+        if can_start_child():
+            self._trial = Trial()
+            self._trial.prepare(self.written)
+
+    def take(self, solid) -> tuple[bytes, Trial | None] | None:
+        """(the solid as written, its trial: None without a child) when `solid` is the one
+        this was begun for or a copy of it in the same place (the plan decomposes the copy
+        the placement made: `jobs/placement.turn_up`), else None. The trial is handed over
+        once."""
+        if not _same_in_place(solid, self._solid):
+            return None
+        trial, self._trial = self._trial, None
+        return self.written, trial
+
+    def stop(self) -> None:
+        """End the child if `take` did not hand it over."""
+        if self._trial is not None:
+            self._trial.stop()
+            self._trial = None
+
+
+def _same_in_place(solid, other) -> bool:
+    """Whether `solid` is `other` or a copy of it left where it was: the same faces, edges
+    and vertices, the faces on the same kinds of surface and the vertices at the very same
+    points (a moved or turned copy, or another solid, differs in some)."""
+    if solid.isSame(other):
+        return True
+    if (len(solid.Faces), len(solid.Edges), len(solid.Vertexes)) != (
+            len(other.Faces), len(other.Edges), len(other.Vertexes)):
+        return False
+    if any(type(a.Surface) is not type(b.Surface) for a, b in zip(solid.Faces, other.Faces)):
+        return False
+    return all(a.Point == b.Point for a, b in zip(solid.Vertexes, other.Vertexes))
 
 
 def trial_spec(planner: Planner, direction, written: bytes) -> dict:

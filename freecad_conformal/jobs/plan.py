@@ -358,9 +358,11 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
     from freecad_conformal.jobs.search import plan_candidates, ranked
     from freecad_conformal.paths.cost import Motion
 
+    early = _early_trial(solids[0])
+
     def make_plan(root, split: bool):
         return machine_plan(shape, dataclasses.replace(options, root=root, decompose=split),
-                            decompose, tool=tool, machine=machine)
+                            decompose, tool=tool, machine=machine, early=early)
 
     def child_request() -> dict:
         from freecad_conformal.jobs.coarse_child import coarse_request
@@ -369,11 +371,16 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
 
     # A child lays out and costs orientations as make_plan does only with the decomposition
     # it would import itself (a caller's own cannot cross).
-    candidates = ranked(plan_candidates(solids[0], make_plan, options.layers, path_settings,
-                                        Motion.of(machine, options.jerk),
-                                        DEFAULT_OVERHANG_ANGLE, progress, options.objective,
-                                        child_request if decompose is None else None),
-                        options.objective)
+    try:
+        candidates = ranked(plan_candidates(solids[0], make_plan, options.layers, path_settings,
+                                            Motion.of(machine, options.jerk),
+                                            DEFAULT_OVERHANG_ANGLE, progress, options.objective,
+                                            child_request if decompose is None else None,
+                                            early),
+                            options.objective)
+    finally:
+        if early is not None:
+            early.stop()
     best = candidates[0]
     if centred:
         best.plan.notes.insert(0, centred)
@@ -381,6 +388,15 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
         best.plan.notes.append(f"{best.label}: chosen among {len(candidates)} candidate plans "
                                f"(least residual overhang, then cheapest: {options.objective})")
     return Choice(best.placed, best.plan, best.layers, candidates)
+
+
+def _early_trial(solid):
+    """The solid's decomposition trial begun now (`decomposition/trial.EarlyTrial`), where
+    the decomposition would start one: a free-form solid (`worth_a_trial`). The child reads
+    and meshes it while the search scans whole orientations first."""
+    from freecad_conformal.decomposition.trial import EarlyTrial, worth_a_trial
+
+    return EarlyTrial(solid) if worth_a_trial(solid) else None
 
 
 def plan_additive(shape, options: PlanOptions, part: str = "part", library=None,
@@ -467,7 +483,7 @@ MIN_LAYOUT_GAP = 5.0
 
 
 def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None = None, *,
-                 tool=None, machine: Machine | None = None):
+                 tool=None, machine: Machine | None = None, early=None):
     """(placed shape, BuildPlan) as the machine builds the part: decomposed with each
     solid's root along `options.root` ("auto": as placed unless turning the solid leaves
     less overhang), each solid standing on the platform (`decomposition/layout.py`), and the
@@ -477,7 +493,8 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
     "auto") instead of decomposing it (default: `options.decompose`). `tool` and `machine`
     are those `check_options` resolved (default: read again from the options; the search
     plans each candidate with the ones it checked: reading the tool library took 13 ms of
-    the wedge's 0.14 s choice)."""
+    the wedge's 0.14 s choice). `early`: a solid's trial the search began
+    (`decomposition/trial.EarlyTrial`), passed on to the decomposition."""
     from freecad_conformal.decomposition.build_order import build_order
     from freecad_conformal.decomposition.layout import lay_out
     from freecad_conformal.jobs.placement import reachable_plan
@@ -501,8 +518,9 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
             root = tuple(float(c) for c in placement.rotate(root))
         if split:
             # The job builds the plan; it shows no centroidal axis (the Analysis does).
+            begun = {} if early is None else {"early": early}
             plan = decompose(placed, tool=tool, root_direction=root,
-                             check_collisions=not several, with_axes=False)
+                             check_collisions=not several, with_axes=False, **begun)
         else:
             plan = single_plan(placed, (0.0, 0.0, 1.0) if isinstance(root, str) else root)
         laid = lay_out(plan, gap)

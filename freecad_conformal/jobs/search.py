@@ -191,14 +191,20 @@ def plan_candidates(solid, make_plan: Callable[[object, bool], tuple], layer_set
                     path_settings: PathSettings, motion: Motion, angle: float,
                     progress: Callable[[str], None] | None = None,
                     objective: str = "balanced",
-                    child_request: Callable[[], dict] | None = None) -> list[Candidate]:
+                    child_request: Callable[[], dict] | None = None,
+                    early_trial=None) -> list[Candidate]:
     """Every candidate for one solid (see the module docstring). `make_plan(root, split)`
     returns (placed shape, plan) as `jobs/plan.machine_plan` lays it out with that root
     ("auto" or a direction of the part as given) and split (decompose, or build whole).
     `objective` picks which coarsely costed candidates are costed exactly.
     `child_request()` gives what a child Python needs to lay out and cost whole
-    orientations as `make_plan` does (`jobs/coarse_child.py`); None: all are costed here."""
+    orientations as `make_plan` does (`jobs/coarse_child.py`); None: all are costed here.
+    `early_trial`: the decomposition's trial child begun for the solid
+    (`decomposition/trial.EarlyTrial`), stopped when whole orientations leave nothing to
+    decompose (its core is then the coarse child's)."""
     directions = _whole_directions(solid, angle)
+    if directions and early_trial is not None:
+        early_trial.stop()
     makers: list[tuple[str, object, bool]] = [
         (f"whole along {_text(d)}", tuple(float(c) for c in d), False) for d in directions]
     if not makers:

@@ -204,3 +204,49 @@ def test_only_free_form_solids_are_worth_a_trial_child(parts_dir):
     pin, arm = load_shape(parts_dir / "CrankArm.brep").Solids
     assert not worth_a_trial(table.Solids[0]) and not worth_a_trial(pin)
     assert worth_a_trial(arm)
+
+
+def test_the_bottles_search_begins_its_trial_child_early_and_the_decomposition_takes_it(
+        parts_dir, monkeypatch):
+    """The bottle has no support-free orientation: the search scans them all (meshing the
+    bottle) before it decomposes. Its trial child, begun first, meshes the bottle meanwhile
+    and plans the root along +X for the decomposition (no second child); the plan is the one
+    made without any child (FreeCAD's GUI), bit for bit."""
+    import freecad_conformal.decomposition.decompose as module
+    import freecad_conformal.decomposition.trial as trial_module
+    from freecad_conformal.jobs.plan import PlanOptions, check_options, choose_plan
+
+    import freecad_conformal.jobs.search as search
+
+    made, events = [], []
+
+    class Counted(trial_module.Trial):
+        def __init__(self) -> None:
+            made.append(self)
+            events.append("trial child")
+            super().__init__()
+
+    scan = search._whole_directions
+
+    def scanned(*args):
+        events.append("orientation scan")
+        return scan(*args)
+
+    monkeypatch.setattr(trial_module, "Trial", Counted)
+    monkeypatch.setattr(module, "Trial", Counted)
+    monkeypatch.setattr(search, "_whole_directions", scanned)
+    shape = load_shape(parts_dir / "bottle.brep")
+    options = PlanOptions()
+    plans = {}
+    for child in (True, False):
+        monkeypatch.setattr(module, "can_start_child", lambda child=child: child)
+        monkeypatch.setattr(trial_module, "can_start_child", lambda child=child: child)
+        plans[child] = choose_plan(shape, options, check_options(shape, options)).plan
+        if child:
+            assert len(made) == 1 and made[0]._process.poll() is not None
+            assert events == ["trial child", "orientation scan"]
+    assert len(made) == 1
+    assert any("root built along (+1, +0, +0) (less overhang" in n for n in plans[True].notes)
+    assert plans[True].notes == plans[False].notes
+    for a, b in zip(plans[True].subparts, plans[False].subparts, strict=True):
+        _assert_same_piece(a, b)

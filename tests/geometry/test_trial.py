@@ -138,3 +138,48 @@ def test_the_child_meshes_at_the_deflection_the_unmeshed_solid_gives():
     _, solid, deflection = prepared(written)
     assert deflection == mesh_deflection(from_binary(written).Solids[0])
     assert deflection != mesh_deflection(solid)     # meshed: its box is read from the mesh
+
+
+def test_an_early_trial_is_taken_for_its_solid_or_a_copy_left_in_place_only(monkeypatch):
+    """The plan search begins the trial on the part's solid; the decomposition then plans
+    the copy the placement made of it (`turn_up`), which must take it, while a moved copy or
+    another solid must not (their plans come from their own bytes)."""
+    import freecad_conformal.decomposition.trial as module
+    from freecad_conformal.freecad_env import import_freecad
+    from freecad_conformal.geometry.occ_binary import to_binary
+    from freecad_conformal.geometry.samples import SAMPLES
+    from freecad_conformal.jobs.placement import turn_up
+
+    App, _ = import_freecad()
+    monkeypatch.setattr(module, "can_start_child", lambda: False)   # no child: bytes only
+    shape = SAMPLES["domed_cylinder"]()
+    solid = shape.Solids[0]
+    early = module.EarlyTrial(solid)
+    assert early.written == to_binary(solid)
+    in_place = turn_up(shape, (0.0, 0.0, 1.0))[0].Solids[0]
+    assert not in_place.isSame(solid)
+    moved = solid.copy()
+    moved.translate(App.Vector(0.0, 0.0, 1e-3))
+    turned = turn_up(shape, (0.0, 0.0, -1.0))[0].Solids[0]
+    for other in (moved, turned, SAMPLES["t_block"]().Solids[0]):
+        assert early.take(other) is None
+    assert early.take(in_place) == (early.written, None)
+    assert early.take(solid) == (early.written, None)
+
+
+def test_an_early_trials_child_is_handed_over_once_and_stopped_when_not_taken():
+    from freecad_conformal.decomposition.trial import EarlyTrial
+    from freecad_conformal.geometry.samples import SAMPLES
+
+    solid = SAMPLES["t_block"]().Solids[0]
+    early = EarlyTrial(solid)
+    written, trial = early.take(solid)
+    assert trial is not None and trial._process.poll() is None
+    assert early.take(solid) == (written, None)      # the child went with the first take
+    early.stop()                                     # not this one's to stop any more
+    assert trial._process.poll() is None
+    trial.stop()
+    unused = EarlyTrial(solid)
+    process = unused._trial._process
+    unused.stop()
+    assert process.poll() is not None
