@@ -125,16 +125,39 @@ def _inner_angle(App, edge, face1, face2) -> float:
         point = edge.valueAt(t)
         samples.append((_vec(point), _vec(edge.tangentAt(t)), _normal_at(face1, point),
                         _normal_at(face2, point)))
-    # Which side of the edge face 1 lies on is found once, in the middle: n1 × t turns
-    # continuously along the edge, so the same sign holds at every sample.
-    p, t, n1, _ = samples[len(samples) // 2]
-    sign = 1.0 if into_face(face1, p, t, n1, probe) @ np.cross(n1, t) > 0 else -1.0
+    # Which side of the edge face 1 lies on holds along the whole edge (n1 × t turns
+    # continuously): its orientation in face 1 tells, else probes in the middle do.
+    sign = side_in_face(edge, face1)
+    if sign is None:
+        p, t, n1, _ = samples[len(samples) // 2]
+        sign = 1.0 if into_face(face1, p, t, n1, probe) @ np.cross(n1, t) > 0 else -1.0
     angles = []
     for p, t, n1, n2 in samples:
         b1 = sign * np.cross(n1, t)
         turn = math.acos(float(np.clip(n1 @ n2, -1.0, 1.0)))
         angles.append(math.pi + turn if b1 @ n2 > 0 else math.pi - turn)
     return float(np.median(angles))
+
+
+#: An edge's orientation in a face: OCC orients a face's boundary so that the face lies on
+#: the left of each edge, seen from the outward normal (the face's orientation counted in
+#: both: FreeCAD's `Face.normalAt` and `Face.Edges` compose it).
+_LEFT_OF_EDGE = {"Forward": 1.0, "Reversed": -1.0}
+
+
+def side_in_face(edge, face) -> float | None:
+    """+1 when `face` lies on the side n × t of `edge` (n its outward normal, t the edge's
+    curve tangent), −1 on the other; None for a seam of the face (on both sides of it), an
+    internal edge or one the face does not hold. Read from the topology instead of probing
+    each side (four point projections, and the exact distance where they disagree: 1.4 ms an
+    edge of CrankArm's arm; there, 2 µm either side of two edges, both probes met a narrow
+    B-spline face)."""
+    if edge.isSeam(face):
+        return None     # `Face.Edges` lists it once, with one of its two orientations
+    found = [e.Orientation for e in face.Edges if e.isSame(edge)]
+    if len(found) != 1:
+        return None
+    return _LEFT_OF_EDGE.get(found[0])
 
 
 def concave_edges(solid, within: list[EdgeAngle] | None = None) -> list[EdgeAngle]:
