@@ -183,6 +183,7 @@ class FaceCutter:
         self._shared = shared if shared is not None else {}
         self._vertex_heights = np.array([np.dot(tuple(v.Point), self.n) for v in solid.Vertexes])
         self._circle_heights: np.ndarray | None = None
+        self._blocked: list[tuple[float, float]] | None = None
         self.edges: list[_EdgeData] = []
         self.faces: list[_FaceData] = []
         index_of: dict[int, int] = {}
@@ -248,6 +249,22 @@ class FaceCutter:
                 return None
             pieces.extend(face_pieces)
         return faces_from_pieces(pieces, len(points), plane)
+
+    def blocked_spans(self) -> list[tuple[float, float]]:
+        """Spans along the normal (containing them) of what can change the section: each
+        vertex, each face that is not a wall along the normal and each edge that is not a
+        line along it (`geometry/prism_runs.py`). Between them sections are translated
+        copies."""
+        from freecad_conformal.geometry.prism_runs import is_along, is_wall
+
+        if self._blocked is None:
+            spans = [(h - VERTEX_CLEARANCE, h + VERTEX_CLEARANCE) for h in self._vertex_heights]
+            spans += [(data.low, data.high) for data in self.faces
+                      if not is_wall(data.face.Surface, self.n)]
+            spans += [(data.low, data.high) for data in self.edges
+                      if not is_along(data.edge, self.n)]
+            self._blocked = spans
+        return self._blocked
 
     def touches_vertex(self, height: float) -> bool:
         """Whether a vertex of the solid lies in the plane at `height` (not generic)."""

@@ -25,6 +25,7 @@ from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.boxes import box_reach, optimal_box
 from freecad_conformal.geometry.face_sections import FaceCutter
 from freecad_conformal.geometry.planar_faces import SectionFace
+from freecad_conformal.geometry.prism_runs import copy_sources, free_runs
 from freecad_conformal.geometry.plane_curves import STRAIGHT_CURVES, curve_name
 from freecad_conformal.geometry.section_pool import cut_sections
 from freecad_conformal.geometry.shape_cache import ShapeCache
@@ -306,6 +307,8 @@ class PlanarSlicer:
         #: ("nudged +1e-04 mm", "fuzzy Boolean"): a report says which layers needed what.
         self.repairs: dict[float, str] = {}
         self._extents: dict[int, tuple[float, float]] = {}
+        #: heights between which sections are translated copies (`_copy_sources`)
+        self._runs: list[tuple[float, float]] | None = None
 
     def turned(self, direction: Sequence[float]) -> "PlanarSlicer":
         """A slicer of the same solids along another direction, without checking them and
@@ -317,6 +320,7 @@ class PlanarSlicer:
         other._extents = {}
         other.counts = {"face_by_face": 0, "boolean": 0}
         other.repairs = {}
+        other._runs = None
         return other
 
     def section(self, height: float) -> PlanarSection:
@@ -329,10 +333,38 @@ class PlanarSlicer:
         Every height is cut face by face first; the layers that path leaves go to the
         Boolean afterwards, up to `CHUNK` of them (per solid) in one Boolean
         (`section_pool.cut_sections`). `with_loops`: the caller reads every section's
-        loops, which the processes that cut them then make.
+        loops, which the processes that cut them then make. Heights in one run of walls
+        along the normal (`geometry/prism_runs.py`) are cut once: the others are that
+        section moved (the table's legs: 284 of their 285 sections each).
         """
-        layers = cut_sections(self, heights, workers, progress, with_loops)
-        return [self._recover_if_empty(layer) for layer in layers]
+        heights = [float(h) for h in heights]
+        sources = self._copy_sources(heights) if len(heights) > 1 else list(range(len(heights)))
+        cut = [index for index, source in enumerate(sources) if source == index]
+        layers = cut_sections(self, [heights[index] for index in cut], workers,
+                              _in_heights(progress, len(heights)), with_loops)
+        made = dict(zip(cut, (self._recover_if_empty(layer) for layer in layers)))
+        return [made[index] if source == index else self._moved(made[source], heights[index])
+                for index, source in enumerate(sources)]
+
+    def _copy_sources(self, heights: list[float]) -> list[int]:
+        """Per height, the one whose section it is a translated copy of (its own if none):
+        `prism_runs.copy_sources` over the runs no solid's vertex, face or edge blocks."""
+        if not self.face_by_face:
+            return list(range(len(heights)))
+        if self._runs is None:
+            blocked = [span for index in range(len(self.solids))
+                       for span in self.cutter(index).blocked_spans()]
+            self._runs = free_runs(blocked)
+        return copy_sources(self._runs, heights)
+
+    def _moved(self, section: PlanarSection, height: float) -> PlanarSection:
+        """`section` moved along the normal to `height`: the same loops in the layer frame."""
+        shift = self._App.Vector(*((height - section.height) * self.frame.n))
+        return PlanarSection(height=height, frame=section.frame,
+                             faces=[face.translated(shift) for face in section.faces],
+                             area=section.area,
+                             centroid=section.centroid + (height - section.height) * self.frame.n,
+                             chord_tolerance=section.chord_tolerance, _loops=section._loops)
 
     def off_vertices(self, heights: Sequence[float]) -> list[float]:
         """`heights` moved by RETRY_NUDGE (up, else down) where a vertex of the solids lies
@@ -442,6 +474,17 @@ class PlanarSlicer:
                              faces=[item.face for item in items], area=area,
                              centroid=centroid, chord_tolerance=self.chord_tolerance,
                              _loops=loops)
+
+
+def _in_heights(progress: ProgressCallback | None, asked: int) -> ProgressCallback | None:
+    """`progress` told of the cut sections as a share of the `asked` heights (the copies
+    come with the last cut)."""
+    if progress is None:
+        return None
+
+    def told(done: int, total: int) -> None:
+        progress(asked * done // max(total, 1), asked)
+    return told
 
 
 def _merge_touching(faces: list) -> list:
