@@ -16,6 +16,8 @@ from typing import Sequence
 
 import numpy as np
 
+from freecad_conformal.geometry.plane_curves import STRAIGHT_CURVES, curve_name
+
 #: A wall's axis or normal within this (|sin| or |cos|) of being parallel or square to n
 #: counts as exactly so: over a 100 mm run the section then moves by 1e-10 mm sideways,
 #: a thousand times below OCC's confusion distance.
@@ -40,13 +42,9 @@ def is_wall(surface, n: np.ndarray) -> bool:
 
 def is_along(edge, n: np.ndarray) -> bool:
     """Whether `edge` is a straight line along n (where two walls meet)."""
-    try:
-        curve = edge.Curve
-    except TypeError:   # FreeCAD cannot name the curve: not a line
+    if curve_name(edge) not in STRAIGHT_CURVES:
         return False
-    if type(curve).__name__ != "Line":
-        return False
-    direction = np.array(tuple(curve.Direction))
+    direction = np.array(tuple(edge.tangentAt(edge.FirstParameter)))
     return float(np.linalg.norm(np.cross(direction / np.linalg.norm(direction), n))) < PARALLEL
 
 

@@ -338,6 +338,8 @@ class PlanarSlicer:
         section moved (the table's legs: 284 of their 285 sections each).
         """
         heights = [float(h) for h in heights]
+        # One height has nothing to copy: the 3-D layers' single planes, each along a new
+        # normal, skip finding that normal's runs.
         sources = self._copy_sources(heights) if len(heights) > 1 else list(range(len(heights)))
         cut = [index for index, source in enumerate(sources) if source == index]
         layers = cut_sections(self, [heights[index] for index in cut], workers,
