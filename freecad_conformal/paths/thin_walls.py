@@ -64,9 +64,16 @@ def thin_features(island: Polygon, width: float, eroded, mitre_limit: float) -> 
 def medial_lines(feature: Polygon, width: float) -> list[LineString]:
     """The feature's medial axis as merged lines, spurs shorter than `SPUR_WIDTHS` bead
     widths trimmed."""
+    pieces = None
     if hasattr(shapely, "constrained_delaunay_triangles"):
-        pieces = _chordal_axis(feature, width)
-    else:                       # shapely < 2.1
+        try:
+            pieces = _chordal_axis(feature, width)
+        except shapely.errors.GEOSException:
+            # GEOS's ear clipping gives up on some slivers ("Unable to find a convex
+            # corner": a fan blade's 9 mm long, 2 µm wide trailing edge): the Voronoi axis
+            # does not triangulate.
+            pieces = None
+    if pieces is None:          # shapely < 2.1, or the triangulation failed
         pieces = _voronoi_axis(feature, width)
     if not pieces:
         return []
@@ -114,8 +121,11 @@ def _voronoi_axis(feature: Polygon, width: float) -> list[LineString]:
     width, that lie inside it (slower: ~0.1 s for a 0.3 mm square wall)."""
     step = width / SAMPLES_PER_WIDTH
     outline = shapely.segmentize(feature, step)
-    points = np.vstack([np.asarray(ring.coords)[:-1]
-                        for ring in (outline.exterior, *outline.interiors)])
+    if outline.geom_type == "Polygon":
+        points = np.vstack([np.asarray(ring.coords)[:-1]
+                            for ring in (outline.exterior, *outline.interiors)])
+    else:       # a sliver's outline may come back in parts: every ring's points, once
+        points = np.unique(shapely.get_coordinates(outline), axis=0)
     edges = shapely.voronoi_polygons(MultiPoint(points), only_edges=True)
     pieces = np.asarray(shapely.get_parts(edges))
     if not len(pieces):

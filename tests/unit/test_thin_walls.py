@@ -86,3 +86,27 @@ def test_without_constrained_delaunay_the_voronoi_axis_gives_the_same_bead(monke
             (beads_of(wall)[0], beads_of(fin)[0]), chordal):
         assert closed == other_closed and width == pytest.approx(other_width, abs=0.02)
         assert shapely.hausdorff_distance(LineString(points), LineString(other)) < 0.05
+
+
+def test_where_the_triangulation_gives_up_the_voronoi_axis_gives_the_bead(monkeypatch):
+    """GEOS's ear clipping raises on some slivers ("Unable to find a convex corner": a fan
+    blade's trailing edge stopped its whole plan): the Voronoi axis is used there."""
+    fin = box(0, 0, 10, 10).union(box(10, 4.82, 20, 5.18))
+    (expected,) = beads_of(fin)
+
+    def gives_up(*args, **kwargs):
+        raise shapely.errors.GEOSException("IllegalStateException: Unable to find a convex corner")
+
+    monkeypatch.setattr(shapely, "constrained_delaunay_triangles", gives_up)
+    (points, width, closed), = beads_of(fin)
+    assert closed == expected[2] and width == pytest.approx(expected[1], abs=0.02)
+    assert shapely.hausdorff_distance(LineString(points), LineString(expected[0])) < 0.05
+
+
+def test_the_voronoi_axis_takes_an_outline_in_parts():
+    """A sliver's sampled outline may come back as several polygons."""
+    from freecad_conformal.paths.thin_walls import _voronoi_axis
+
+    parts = shapely.MultiPolygon([box(0, 0, 10, 0.3), box(0, 2, 10, 2.3)])
+    pieces = _voronoi_axis(parts, WIDTH)
+    assert pieces and all(parts.contains(piece) for piece in pieces)
