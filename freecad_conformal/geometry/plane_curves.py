@@ -12,6 +12,7 @@ from typing import Iterator
 import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.spline_sections import spline_plane_curves
 from freecad_conformal.geometry.torus_sections import torus_plane_curves
 from freecad_conformal.tolerances import ROUNDING_SLACK
 
@@ -155,6 +156,10 @@ def surface_curves(surface, parameter_range, plane, n: np.ndarray, height: float
             return curves
     if kind == "Sphere":
         return sphere_plane_circle(surface, n, height)
+    if kind == "BSplineSurface":
+        curves = spline_plane_curves(surface, n, height, parameter_range)
+        if curves is not None:
+            return curves
     try:
         return list(surface.intersectSS(plane))
     except Exception:  # noqa: BLE001 - OCC raises bare Standard_Failure types here

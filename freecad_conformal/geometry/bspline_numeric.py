@@ -1,0 +1,114 @@
+"""B-spline evaluation and root bracketing in numpy, many points at once.
+
+FreeCAD evaluates a curve or surface one point per call; the closed-form sections
+(`spline_sections.py`) evaluate hundreds at a time.
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+#: Points per round and rounds of the sub-grids that narrow a bracket: 32⁶ ≈ 1e9-fold, so a
+#: zero bracketed by a thousandth of a range is found within ~1e-12 of it.
+ZERO_GRID = 33
+ZERO_ROUNDS = 6
+
+
+def basis(knots: np.ndarray, degree: int, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(first index, values (len(x), degree + 1)) of the B-spline basis functions that do not
+    vanish at each x (Cox–de Boor, a row of the triangle at a time); `knots` with their
+    multiplicities; x beyond the knots takes the end span's polynomial."""
+    x = np.asarray(x, dtype=float)
+    k = np.clip(np.searchsorted(knots, x, side="right") - 1, degree, len(knots) - degree - 2)
+    steps = np.arange(1, degree + 1)
+    left = x[:, None] - knots[k[:, None] + 1 - steps]        # left[:, j - 1] = x - U[k + 1 - j]
+    right = knots[k[:, None] + steps] - x[:, None]           # right[:, j - 1] = U[k + j] - x
+    values = np.ones((len(x), 1))
+    for j in range(1, degree + 1):
+        # N_r ← right_{r+1}·T_r + left_{j-r+1}·T_{r-1}, T_r = N_r / (right_{r+1} + left_{j-r})
+        r_part = right[:, :j]
+        l_part = left[:, j - 1::-1]
+        temp = values / (r_part + l_part)
+        grown = np.zeros((len(x), j + 1))
+        grown[:, :j] = r_part * temp
+        grown[:, 1:] += l_part * temp
+        values = grown
+    return k - degree, values
+
+
+def combine(first: np.ndarray, values: np.ndarray, coefficients: np.ndarray) -> np.ndarray:
+    """Σ_r values[:, r] · coefficients[first + r] (coefficients (n, ...)): `basis`'s
+    functions applied to poles or any per-pole values."""
+    gathered = coefficients[first[:, None] + np.arange(values.shape[1])]
+    return np.einsum("kr,kr...->k...", values, gathered)
+
+
+class PowerPieces:
+    """The spline Σ N_i(s) c_i as one polynomial per knot span in the span's own coordinate
+    u = 2(s − left)/(right − left) − 1, evaluated by Horner's rule: ~10 numpy steps a call
+    for a degree-9 thread where the Cox–de Boor triangle and the gather take ~80. Each
+    span's polynomial is fitted exactly at its Chebyshev nodes (one well-conditioned
+    Vandermonde system for all spans): within 1e-11 mm of FreeCAD's own points on the
+    shared parts' and the own parts' surfaces (degree 12 at most)."""
+
+    def __init__(self, knots: np.ndarray, degree: int, coefficients: np.ndarray) -> None:
+        self.degree = degree
+        self.breaks = np.unique(knots[degree:len(knots) - degree])
+        nodes = -np.cos(np.pi * (np.arange(degree + 1) + 0.5) / (degree + 1))
+        inverse = np.linalg.inv(np.vander(nodes, degree + 1, increasing=True))
+        widths = self.breaks[1:] - self.breaks[:-1]
+        at = (self.breaks[:-1, None] + widths[:, None] * 0.5 * (nodes + 1)).reshape(-1)
+        first, values = basis(knots, degree, at)
+        sampled = combine(first, values, coefficients.reshape(len(coefficients), -1))
+        sampled = sampled.reshape(len(self.breaks) - 1, degree + 1, -1)
+        #: (spans, degree + 1, values): the power coefficients of each span
+        self.coefficients = np.einsum("ij,sjv->siv", inverse, sampled)
+        self.shape = coefficients.shape[1:]
+
+    def __call__(self, s: np.ndarray) -> np.ndarray:
+        """The spline's values at s, (len(s), *shape of one coefficient)."""
+        s = np.asarray(s, dtype=float)
+        breaks = self.breaks
+        span = np.clip(np.searchsorted(breaks, s, side="right") - 1, 0, len(breaks) - 2)
+        u = (2.0 * (s - breaks[span]) / (breaks[span + 1] - breaks[span]) - 1.0)[:, None]
+        local = self.coefficients[span]
+        value = local[:, -1]
+        for power in range(self.degree - 1, -1, -1):
+            value = value * u + local[:, power]
+        return value.reshape((len(s),) + self.shape)
+
+
+def curve_points(spline, t: np.ndarray) -> np.ndarray:
+    """Points (len(t), 3) of a non-rational FreeCAD B-spline curve at parameters t."""
+    if spline.isPeriodic():
+        return np.array([tuple(spline.value(float(x))) for x in t])
+    poles = np.array([tuple(p) for p in spline.getPoles()])
+    knots = np.repeat(np.array(spline.getKnots()), spline.getMultiplicities())
+    first, values = basis(knots, spline.Degree, t)
+    return combine(first, values, poles)
+
+
+def bracketed_zeros(f: Callable[[np.ndarray], np.ndarray], a: np.ndarray, b: np.ndarray,
+                    keep_negative: bool = False) -> np.ndarray:
+    """Zeros of f bracketed by [a, b] (f of opposite signs at the two ends), all at once:
+    f maps rows of points, one row per bracket, to their values. Each round evaluates f on
+    a sub-grid of `ZERO_GRID` points across every bracket and keeps the cell where the sign
+    first changes: robust where f bends or jumps, as regula falsi is not. With
+    `keep_negative` each is returned on its f ≤ 0 side, else the bracket's middle."""
+    a, b = np.array(a, dtype=float), np.array(b, dtype=float)
+    a, b = np.minimum(a, b), np.maximum(a, b)
+    count = len(a)
+    fraction = np.linspace(0.0, 1.0, ZERO_GRID)
+    rows = np.arange(count)
+    fa = np.zeros(count)
+    for _ in range(ZERO_ROUNDS):
+        x = a[:, None] + (b - a)[:, None] * fraction
+        fx = f(x)
+        positive = fx > 0
+        cell = np.argmax(positive[:, 1:] != positive[:, :1], axis=1)
+        a, b = x[rows, cell], x[rows, cell + 1]
+        fa = fx[rows, cell]
+    if not keep_negative:
+        return 0.5 * (a + b)
+    return np.where(fa <= 0, a, b)
