@@ -210,3 +210,23 @@ def test_the_basis_is_the_surfaces_own(App, Part):
             ta, tb = form.t_range
             point = form.point(np.array([s]), np.array([(t - ta) / (tb - ta)]))[0]
             assert np.linalg.norm(point - np.array(tuple(surface.value(u, v)))) <= 1e-10
+
+
+def test_a_plane_across_a_bump_gives_one_closed_curve(App, Part):
+    """Both roots' ends are turning points inside the face: one periodic curve, the same
+    length as OCC's."""
+    wires = []
+    for x, bump in ((0.0, 0.0), (10.0, 4.0), (20.0, 0.0)):
+        points = [App.Vector(x, y, bump * np.exp(-((y - 10) / 4) ** 2))
+                  for y in np.linspace(0, 20, 11)]
+        curve = Part.BSplineCurve()
+        curve.interpolate(points)
+        wires.append(Part.Wire(curve.toShape()))
+    face = Part.makeLoft(wires, False, False).Faces[0]
+    n = np.array([0.0, 0.0, 1.0])
+    for height in (1.0, 2.9):
+        (curve,) = spline_plane_curves(face.Surface, n, height, face.ParameterRange)
+        assert curve.isPeriodic()
+        (walked,) = face.Surface.intersectSS(Part.Plane(App.Vector(0, 0, height), App.Vector(*n)))
+        assert curve.length() == pytest.approx(walked.length(), rel=1e-6)
+        assert _assert_same_curves(App, Part, face, n, height) == 1
