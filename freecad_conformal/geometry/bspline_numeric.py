@@ -1,7 +1,11 @@
 """B-spline evaluation and root bracketing in numpy, many points at once.
 
 FreeCAD evaluates a curve or surface one point per call; the closed-form sections
-(`spline_sections.py`) evaluate hundreds at a time.
+(`spline_sections.py`) evaluate hundreds at a time. Sums are written out term by term in a
+fixed order, never `@`, `einsum` or LAPACK: those dispatch to kernels whose summation order
+(and fused multiply-adds) depend on the arrays' alignment, so one process's points could
+differ in the last bit from another's, and a section must be the same bits whichever
+process cut it (test_sections' fork-server test caught it).
 """
 from __future__ import annotations
 
@@ -40,8 +44,11 @@ def basis(knots: np.ndarray, degree: int, x: np.ndarray) -> tuple[np.ndarray, np
 def combine(first: np.ndarray, values: np.ndarray, coefficients: np.ndarray) -> np.ndarray:
     """Σ_r values[:, r] · coefficients[first + r] (coefficients (n, ...)): `basis`'s
     functions applied to poles or any per-pole values."""
-    gathered = coefficients[first[:, None] + np.arange(values.shape[1])]
-    return np.einsum("kr,kr...->k...", values, gathered)
+    shape = (len(first),) + (1,) * (coefficients.ndim - 1)
+    total = values[:, 0].reshape(shape) * coefficients[first]
+    for r in range(1, values.shape[1]):
+        total = total + values[:, r].reshape(shape) * coefficients[first + r]
+    return total
 
 
 class PowerPieces:
@@ -49,21 +56,23 @@ class PowerPieces:
     u = 2(s − left)/(right − left) − 1, evaluated by Horner's rule: ~10 numpy steps a call
     for a degree-9 thread where the Cox–de Boor triangle and the gather take ~80. Each
     span's polynomial is fitted exactly at its Chebyshev nodes (one well-conditioned
-    Vandermonde system for all spans): within 1e-11 mm of FreeCAD's own points on the
+    Vandermonde system for all spans): within 1e-10 mm of FreeCAD's own points on the
     shared parts' and the own parts' surfaces (degree 12 at most)."""
 
     def __init__(self, knots: np.ndarray, degree: int, coefficients: np.ndarray) -> None:
         self.degree = degree
         self.breaks = np.unique(knots[degree:len(knots) - degree])
         nodes = -np.cos(np.pi * (np.arange(degree + 1) + 0.5) / (degree + 1))
-        inverse = np.linalg.inv(np.vander(nodes, degree + 1, increasing=True))
+        inverse = _lagrange_power(nodes)
         widths = self.breaks[1:] - self.breaks[:-1]
         at = (self.breaks[:-1, None] + widths[:, None] * 0.5 * (nodes + 1)).reshape(-1)
         first, values = basis(knots, degree, at)
         sampled = combine(first, values, coefficients.reshape(len(coefficients), -1))
         sampled = sampled.reshape(len(self.breaks) - 1, degree + 1, -1)
         #: (spans, degree + 1, values): the power coefficients of each span
-        self.coefficients = np.einsum("ij,sjv->siv", inverse, sampled)
+        self.coefficients = np.stack(
+            [sum((inverse[i, j] * sampled[:, j] for j in range(1, degree + 1)),
+                 inverse[i, 0] * sampled[:, 0]) for i in range(degree + 1)], axis=1)
         self.shape = coefficients.shape[1:]
 
     def __call__(self, s: np.ndarray) -> np.ndarray:
@@ -77,6 +86,26 @@ class PowerPieces:
         for power in range(self.degree - 1, -1, -1):
             value = value * u + local[:, power]
         return value.reshape((len(s),) + self.shape)
+
+
+def _lagrange_power(nodes: np.ndarray) -> np.ndarray:
+    """M with M[i, j] the coefficient of u^i in the Lagrange polynomial of node j: the
+    inverse of the nodes' Vandermonde matrix, expanded product by product in Python."""
+    count = len(nodes)
+    matrix = np.zeros((count, count))
+    for j in range(count):
+        polynomial = [1.0]                      # coefficients, lowest power first
+        scale = 1.0
+        for m in range(count):
+            if m == j:
+                continue
+            node = float(nodes[m])
+            polynomial = ([-node * polynomial[0]]
+                          + [polynomial[i - 1] - node * polynomial[i] for i in range(1, len(polynomial))]
+                          + [polynomial[-1]])
+            scale *= float(nodes[j]) - node
+        matrix[:, j] = [c / scale for c in polynomial]
+    return matrix
 
 
 def curve_points(spline, t: np.ndarray) -> np.ndarray:

@@ -198,7 +198,7 @@ class _Form:
 
     def g(self, s: np.ndarray, n: np.ndarray, h: float) -> np.ndarray:
         a, w = self.along(s)
-        return a @ n - h * w
+        return _plane_values(a, w, n, h)
 
     def point(self, s: np.ndarray, lam: np.ndarray) -> np.ndarray:
         a, w = self.along(s)
@@ -215,7 +215,7 @@ class _Form:
         """(branch, first τ, last τ, closed) of each stretch of the curve inside the widened
         face box; a None among them: the configuration is not generic."""
         s, a_scan, w_scan = self._scan
-        g = a_scan @ n - h * w_scan
+        g = _plane_values(a_scan, w_scan, n, h)
         if self.q == 1:
             yield from self._ruled(s, g, n, h)
         else:
@@ -332,7 +332,17 @@ def _rational_point(q: int, lam: np.ndarray, a: np.ndarray, w: np.ndarray) -> np
         bern = np.stack([1 - lam, lam], axis=1)
     else:
         bern = np.stack([(1 - lam) ** 2, 2 * lam * (1 - lam), lam ** 2], axis=1)
-    return np.einsum("kj,kjc->kc", bern, a) / np.einsum("kj,kj->k", bern, w)[:, None]
+    numerator = bern[:, 0, None] * a[:, 0]
+    denominator = bern[:, 0] * w[:, 0]
+    for j in range(1, q + 1):
+        numerator = numerator + bern[:, j, None] * a[:, j]
+        denominator = denominator + bern[:, j] * w[:, j]
+    return numerator / denominator[:, None]
+
+
+def _plane_values(a: np.ndarray, w: np.ndarray, n: np.ndarray, h: float) -> np.ndarray:
+    """g_j = n·A_j − h W_j, term by term (see bspline_numeric: no `@`)."""
+    return a[..., 0] * n[0] + a[..., 1] * n[1] + a[..., 2] * n[2] - h * w
 
 
 class _Branch:
@@ -356,7 +366,7 @@ class _Branch:
             m, w = 0.5 * (self.a + self.b), 0.5 * (self.b - self.a)
             s = np.clip(m - w * np.cos(tau), self.a, self.b)
         a, weights = form.along(s)
-        g = a @ self.n - self.h * weights
+        g = _plane_values(a, weights, self.n, self.h)
         with np.errstate(divide="ignore", invalid="ignore"):
             if form.q == 1:
                 lam = g[:, 0] / (g[:, 0] - g[:, 1])
@@ -501,8 +511,11 @@ def _fit(branch: _Branch, first: float, last: float, closed: bool, Part):
     for _ in range(MAX_TRIES + 1):
         if not (np.all(np.isfinite(points)) and np.all(np.isfinite(exact))):
             return None
-        if max(float(np.max(np.abs(points @ branch.n - branch.h))),
-               float(np.max(np.abs(exact @ branch.n - branch.h)))) > PLANE_SLACK:
+        n, h = branch.n, branch.h
+        if max(float(np.max(np.abs(points[:, 0] * n[0] + points[:, 1] * n[1]
+                                   + points[:, 2] * n[2] - h))),
+               float(np.max(np.abs(exact[:, 0] * n[0] + exact[:, 1] * n[1]
+                                   + exact[:, 2] * n[2] - h)))) > PLANE_SLACK:
             return None
         spline = Part.BSplineCurve()
         try:
@@ -518,9 +531,9 @@ def _fit(branch: _Branch, first: float, last: float, closed: bool, Part):
         # along the curve (the parametrisation's) moves no point off it. The chord between
         # two samples gives the direction to within the fit's concern.
         chord = points[1:] - points[:-1]
-        chord /= np.maximum(np.linalg.norm(chord, axis=1), 1e-300)[:, None]
-        across = np.linalg.norm(offset - np.einsum("ij,ij->i", offset, chord)[:, None] * chord,
-                                axis=1)
+        chord /= np.maximum(_norms(chord), 1e-300)[:, None]
+        along = offset[:, 0] * chord[:, 0] + offset[:, 1] * chord[:, 1] + offset[:, 2] * chord[:, 2]
+        across = _norms(offset - along[:, None] * chord)
         strays = across > FIT_TOLERANCE
         if not strays.any():
             return spline
@@ -531,6 +544,10 @@ def _fit(branch: _Branch, first: float, last: float, closed: bool, Part):
         previous = deviation
         tau, points, middle, exact = _refined(branch, tau, points, middle, exact, across)
     return None
+
+
+def _norms(rows: np.ndarray) -> np.ndarray:
+    return np.sqrt(rows[:, 0] * rows[:, 0] + rows[:, 1] * rows[:, 1] + rows[:, 2] * rows[:, 2])
 
 
 def _refined(branch: _Branch, tau, points, middle, exact, across):
