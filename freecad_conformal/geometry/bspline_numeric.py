@@ -118,13 +118,14 @@ def curve_points(spline, t: np.ndarray) -> np.ndarray:
     return combine(first, values, poles)
 
 
-def bracketed_zeros(f: Callable[[np.ndarray], np.ndarray], a: np.ndarray, b: np.ndarray,
-                    keep_negative: bool = False) -> np.ndarray:
+def bracketed_zeros(f: Callable[[np.ndarray], np.ndarray], a: np.ndarray,
+                    b: np.ndarray) -> np.ndarray:
     """Zeros of f bracketed by [a, b] (f of opposite signs at the two ends), all at once:
     f maps rows of points, one row per bracket, to their values. Each round evaluates f on
     a sub-grid of `ZERO_GRID` points across every bracket and keeps the cell where the sign
-    first changes: robust where f bends or jumps, as regula falsi is not. With
-    `keep_negative` each is returned on its f ≤ 0 side, else the bracket's middle."""
+    first changes: robust where f bends or jumps, as regula falsi is not.
+    Each is returned on its f ≤ 0 side (where the callers' roots are complex, or λ still
+    within the surface)."""
     a, b = np.array(a, dtype=float), np.array(b, dtype=float)
     a, b = np.minimum(a, b), np.maximum(a, b)
     count = len(a)
@@ -138,6 +139,4 @@ def bracketed_zeros(f: Callable[[np.ndarray], np.ndarray], a: np.ndarray, b: np.
         cell = np.argmax(positive[:, 1:] != positive[:, :1], axis=1)
         a, b = x[rows, cell], x[rows, cell + 1]
         fa = fx[rows, cell]
-    if not keep_negative:
-        return 0.5 * (a + b)
     return np.where(fa <= 0, a, b)

@@ -254,7 +254,7 @@ class _Form:
         # Turning points, each on the side where the roots are complex: the two roots then
         # meet at one point there (1e-12 of the range beyond the true tip).
         turns = bracketed_zeros(lambda x: _discriminant(self.g(x.reshape(-1), n, h)).reshape(x.shape),
-                                s[change], s[change + 1], keep_negative=True)
+                                s[change], s[change + 1])
         ends = [s[0], *turns, s[-1]]
         holds = [bool(positive[0])] + [not positive[i] for i in change]
         for k, holding in enumerate(holds):
@@ -465,7 +465,7 @@ class _Branch:
                 lam_x = self.s_lam(x.reshape(-1))[1].reshape(x.shape)
                 return sign[:, None] * (lam_x - target[:, None])
 
-            found = bracketed_zeros(beyond, before[leaves], at[leaves], keep_negative=True)
+            found = bracketed_zeros(beyond, before[leaves], at[leaves])
             reached = np.abs(self.s_lam(found)[1] - target) <= BOUNDARY_SLACK
             ends[leaves] = np.where(reached, found, before[leaves])
         return [(float(first), float(last)) for first, last in ends.reshape(-1, 2)]
