@@ -79,7 +79,8 @@ class PowerPieces:
         """The spline's values at s, (len(s), *shape of one coefficient)."""
         s = np.asarray(s, dtype=float)
         breaks = self.breaks
-        span = np.clip(np.searchsorted(breaks, s, side="right") - 1, 0, len(breaks) - 2)
+        span = np.minimum(np.maximum(np.searchsorted(breaks, s, side="right") - 1, 0),
+                          len(breaks) - 2)
         u = (2.0 * (s - breaks[span]) / (breaks[span + 1] - breaks[span]) - 1.0)[:, None]
         local = self.coefficients[span]
         value = local[:, -1]
