@@ -1,40 +1,72 @@
 """Section faces on a plane from curve pieces: closed wires, outer loops and holes.
 
 Pieces are chained at the crossing points they share (ids, not coordinates, so no tolerance
-decides what joins). Each closed wire gets its area and centroid from one face built on it
-alone, whose sign orients the wire; nesting depth tells outer loops from holes, and a face's
-area and centroid follow from its loops' without integrating again.
+decides what joins). Each closed wire is oriented, ordered by the area it encloses and
+nested from a polygon of it (`_Loop`), or, where the polygon's error could change that
+decision, from OCC's exact integration of a face built on it alone; nesting depth tells
+outer loops from holes. The faces' exact areas and centroids are integrated only when read
+(`SectionFace`): layers and paths read the faces' loops, not their moments.
 """
 from __future__ import annotations
 
-from typing import NamedTuple
+import math
 
 import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.tolerances import MIN_SECTION_AREA
 
 #: A closed section loop enclosing less than this (mm²) is a sliver the Boolean would not
-#: return either (it drops faces under tolerances.MIN_SECTION_AREA): leave it to the Boolean.
-MIN_LOOP_AREA = 1e-9
+#: return either (it drops faces under it): leave it to the Boolean.
+MIN_LOOP_AREA = MIN_SECTION_AREA
 
-#: Relative slack when testing whether one loop's box lies in another's (OCC pads boxes by
-#: edge tolerances, differently for lines and B-splines).
-BOX_SLACK = 1e-6
+#: Chord deflection (mm) of the polygons that orient, order and nest a section's loops.
+#: Sampling a wire at it costs a tenth of integrating its area (the bottle's 622 section
+#: wires: 0.05 s against 0.21 s for the areas and 0.21 s more for the centroids).
+LOOP_DEFLECTION = 1e-2
+
+#: A polygon's area is trusted within this many times its perimeter × LOOP_DEFLECTION of
+#: the exact one (the area between an arc and its chord is at most chord × sagitta; the
+#: factor covers OCC checking the deflection at samples only), and a point this many
+#: deflections from it is on the side of the exact loop the polygon says.
+POLYGON_ERROR_FACTOR = 4.0
 
 #: (edges, first crossing id, last crossing id); ids are None for a whole closed curve.
 Piece = tuple[list, "int | None", "int | None"]
 
 
-class SectionFace(NamedTuple):
-    """One section face with its exact area (mm²) and centroid (3,)."""
+class SectionFace:
+    """One section face; its exact area (mm²) and centroid (3,) are OCC's integrals of it,
+    computed when first read (or given, when known)."""
 
-    face: object
-    area: float
-    centroid: np.ndarray
+    __slots__ = ("face", "_area", "_centroid")
+
+    def __init__(self, face, area: float | None = None, centroid: np.ndarray | None = None):
+        self.face = face
+        self._area = area
+        self._centroid = centroid
 
     @classmethod
     def of(cls, face) -> "SectionFace":
-        return cls(face, float(face.Area), np.array(tuple(face.CenterOfMass)))
+        return cls(face)
+
+    @property
+    def area(self) -> float:
+        if self._area is None:
+            self._area = float(self.face.Area)
+        return self._area
+
+    @property
+    def centroid(self) -> np.ndarray:
+        if self._centroid is None:
+            self._centroid = np.array(tuple(self.face.CenterOfMass))
+        return self._centroid
+
+    @property
+    def known(self) -> tuple[float | None, np.ndarray | None]:
+        """(area, centroid) as far as computed: what travels with the face to another
+        process, which integrates the rest if it reads them."""
+        return self._area, self._centroid
 
 
 def faces_from_pieces(pieces: list[Piece], point_count: int, plane) -> list[SectionFace] | None:
@@ -92,45 +124,160 @@ def _faces_of_wires(wires: list, plane) -> list[SectionFace] | None:
 
     A face built on the plane with one wire added (no orientation check, which would
     classify the infinite point) has a negative area when the wire turns clockwise about
-    the normal; that sign orients every wire, and only wires whose boxes nest need a
-    containment test.
+    the normal; that sign orients every wire, the areas order them (largest first: an
+    enclosing loop comes before what it encloses) and only wires whose boxes nest need a
+    containment test. Each of these is read from the wire's polygon where its error cannot
+    change the answer, else from the exact face (`_Loop`): the same faces, in the same
+    order, as from exact areas alone.
     """
     _, Part = import_freecad()
-    loops = []
-    for wire in wires:
-        alone = Part.Face(plane, [wire])
-        area = alone.Area
-        if abs(area) <= MIN_LOOP_AREA:
-            return None
-        # OCC's centre of mass divides the moments by the signed area: right either way.
-        centroid = np.array(tuple(alone.CenterOfMass))
-        loops.append((wire if area > 0 else wire.reversed(), abs(area), wire.BoundBox, centroid,
-                      alone if area > 0 else None))
-    loops.sort(key=lambda loop: -loop[1])
+    frame = _PlaneFrame(plane)
+    loops = [_Loop(wire, plane, frame) for wire in wires]
+    if any(loop.sliver() for loop in loops):
+        return None
+    loops = _largest_first(loops)
     parent: list[int | None] = []
-    for i, (wire, _, box, _, _) in enumerate(loops):
+    for i, loop in enumerate(loops):
         container = None
         for j in range(i - 1, -1, -1):   # the smallest enclosing loop comes last
-            other_wire, _, other_box, _, _ = loops[j]
-            if _box_inside(box, other_box) and _wire_inside(wire, other_wire, plane):
+            if loops[j].holds(loop):
                 container = j
                 break
         parent.append(container)
     faces = []
-    for i, (wire, area, _, centroid, alone) in enumerate(loops):
+    for i, loop in enumerate(loops):
         if _depth(parent, i) % 2:
             continue
-        holes = [k for k in range(len(loops)) if parent[k] == i]
-        net = area - sum(loops[k][1] for k in holes)
-        if net <= MIN_LOOP_AREA:
+        holes = [loops[k] for k in range(len(loops)) if parent[k] == i]
+        if _no_net_area(loop, holes):
             return None
-        moment = area * centroid - sum((loops[k][1] * loops[k][3] for k in holes), np.zeros(3))
-        if holes or alone is None:
-            face = Part.Face(plane, [wire] + [loops[k][0].reversed() for k in holes])
-        else:
-            face = alone     # one counter-clockwise loop: the face already built to orient it
-        faces.append(SectionFace(face, float(net), moment / net))
+        face = Part.Face(plane, [loop.oriented()] + [hole.oriented().reversed() for hole in holes])
+        faces.append(SectionFace(face))
     return faces
+
+
+class _PlaneFrame:
+    """2D coordinates in the plane: x, y along its axes (x × y its normal, so a positive
+    polygon area is the positive exact one)."""
+
+    def __init__(self, plane) -> None:
+        App, _ = import_freecad()
+        self.origin = np.array(tuple(plane.Position))
+        self.axes = np.array([tuple(plane.Rotation.multVec(App.Vector(1, 0, 0))),
+                              tuple(plane.Rotation.multVec(App.Vector(0, 1, 0)))]).T
+
+    def to_2d(self, points: np.ndarray) -> np.ndarray:
+        return (points - self.origin) @ self.axes
+
+
+class _Loop:
+    """One closed wire with its polygon at LOOP_DEFLECTION: the signed area, box and
+    containment read from the polygon within a stated error (`error`, mm²; `margin`, mm),
+    and from the exact face built on the wire alone (computed once, when needed) where
+    that error could change the answer."""
+
+    def __init__(self, wire, plane, frame: _PlaneFrame) -> None:
+        self.wire, self._plane = wire, plane
+        points = np.array([tuple(p) for p in wire.discretize(Deflection=LOOP_DEFLECTION)])
+        self.polygon = frame.to_2d(points)
+        self._frame = frame
+        x, y = self.polygon[:, 0], self.polygon[:, 1]
+        self.polygon_area = 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+        perimeter = float(np.linalg.norm(np.diff(self.polygon, axis=0, append=self.polygon[:1]),
+                                         axis=1).sum())
+        self.margin = POLYGON_ERROR_FACTOR * LOOP_DEFLECTION
+        self.error = perimeter * self.margin
+        self.low, self.high = self.polygon.min(axis=0), self.polygon.max(axis=0)
+        self._exact: float | None = None
+        self._probe: np.ndarray | None = None
+
+    def exact_area(self) -> float:
+        """The signed area of the face on the plane with this wire alone (OCC's integral)."""
+        if self._exact is None:
+            _, Part = import_freecad()
+            self._exact = float(Part.Face(self._plane, [self.wire]).Area)
+        return self._exact
+
+    def _trusted(self) -> bool:
+        return abs(self.polygon_area) > self.error + MIN_LOOP_AREA and self._exact is None
+
+    def signed_area(self) -> float:
+        """The polygon's signed area where it decides the sign and is no sliver, else the
+        exact one."""
+        return self.polygon_area if self._trusted() else self.exact_area()
+
+    def bounds(self) -> tuple[float, float]:
+        """Where the exact enclosed area lies (mm²)."""
+        if self._trusted():
+            size = abs(self.polygon_area)
+            return size - self.error, size + self.error
+        size = abs(self.exact_area())
+        return size, size
+
+    def sliver(self) -> bool:
+        return abs(self.signed_area()) <= MIN_LOOP_AREA
+
+    def oriented(self):
+        """The wire turning counter-clockwise about the plane's normal."""
+        return self.wire if self.signed_area() > 0 else self.wire.reversed()
+
+    def probe(self) -> np.ndarray:
+        """A point of the exact wire: the middle of its first edge."""
+        if self._probe is None:
+            edge = self.wire.Edges[0]
+            self._probe = np.array(tuple(edge.valueAt(
+                0.5 * (edge.FirstParameter + edge.LastParameter))))
+        return self._probe
+
+    def holds(self, inner: "_Loop") -> bool:
+        """Whether `inner` lies inside this loop (loops of one section do not cross)."""
+        slack = self.margin
+        if np.any(inner.low < self.low - slack) or np.any(inner.high > self.high + slack):
+            return False
+        probe = inner.probe()
+        point = self._frame.to_2d(probe[None, :])[0]
+        if _distance_to_polygon(point, self.polygon) > self.margin:
+            return _inside_polygon(point, self.polygon)
+        # Near the polygon: ask OCC, on the face the loop encloses (its wire turning
+        # counter-clockwise; one turning the other way would make a face of all but it).
+        App, Part = import_freecad()
+        return bool(Part.Face(self._plane, [self.oriented()]).isInside(App.Vector(*probe), 1e-9,
+                                                                         True))
+
+
+def _largest_first(loops: list[_Loop]) -> list[_Loop]:
+    """`loops` by exact enclosed area, largest first, ties in their given order: the polygon
+    areas order loops whose error bounds are apart; those that overlap are integrated."""
+    order = sorted(range(len(loops)), key=lambda i: -abs(loops[i].polygon_area))
+    bounds = [loops[i].bounds() for i in order]
+    # highest[p]: the largest area any loop from place p on may have
+    highest = np.maximum.accumulate([high for _, high in bounds][::-1])[::-1]
+    result: list[int] = []
+    group: list[int] = []
+    lowest = math.inf
+    for place, index in enumerate(order):
+        if group and lowest > highest[place]:
+            result.extend(_exactly_ordered(group, loops))
+            group, lowest = [], math.inf
+        group.append(index)
+        lowest = min(lowest, bounds[place][0])
+    result.extend(_exactly_ordered(group, loops))
+    return [loops[i] for i in result]
+
+
+def _exactly_ordered(group: list[int], loops: list[_Loop]) -> list[int]:
+    if len(group) < 2:
+        return group
+    return sorted(group, key=lambda i: (-abs(loops[i].exact_area()), i))
+
+
+def _no_net_area(outer: _Loop, holes: list[_Loop]) -> bool:
+    """Whether the face of `outer` less its holes encloses no more than MIN_LOOP_AREA."""
+    low = outer.bounds()[0] - sum(hole.bounds()[1] for hole in holes)
+    if low > MIN_LOOP_AREA:
+        return False
+    net = abs(outer.exact_area()) - sum(abs(hole.exact_area()) for hole in holes)
+    return net <= MIN_LOOP_AREA
 
 
 def _depth(parent: list[int | None], index: int) -> int:
@@ -140,16 +287,23 @@ def _depth(parent: list[int | None], index: int) -> int:
     return depth
 
 
-def _box_inside(inner, outer) -> bool:
-    """Inner box within outer one; boxes of edges are padded by their tolerances, hence slack."""
-    slack = BOX_SLACK * (1.0 + outer.DiagonalLength)
-    return (outer.XMin - slack <= inner.XMin and inner.XMax <= outer.XMax + slack
-            and outer.YMin - slack <= inner.YMin and inner.YMax <= outer.YMax + slack
-            and outer.ZMin - slack <= inner.ZMin and inner.ZMax <= outer.ZMax + slack)
+def _inside_polygon(point: np.ndarray, polygon: np.ndarray) -> bool:
+    """Even-odd test of a point against a closed polygon (its last point joins its first)."""
+    x, y = polygon[:, 0], polygon[:, 1]
+    x1, y1 = np.roll(x, -1), np.roll(y, -1)
+    crossing = (y > point[1]) != (y1 > point[1])
+    if not crossing.any():
+        return False
+    xa, ya, xb, yb = x[crossing], y[crossing], x1[crossing], y1[crossing]
+    at = xa + (point[1] - ya) * (xb - xa) / (yb - ya)
+    return bool(np.count_nonzero(point[0] < at) % 2)
 
 
-def _wire_inside(wire, other, plane) -> bool:
-    _, Part = import_freecad()
-    edge = wire.Edges[0]
-    probe = edge.valueAt(0.5 * (edge.FirstParameter + edge.LastParameter))
-    return bool(Part.Face(plane, [other]).isInside(probe, 1e-9, True))
+def _distance_to_polygon(point: np.ndarray, polygon: np.ndarray) -> float:
+    """Distance (mm) from a point to a closed polygon's edges."""
+    start = polygon
+    step = np.roll(polygon, -1, axis=0) - start
+    length2 = np.einsum("ij,ij->i", step, step)
+    t = np.einsum("ij,ij->i", point - start, step) / np.maximum(length2, 1e-300)
+    nearest = start + np.minimum(np.maximum(t, 0.0), 1.0)[:, None] * step
+    return float(np.sqrt(np.min(np.einsum("ij,ij->i", nearest - point, nearest - point))))

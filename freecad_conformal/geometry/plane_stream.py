@@ -11,7 +11,7 @@ solids in OCC's binary format (`section_pool.start_method`); inside FreeCAD, in 
 process or for small stacks the planes are cut here, at the end. The worker's sections come
 back in that format, which keeps every real (geometry/occ_binary.py), and those cut here take
 the same trip, so the regions (and the G-code) do not depend on where they were cut; their
-area and centroid travel with them (not integrated again).
+area and centroid, which the layers do not read, are integrated where read.
 """
 from __future__ import annotations
 
@@ -26,12 +26,11 @@ from freecad_conformal.geometry.sections import PlanarSection, PlanarSlicer
 
 
 def _section(slicer: PlanarSlicer, point: np.ndarray, normal: np.ndarray) -> tuple:
-    """One plane's section as (height, its faces, area, centroid): what
-    `PlaneStream.results` rebuilds it from, wherever it was cut."""
+    """One plane's section as (height, its faces): what `PlaneStream.results` rebuilds it
+    from, wherever it was cut (its area and centroid are integrated where read)."""
     turned = slicer.turned(normal)
     height = float(point @ turned.frame.n)
-    section = turned.section(height)
-    return height, section.faces, section.area, section.centroid
+    return height, turned.section(height).faces
 
 
 def _worker(jobs, results, source) -> None:
@@ -41,8 +40,8 @@ def _worker(jobs, results, source) -> None:
         slicer = source if isinstance(source, PlanarSlicer) else section_pool.slicer_from(source)
         while (job := jobs.get()) is not None:
             index, point, normal = job
-            height, faces, area, centroid = _section(slicer, point, normal)
-            results.put((index, (height, faces_to_binary(faces), area, centroid)))
+            height, faces = _section(slicer, point, normal)
+            results.put((index, (height, faces_to_binary(faces))))
         results.put((None, None))
     except BaseException as exc:  # noqa: BLE001 - reported to the parent, which raises it
         results.put((None, f"{type(exc).__name__}: {exc}"))
@@ -81,17 +80,14 @@ class PlaneStream:
         if self._process is None:
             # Through the binary format as the worker's come back (section_pool._as_sent):
             # inside FreeCAD the planes are cut here, on the command line in the worker.
-            cut = [(height, faces_from_binary(faces_to_binary(faces)), area, centroid)
-                   for height, faces, area, centroid in
-                   (_section(self._slicer, *plane) for plane in self._planes)]
+            cut = [(height, faces_from_binary(faces_to_binary(faces)))
+                   for height, faces in (_section(self._slicer, *plane) for plane in self._planes)]
         else:
             self._jobs.put(None)
-            cut = [(height, faces_from_binary(data), area, centroid)
-                   for height, data, area, centroid in self._collect()]
+            cut = [(height, faces_from_binary(data)) for height, data in self._collect()]
         return [PlanarSection(height=height, frame=LayerFrame.for_direction(normal),
-                              faces=list(faces), area=area,
-                              centroid=centroid, chord_tolerance=self._slicer.chord_tolerance)
-                for (_, normal), (height, faces, area, centroid) in zip(self._planes, cut)]
+                              faces=list(faces), chord_tolerance=self._slicer.chord_tolerance)
+                for (_, normal), (height, faces) in zip(self._planes, cut)]
 
     def _collect(self) -> list:
         found: dict[int, tuple] = {}

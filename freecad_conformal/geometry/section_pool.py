@@ -116,11 +116,11 @@ def section_work(slicer) -> int:
 
 def job_as_binary(cut: list) -> tuple[bytes, list]:
     """A job's sections (per height: SectionFaces, or None where the face-by-face cut gave
-    up) as one binary compound of all their faces, with each height's [(area, centroid)] or
-    None: one file's trip per job, not per height."""
+    up) as one binary compound of all their faces, with each height's [(area, centroid)]
+    as far as computed (`SectionFace.known`) or None: one file's trip per job, not per
+    height."""
     faces = [item.face for items in cut if items is not None for item in items]
-    layout = [None if items is None else [(item.area, item.centroid) for item in items]
-              for items in cut]
+    layout = [None if items is None else [item.known for item in items] for items in cut]
     return faces_to_binary(faces), layout
 
 

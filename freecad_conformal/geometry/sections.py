@@ -48,10 +48,38 @@ class PlanarSection:
     height: float
     frame: LayerFrame
     faces: list = field(repr=False)
-    area: float
-    centroid: np.ndarray
     chord_tolerance: float = DEFAULT_CHORD_TOLERANCE
     _loops: list[Loop] | None = field(default=None, repr=False)
+    #: (area, centroid) when known, else how to get them: the faces (`SectionFace`s) whose
+    #: integrals they sum, or the section this one is a moved copy of, with the move
+    _measures: tuple | None = field(default=None, repr=False)
+    _items: list[SectionFace] | None = field(default=None, repr=False)
+    _copy_of: tuple["PlanarSection", np.ndarray] | None = field(default=None, repr=False)
+
+    @property
+    def area(self) -> float:
+        """Exact area (mm²): OCC's integral over the faces, computed when first read (layers
+        and paths read the loops, not this)."""
+        return self._measured()[0]
+
+    @property
+    def centroid(self) -> np.ndarray:
+        """Exact area centroid (3,), NaN when empty; computed when first read."""
+        return self._measured()[1]
+
+    def _measured(self) -> tuple[float, np.ndarray]:
+        if self._measures is None:
+            if self._copy_of is not None:
+                source, shift = self._copy_of
+                self._measures = (source.area, source.centroid + shift)
+            else:
+                items = self._items if self._items is not None else [
+                    SectionFace(face) for face in self.faces]
+                area = float(sum(item.area for item in items))
+                centroid = (sum((item.centroid * item.area for item in items), np.zeros(3)) / area
+                            if items else np.full(3, np.nan))
+                self._measures = (area, centroid)
+        return self._measures
 
     @property
     def is_empty(self) -> bool:
@@ -361,12 +389,12 @@ class PlanarSlicer:
 
     def _moved(self, section: PlanarSection, height: float) -> PlanarSection:
         """`section` moved along the normal to `height`: the same loops in the layer frame."""
-        shift = self._App.Vector(*((height - section.height) * self.frame.n))
+        offset = (height - section.height) * self.frame.n
+        shift = self._App.Vector(*offset)
         return PlanarSection(height=height, frame=section.frame,
                              faces=[face.translated(shift) for face in section.faces],
-                             area=section.area,
-                             centroid=section.centroid + (height - section.height) * self.frame.n,
-                             chord_tolerance=section.chord_tolerance, _loops=section._loops)
+                             chord_tolerance=section.chord_tolerance, _loops=section._loops,
+                             _copy_of=(section, offset))
 
     def off_vertices(self, heights: Sequence[float]) -> list[float]:
         """`heights` moved by RETRY_NUDGE (up, else down) where a vertex of the solids lies
@@ -388,7 +416,7 @@ class PlanarSlicer:
         """A plane strictly inside a solid's extent crosses it (a solid is connected), so an
         empty section there is a failed cut, not a gap: cut again with the plane nudged by
         up to RETRY_NUDGE, then with a fuzzy Boolean; GeometryError when all fail."""
-        if layer.area > 0:
+        if not layer.is_empty:
             return layer
         h = layer.height
         crossed = [i for i in range(len(self.solids))
@@ -417,7 +445,8 @@ class PlanarSlicer:
             common = solid.common([plane], FUZZY_VALUE)
         except Exception:   # OCC's Boolean errors are plain exceptions; the caller reports
             return []
-        return [SectionFace.of(f) for f in common.Faces if f.Area > MIN_SECTION_AREA]
+        return [SectionFace(f, area) for f in common.Faces
+                if (area := float(f.Area)) > MIN_SECTION_AREA]
 
     def _chunks(self, solid_index: int, levels: np.ndarray, size: int | None = None) -> list[np.ndarray]:
         """Indices of `levels` that meet the solid's box, grouped into chunks of `size`."""
@@ -434,8 +463,8 @@ class PlanarSlicer:
         else:
             cutter = self.cutter(solid_index)
             result = [cutter.section_faces(float(h)) for h in heights]
-        return [None if faces is None else [item for item in faces if item.area > MIN_SECTION_AREA]
-                for faces in result]
+        # Face by face, no face encloses MIN_SECTION_AREA or less (planar_faces.MIN_LOOP_AREA).
+        return result
 
     def cutter(self, solid_index: int) -> FaceCutter:
         """The face-by-face cutter of one solid, built on first use."""
@@ -467,15 +496,10 @@ class PlanarSlicer:
                      loops: list[Loop] | None = None) -> PlanarSection:
         """The section of `items` at `height` (`loops`: its loops, made where it was cut;
         None: discretised when first read)."""
-        area = float(sum(item.area for item in items))
-        if items:
-            centroid = sum((item.centroid * item.area for item in items), np.zeros(3)) / area
-        else:
-            centroid = np.full(3, np.nan)
         return PlanarSection(height=float(height), frame=self.frame,
-                             faces=[item.face for item in items], area=area,
-                             centroid=centroid, chord_tolerance=self.chord_tolerance,
-                             _loops=loops)
+                             faces=[item.face for item in items],
+                             chord_tolerance=self.chord_tolerance, _loops=loops,
+                             _items=list(items))
 
 
 def _in_heights(progress: ProgressCallback | None, asked: int) -> ProgressCallback | None:
