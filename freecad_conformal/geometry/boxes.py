@@ -20,6 +20,29 @@ def optimal_box(shape):
     return _BOXES.get((shape,), lambda: shape.optimalBoundingBox(False))
 
 
+#: A turn whose matrix lies this close to one of signed unit axes permutes boxes exactly
+#: (up to rounding); any other turn would make a moved box loose.
+RIGHT_ANGLE_SLACK = 1e-12
+
+
+def seed_moved_boxes(original, moved) -> None:
+    """Record the boxes of `moved`'s faces and edges, `moved` being `original` given a new
+    location (copied, turned, translated): each is the original's cached box moved. Only for
+    turns by right angles about the axes (roots built along ±X, ±Y, ±Z), where that is OCC's
+    box of the moved shape but for rounding: boxing the sub-part the bottle's layers cut,
+    turned onto the platform, took 0.16 s of them."""
+    move = moved.Placement.multiply(original.Placement.inverse()).toMatrix()
+    turn = np.array([[move.A11, move.A12, move.A13], [move.A21, move.A22, move.A23],
+                     [move.A31, move.A32, move.A33]])
+    if np.max(np.abs(turn - np.round(turn))) > RIGHT_ANGLE_SLACK:
+        return
+    for kind in ("Faces", "Edges"):
+        for shape, twin in zip(getattr(original, kind), getattr(moved, kind)):
+            box = _BOXES.peek((shape,))
+            if box is not None:
+                _BOXES.get((twin,), lambda box=box: box.transformed(move))
+
+
 def box_reach(box, n: np.ndarray) -> float:
     """The highest value of x·n over the box."""
     return float(sum(max(lo * c, hi * c) for lo, hi, c in

@@ -141,7 +141,11 @@ _CHECKED: ShapeCache[bool] = ShapeCache(limit=4096, oriented=True)
 def moved_rigidly(original, copy) -> None:
     """Record that `copy` is `original` copied and then only rotated or translated: OCC's
     check would find of it what it found of the original (a rigid motion changes no
-    distance or tolerance it compares), so `solids_of` does not check it again."""
+    distance or tolerance it compares), so `solids_of` does not check it again; and its
+    faces' and edges' boxes are the original's moved (`boxes.seed_moved_boxes`)."""
+    from freecad_conformal.geometry.boxes import seed_moved_boxes
+
+    seed_moved_boxes(original, copy)
     for solid, twin in zip(original.Solids, copy.Solids):
         known = _CHECKED.peek((solid,))
         if known is not None:

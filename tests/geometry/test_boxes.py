@@ -57,3 +57,44 @@ def test_shape_cache_starts_over_at_its_limit():
     # The third entry cleared the first two: they are computed again.
     assert cache.get((faces[0],), lambda: "again") == "again"
     assert cache.get((faces[2],), lambda: "stale") == 2
+
+
+def test_a_copy_turned_by_a_right_angle_takes_its_boxes_moved(App):
+    """A sub-part turned onto the platform (here the hinge, turned 90° about −Y and moved)
+    gets its faces' and edges' boxes from the original's: each holds the moved shape and
+    is OCC's own box of it within OCC's gap, in whichever direction the turn goes."""
+    import numpy as np
+
+    from freecad_conformal.geometry.boxes import _BOXES
+    from freecad_conformal.geometry.solids import moved_rigidly
+
+    solid = samples.hinge()
+    for face in solid.Faces:
+        optimal_box(face)
+    for edge in solid.Edges:
+        optimal_box(edge)
+    moved = solid.copy()
+    moved.rotate(App.Vector(1, 2, 3), App.Vector(0, -1, 0), 90)
+    moved.translate(App.Vector(-40, 7, 0))
+    moved_rigidly(solid, moved)
+    for shape in moved.Faces + moved.Edges:
+        seeded = _BOXES.peek((shape,))
+        assert seeded is not None
+        assert _bounds(seeded) == pytest.approx(_bounds(shape.optimalBoundingBox(False)), abs=1e-6)
+        points = np.array([tuple(v.Point) for v in shape.Vertexes])
+        low, high = np.array(_bounds(seeded)[:3]), np.array(_bounds(seeded)[3:])
+        assert np.all(points >= low - 1e-9) and np.all(points <= high + 1e-9)
+
+
+def test_a_copy_turned_by_another_angle_is_boxed_by_occ(App):
+    from freecad_conformal.geometry.boxes import _BOXES
+    from freecad_conformal.geometry.solids import moved_rigidly
+
+    solid = samples.hinge()
+    for face in solid.Faces:
+        optimal_box(face)
+    moved = solid.copy()
+    moved.rotate(App.Vector(0, 0, 0), App.Vector(0, -1, 0), 30)
+    moved_rigidly(solid, moved)
+    assert all(_BOXES.peek((face,)) is None for face in moved.Faces)
+    assert _bounds(optimal_box(moved.Faces[0])) == _bounds(moved.Faces[0].optimalBoundingBox(False))
