@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Callable, Sequence
 
 import numpy as np
 import shapely
@@ -137,14 +137,18 @@ def discretize_wire(wire, chord_tolerance: float) -> np.ndarray:
 
 
 def loops_of_faces(faces: list, frame, chord_tolerance: float,
-                   mapping: Mapping | None = None) -> list[Loop]:
-    """Loops of `faces` mapped to 2D by `frame.to_2d` (or `mapping`), oriented outer CCW."""
+                   mapping: Mapping | None = None,
+                   outer_first: Sequence[bool] | None = None) -> list[Loop]:
+    """Loops of `faces` mapped to 2D by `frame.to_2d` (or `mapping`), oriented outer CCW.
+    `outer_first`: per face, whether its first wire is known to be its outer one (else
+    OCC's `OuterWire` tells, classifying the wires)."""
     to_2d = mapping if mapping is not None else frame.to_2d
     loops = []
     for index, face in enumerate(faces):
-        outer = face.OuterWire
-        for wire in face.Wires:
-            is_outer = wire.isSame(outer)
+        first = outer_first is not None and outer_first[index]
+        outer = None if first else face.OuterWire
+        for place, wire in enumerate(face.Wires):
+            is_outer = place == 0 if first else wire.isSame(outer)
             points = to_2d(discretize_wire(wire, chord_tolerance))
             if (signed_area(points) > 0) != is_outer:
                 points = points[::-1].copy()

@@ -116,9 +116,8 @@ def section_work(slicer) -> int:
 
 def job_as_binary(cut: list) -> tuple[bytes, list]:
     """A job's sections (per height: SectionFaces, or None where the face-by-face cut gave
-    up) as one binary compound of all their faces, with each height's [(area, centroid)]
-    as far as computed (`SectionFace.known`) or None: one file's trip per job, not per
-    height."""
+    up) as one binary compound of all their faces, with each height's [what is known of
+    each face] (`SectionFace.known`) or None: one file's trip per job, not per height."""
     faces = [item.face for items in cut if items is not None for item in items]
     layout = [None if items is None else [item.known for item in items] for items in cut]
     return faces_to_binary(faces), layout
@@ -127,8 +126,7 @@ def job_as_binary(cut: list) -> tuple[bytes, list]:
 def job_from_binary(data: bytes, layout: list) -> list:
     """The job's sections `job_as_binary` wrote."""
     faces = iter(faces_from_binary(data))
-    return [None if props is None else [SectionFace(next(faces), area, centroid)
-                                        for area, centroid in props]
+    return [None if props is None else [SectionFace(next(faces), *known) for known in props]
             for props in layout]
 
 
@@ -169,7 +167,8 @@ def loop_points(cut: list, slicer) -> list:
     0.25 s here after both cores had cut)."""
     return [None if items is None else
             [(loop.face_index, loop.outer, loop.points) for loop in loops_of_faces(
-                [item.face for item in items], slicer.frame, slicer.chord_tolerance)]
+                [item.face for item in items], slicer.frame, slicer.chord_tolerance,
+                outer_first=[item.outer_first for item in items])]
             for items in cut]
 
 

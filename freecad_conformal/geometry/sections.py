@@ -55,6 +55,8 @@ class PlanarSection:
     _measures: tuple | None = field(default=None, repr=False)
     _items: list[SectionFace] | None = field(default=None, repr=False)
     _copy_of: tuple["PlanarSection", np.ndarray] | None = field(default=None, repr=False)
+    #: per face, whether its first wire is its outer one (`SectionFace.outer_first`)
+    _outer_first: list[bool] | None = field(default=None, repr=False)
 
     @property
     def area(self) -> float:
@@ -94,7 +96,8 @@ class PlanarSection:
     def loops(self) -> list[Loop]:
         """Loops in the layer frame (outer counter-clockwise, holes clockwise)."""
         if self._loops is None:
-            self._loops = loops_of_faces(self.faces, self.frame, self.chord_tolerance)
+            self._loops = loops_of_faces(self.faces, self.frame, self.chord_tolerance,
+                                         outer_first=self._outer_first)
         return self._loops
 
     def polygons(self):
@@ -394,7 +397,7 @@ class PlanarSlicer:
         return PlanarSection(height=height, frame=section.frame,
                              faces=[face.translated(shift) for face in section.faces],
                              chord_tolerance=section.chord_tolerance, _loops=section._loops,
-                             _copy_of=(section, offset))
+                             _copy_of=(section, offset), _outer_first=section._outer_first)
 
     def off_vertices(self, heights: Sequence[float]) -> list[float]:
         """`heights` moved by RETRY_NUDGE (up, else down) where a vertex of the solids lies
@@ -499,7 +502,8 @@ class PlanarSlicer:
         return PlanarSection(height=float(height), frame=self.frame,
                              faces=[item.face for item in items],
                              chord_tolerance=self.chord_tolerance, _loops=loops,
-                             _items=list(items))
+                             _items=list(items),
+                             _outer_first=[item.outer_first for item in items])
 
 
 def _in_heights(progress: ProgressCallback | None, asked: int) -> ProgressCallback | None:
