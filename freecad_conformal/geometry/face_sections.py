@@ -480,6 +480,7 @@ class FaceCutter:
                 cuts.pop(-2)
             pieces.extend(zip(cuts, cuts[1:]))
         App, Part = self._App, self._Part
+        Vector2d = App.Base.Vector2d
         origin = np.array(tuple(plane.Position))
         x_axis = np.array(tuple(plane.Rotation.multVec(App.Vector(1, 0, 0))))
         y_axis = np.array(tuple(plane.Rotation.multVec(App.Vector(0, 1, 0))))
@@ -495,8 +496,8 @@ class FaceCutter:
             if index == len(pieces) - 1 and last is not None:
                 poles[-1] = points[last]
             relative = poles - origin
-            uv = [App.Base.Vector2d(float(u), float(v))
-                  for u, v in zip(relative @ x_axis, relative @ y_axis)]
+            uv = [Vector2d(u, v) for u, v in zip((relative @ x_axis).tolist(),
+                                                  (relative @ y_axis).tolist())]
             flat = Part.Geom2d.BSplineCurve2d()
             flat.buildFromPolesMultsKnots(uv, piece.getMultiplicities(), piece.getKnots(), False,
                                           piece.Degree, piece.getWeights())
