@@ -107,16 +107,24 @@ class _TorusSection:
     def halves(self, kind: str, low: float, high: float, tau: np.ndarray):
         """(τ wrapped to [0, 2π), u, v's middle, its swing) at τ: v = middle ± swing, both
         branches of a loop going around from one evaluation (`_DomainScan`)."""
-        tau = np.mod(tau, 2 * math.pi)
-        if kind == "turning":
-            middle, half = 0.5 * (low + high), 0.5 * (high - low)
-            u = middle - half * np.cos(tau)
-        else:
-            u = tau
+        tau, u = self.u_at(kind, low, high, tau)
+        return (tau, u, *self.v_halves(u))
+
+    def v_halves(self, u: np.ndarray):
+        """(v's middle, its swing) at u."""
         x = np.cos(u)
         R, r, s, c, k = self.R, self.r, self.s, self.c, self.k
         g = (k - R * s * x) / (r * np.sqrt((s * x) ** 2 + c * c))
-        return tau, u, np.arctan2(c, s * x), np.arccos(np.clip(g, -1.0, 1.0))
+        return np.arctan2(c, s * x), np.arccos(np.clip(g, -1.0, 1.0))
+
+    @staticmethod
+    def u_at(kind: str, low: float, high: float, tau: np.ndarray):
+        """(τ wrapped to [0, 2π), u) at τ."""
+        tau = np.mod(tau, 2 * math.pi)
+        if kind == "turning":
+            middle, half = 0.5 * (low + high), 0.5 * (high - low)
+            return tau, middle - half * np.cos(tau)
+        return tau, tau
 
     def points(self, u: np.ndarray, v: np.ndarray) -> np.ndarray:
         radial = (self.R + self.r * np.cos(v))[:, None]
@@ -175,14 +183,19 @@ class _DomainScan:
     middle and swing (most loops of the bottle's and the nut's fillets turn, one branch)."""
 
     def __init__(self, section, kind, low, high, domain, u_map) -> None:
-        tau, u, self._middle, self._swing = section.halves(kind, low, high, _DOMAIN_TAU)
-        self._turning = _turning_sign(tau) if kind == "turning" else None
         u0, u1, self._v0, self._v1 = domain
+        tau, u = section.u_at(kind, low, high, _DOMAIN_TAU)
         self._u_inside = _within(u_map[0] + u_map[1] * u, u0 - DOMAIN_MARGIN, u1 + DOMAIN_MARGIN)
+        if not self._u_inside.any():
+            return      # the loop passes beside the face (half the bottle's scans): no v
+        self._middle, self._swing = section.v_halves(u)
+        self._turning = _turning_sign(tau) if kind == "turning" else None
 
     def stretches(self, branch: int) -> list[tuple[float, float]]:
         """τ intervals of the loop (`branch` of one going around) that pass through the
         domain (each padded beyond it)."""
+        if not self._u_inside.any():
+            return []
         sign = self._turning if self._turning is not None else float(branch)
         v = self._middle + sign * self._swing
         inside = self._u_inside & _within(v, self._v0 - DOMAIN_MARGIN, self._v1 + DOMAIN_MARGIN)
