@@ -171,7 +171,7 @@ def solids_of(shape, what: str = "shape") -> list:
         article = "an" if kind[:1] in "AEIOU" else "a"
         raise GeometryError(f"{what} is not a solid: it is {article} {kind} with no solids{hint}")
     for index, solid in enumerate(solids):
-        if not _CHECKED.get((solid,), solid.isValid):
+        if not passes_check(solid):
             raise GeometryError(f"{what}: solid {index + 1} of {len(solids)} is invalid "
                                 f"(OCC check failed; try Part > Check geometry / refine)")
         if not solid.Faces:
@@ -180,6 +180,11 @@ def solids_of(shape, what: str = "shape") -> list:
             raise GeometryError(f"{what}: solid {index + 1} of {len(solids)} has non-positive "
                                 f"volume {solid.Volume:.6g} mm³ (reversed orientation?)")
     return solids
+
+
+def passes_check(solid) -> bool:
+    """OCC's check of the solid, made once per solid (and its rigid copies: `moved_rigidly`)."""
+    return _CHECKED.get((solid,), solid.isValid)
 
 
 def occ_confusion() -> float:

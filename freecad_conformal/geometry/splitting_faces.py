@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from freecad_conformal.errors import GeometryError
-from freecad_conformal.geometry.solids import occ_confusion
+from freecad_conformal.geometry.solids import occ_confusion, passes_check
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.concave_edges import EdgeAngle
 
@@ -183,8 +183,10 @@ FIX_MAX_TOLERANCE = 1e-4
 
 def repaired(solid):
     """The solid, or a copy fixed by OCC's shape healing when its checker rejects it and the
-    fix passes the check without changing the volume (else the solid as it was)."""
-    if solid.isValid():
+    fix passes the check without changing the volume (else the solid as it was). The check
+    is remembered (`solids.passes_check`): the sub-part's copies laid out on the platform
+    are not checked again when sliced (CrankArm: 0.17 s)."""
+    if passes_check(solid):
         return solid
     fixed = solid.copy()
     fixed.fix(FIX_PRECISION, FIX_PRECISION, FIX_MAX_TOLERANCE)
