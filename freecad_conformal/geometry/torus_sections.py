@@ -205,8 +205,12 @@ class _DomainScan:
             return []
         step = 2 * math.pi / DOMAIN_SAMPLES
         start = int(np.argmin(inside))           # an outside sample: runs never wrap past it
-        rolled = np.roll(inside, -start)
-        edges = np.flatnonzero(np.diff(np.concatenate(([0], rolled.astype(int), [0]))))
+        # The samples from `start` on, then those before, between two outside ones: runs
+        # start and end where neighbours differ (np.roll and np.diff cost 3x as much).
+        padded = np.zeros(DOMAIN_SAMPLES + 2, dtype=bool)
+        padded[1:DOMAIN_SAMPLES + 1 - start] = inside[start:]
+        padded[DOMAIN_SAMPLES + 1 - start:DOMAIN_SAMPLES + 1] = inside[:start]
+        edges = np.flatnonzero(padded[1:] != padded[:-1])
         return [((start + first - 1) * step, (start + last) * step)
                 for first, last in zip(edges[::2], edges[1::2])]
 

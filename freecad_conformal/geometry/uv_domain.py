@@ -7,6 +7,8 @@ discretisation to decide go to OCC.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import shapely
 from shapely.geometry import Polygon
@@ -87,8 +89,15 @@ class FaceDomain:
             return [value]
         low, high = self._bounds[axis], self._bounds[axis + 2]
         first = low + (value - low) % period
-        return [float(c) for c in np.arange(first, max(high, first) + 0.5 * period, period)
-                if c <= high or c == first]
+        copies = [first]
+        # np.arange's values (first, first + period, then first + i·(its second − first)),
+        # without building an array for the one or two a face holds.
+        count = math.ceil((max(high, first) + 0.5 * period - first) / period)
+        if count > 1:
+            second = first + period
+            step = second - first
+            copies.extend([second] + [first + i * step for i in range(2, count)])
+        return [c for c in copies if c <= high or c == first]
 
 
 def _domain_polygon(face):
