@@ -171,9 +171,13 @@ def _turning_sign(tau: np.ndarray) -> np.ndarray:
     return np.where(tau <= math.pi, 1.0, -1.0)
 
 
-#: The τ samples every loop is scanned at (read-only: shared by all scans).
+#: The τ samples every loop is scanned at, their cosines and a turning loop's branch signs
+#: at them (read-only: shared by all scans; `_TorusSection.u_at` of them, once).
 _DOMAIN_TAU = np.linspace(0.0, 2 * math.pi, DOMAIN_SAMPLES, endpoint=False)
-_DOMAIN_TAU.setflags(write=False)
+_DOMAIN_COS = np.cos(_DOMAIN_TAU)
+_DOMAIN_TURNING = _turning_sign(_DOMAIN_TAU)
+for _samples in (_DOMAIN_TAU, _DOMAIN_COS, _DOMAIN_TURNING):
+    _samples.setflags(write=False)
 
 
 class _DomainScan:
@@ -184,12 +188,17 @@ class _DomainScan:
 
     def __init__(self, section, kind, low, high, domain, u_map) -> None:
         u0, u1, self._v0, self._v1 = domain
-        tau, u = section.u_at(kind, low, high, _DOMAIN_TAU)
+        if kind == "turning":
+            # u_at's values: the samples lie in [0, 2π), so wrapping leaves them as they are
+            middle, half = 0.5 * (low + high), 0.5 * (high - low)
+            u = middle - half * _DOMAIN_COS
+        else:
+            u = _DOMAIN_TAU
         self._u_inside = _within(u_map[0] + u_map[1] * u, u0 - DOMAIN_MARGIN, u1 + DOMAIN_MARGIN)
         if not self._u_inside.any():
             return      # the loop passes beside the face (half the bottle's scans): no v
         self._middle, self._swing = section.v_halves(u)
-        self._turning = _turning_sign(tau) if kind == "turning" else None
+        self._turning = _DOMAIN_TURNING if kind == "turning" else None
 
     def stretches(self, branch: int) -> list[tuple[float, float]]:
         """τ intervals of the loop (`branch` of one going around) that pass through the
