@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 import pytest
@@ -373,3 +374,31 @@ def test_an_edge_freecad_cannot_name_is_not_straight(App, Part):
     assert curve_name(Unnamed()) == ""
     assert curve_name(Part.makeLine(App.Vector(0, 0, 0), App.Vector(1, 0, 0))) in STRAIGHT_CURVES
     assert curve_name(Part.makeCircle(2.0)) == "Circle"
+
+
+def test_a_section_worker_that_fails_is_reported_while_this_process_cuts(App, Part, monkeypatch):
+    """The workers' jobs are read between this process's own: a failure among them is a
+    GeometryError naming it, raised then, not after this process has cut the rest."""
+    import os
+
+    from freecad_conformal.errors import GeometryError
+    from freecad_conformal.geometry import section_pool
+
+    if section_pool.occ_version() >= section_pool.THREAD_POOL_OCC:
+        pytest.skip("OCCT >= 7.8: forked workers may deadlock on its thread pool")
+    monkeypatch.setattr(section_pool, "start_method", lambda: "fork")
+    here, real, cut_here = os.getpid(), section_pool._cut, []
+
+    def cut(*args, **kwargs):
+        if os.getpid() != here:
+            raise RuntimeError("worker broke")
+        cut_here.append(args[1])
+        time.sleep(0.05)      # the worker fails meanwhile
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(section_pool, "_cut", cut)
+    heights = [0.5 + 0.25 * k for k in range(76)]    # a cone: no section is another's copy
+    with pytest.raises(GeometryError, match="section worker failed: RuntimeError: worker broke"):
+        PlanarSlicer(Part.makeCone(8, 3, 20)).sections(heights, workers=2)
+    # 19 jobs of 4 heights: without reading as it goes, this process cut the 18 left
+    assert len(cut_here) <= 5
