@@ -21,7 +21,7 @@ import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.boxes import optimal_box
-from freecad_conformal.geometry.frames import cross
+from freecad_conformal.geometry.frames import cross, points_array
 from freecad_conformal.geometry.plane_curves import (ON_CURVE, VERTEX_CLEARANCE, closed_piece, curve_name,
                                                      curve_end, curve_spans, edge_crosser, finite,
                                                      surface_curves)
@@ -96,7 +96,7 @@ def _pole_boxes(curves: list) -> list[tuple[np.ndarray, np.ndarray] | None]:
     boxes = []
     for curve in curves:
         if type(curve).__name__ == "BSplineCurve":
-            poles = np.array([tuple(p) for p in curve.getPoles()])
+            poles = points_array(curve.getPoles())
             boxes.append((poles.min(axis=0), poles.max(axis=0)))
         else:
             boxes.append(None)
@@ -490,7 +490,7 @@ class FaceCutter:
             if piece.isPeriodic():
                 piece.setNotPeriodic()
             piece.segment(a, b)
-            poles = np.array([tuple(p) for p in piece.getPoles()])
+            poles = points_array(piece.getPoles())
             if index == 0 and first is not None:
                 poles[0] = points[first]
             if index == len(pieces) - 1 and last is not None:

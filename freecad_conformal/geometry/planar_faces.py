@@ -14,6 +14,7 @@ import math
 import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.frames import points_array
 from freecad_conformal.tolerances import MIN_SECTION_AREA
 
 #: A closed section loop enclosing less than this (mm²) is a sliver the Boolean would not
@@ -183,7 +184,7 @@ class _Loop:
 
     def __init__(self, wire, plane, frame: _PlaneFrame) -> None:
         self.wire, self._plane = wire, plane
-        points = np.array([tuple(p) for p in wire.discretize(Deflection=LOOP_DEFLECTION)])
+        points = points_array(wire.discretize(Deflection=LOOP_DEFLECTION))
         self.polygon = frame.to_2d(points)
         self._frame = frame
         x, y = self.polygon[:, 0], self.polygon[:, 1]

@@ -133,3 +133,12 @@ def test_loops_of_faces_built_here_need_no_outer_wire_classification(App, Part):
     assert all(np.array_equal(a.points, b.points) for a, b in zip(told, classified))
     assert section.polygons().equals_exact(
         loops_module.polygons_of_loops(classified), 0.0)
+
+
+def test_points_array_reads_vectors_in_order(App):
+    from freecad_conformal.geometry.frames import points_array
+
+    vectors = [App.Vector(1.5, -2.0, 1e-17), App.Vector(3, 4, 5)]
+    assert np.array_equal(points_array(vectors), [[1.5, -2.0, 1e-17], [3, 4, 5]])
+    assert points_array(iter(vectors)).shape == (2, 3)
+    assert points_array([]).shape == (0, 3)
