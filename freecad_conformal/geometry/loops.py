@@ -24,10 +24,16 @@ Mapping = Callable[[np.ndarray], np.ndarray]
 RING_REPAIR = "structure"
 
 
+def following(values: np.ndarray) -> np.ndarray:
+    """Each row's successor round a closed polygon: np.roll(values, -1, axis=0), which costs
+    ten times as much for the short arrays of section loops."""
+    return np.concatenate((values[1:], values[:1]))
+
+
 def signed_area(points: np.ndarray) -> float:
     """Shoelace area of a closed polygon (first point not repeated); > 0 counter-clockwise."""
     x, y = points[:, 0], points[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+    return 0.5 * float(np.dot(x, following(y)) - np.dot(y, following(x)))
 
 
 def dense_area(faces, frame, samples: int = 2001) -> float:

@@ -15,6 +15,7 @@ import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.frames import points_array
+from freecad_conformal.geometry.loops import following, signed_area
 from freecad_conformal.tolerances import MIN_SECTION_AREA
 
 #: A closed section loop enclosing less than this (mm²) is a sliver the Boolean would not
@@ -187,8 +188,7 @@ class _Loop:
         points = points_array(wire.discretize(Deflection=LOOP_DEFLECTION))
         self.polygon = frame.to_2d(points)
         self._frame = frame
-        x, y = self.polygon[:, 0], self.polygon[:, 1]
-        self.polygon_area = 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+        self.polygon_area = signed_area(self.polygon)
         perimeter = float(np.linalg.norm(np.diff(self.polygon, axis=0, append=self.polygon[:1]),
                                          axis=1).sum())
         self.margin = POLYGON_ERROR_FACTOR * LOOP_DEFLECTION
@@ -296,7 +296,7 @@ def _depth(parent: list[int | None], index: int) -> int:
 def _inside_polygon(point: np.ndarray, polygon: np.ndarray) -> bool:
     """Even-odd test of a point against a closed polygon (its last point joins its first)."""
     x, y = polygon[:, 0], polygon[:, 1]
-    x1, y1 = np.roll(x, -1), np.roll(y, -1)
+    x1, y1 = following(x), following(y)
     crossing = (y > point[1]) != (y1 > point[1])
     if not crossing.any():
         return False
@@ -308,7 +308,7 @@ def _inside_polygon(point: np.ndarray, polygon: np.ndarray) -> bool:
 def _distance_to_polygon(point: np.ndarray, polygon: np.ndarray) -> float:
     """Distance (mm) from a point to a closed polygon's edges."""
     start = polygon
-    step = np.roll(polygon, -1, axis=0) - start
+    step = following(polygon) - start
     length2 = np.einsum("ij,ij->i", step, step)
     t = np.einsum("ij,ij->i", point - start, step) / np.maximum(length2, 1e-300)
     nearest = start + np.minimum(np.maximum(t, 0.0), 1.0)[:, None] * step
