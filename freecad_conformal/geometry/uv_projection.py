@@ -37,12 +37,15 @@ class SurfaceProjector:
         us = np.linspace(u0, u1, _samples(surface.NbUPoles))
         vs = np.linspace(v0, v1, _samples(surface.NbVPoles))
         self._uv = np.array([(u, v) for u in us for v in vs])
-        self._xyz = np.array([tuple(surface.value(float(u), float(v))) for u, v in self._uv])
+        xyz = np.array([tuple(surface.value(float(u), float(v))) for u, v in self._uv])
+        # One contiguous array per coordinate: the nearest sample is found without (N, 3)
+        # temporaries (a blade's grid: 70 us a point as rows).
+        self._columns = [np.ascontiguousarray(xyz[:, k]) for k in range(3)]
 
     def parameter(self, point) -> tuple[float, float]:
         """(u, v) of a point on the surface (a FreeCAD Vector)."""
         p = np.array(tuple(point))
-        uv = self._uv[int(np.argmin(((self._xyz - p) ** 2).sum(axis=1)))].copy()
+        uv = self._uv[int(np.argmin(self._squared_distances(p)))].copy()
         surface = self.surface
         for _ in range(MAX_STEPS):
             u, v = float(uv[0]), float(uv[1])
@@ -59,6 +62,20 @@ class SurfaceProjector:
             uv = np.clip(uv + step, self._low, self._high)
         u, v = surface.parameter(point)
         return float(u), float(v)
+
+    def _squared_distances(self, p: np.ndarray) -> np.ndarray:
+        """|sample − p|² per grid sample, summed x, y, z in that order as a row sum adds
+        them (the same values, so the same nearest sample)."""
+        x, y, z = self._columns
+        d = x - p[0]
+        total = d * d
+        d = y - p[1]
+        d *= d
+        total += d
+        d = z - p[2]
+        d *= d
+        total += d
+        return total
 
 
 def _samples(poles: int) -> int:
