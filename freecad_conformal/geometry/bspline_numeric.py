@@ -13,6 +13,8 @@ from typing import Callable
 
 import numpy as np
 
+from freecad_conformal.geometry.frames import points_array
+
 #: Points per round and rounds of the sub-grids that narrow a bracket: 32⁶ ≈ 1e9-fold, so a
 #: zero bracketed by a thousandth of a range is found within ~1e-12 of it.
 ZERO_GRID = 33
@@ -113,7 +115,7 @@ def curve_points(spline, t: np.ndarray) -> np.ndarray:
     """Points (len(t), 3) of a non-rational FreeCAD B-spline curve at parameters t."""
     if spline.isPeriodic():
         return np.array([tuple(spline.value(float(x))) for x in t])
-    poles = np.array([tuple(p) for p in spline.getPoles()])
+    poles = points_array(spline.getPoles())
     knots = np.repeat(np.array(spline.getKnots()), spline.getMultiplicities())
     first, values = basis(knots, spline.Degree, t)
     return combine(first, values, poles)
