@@ -106,7 +106,8 @@ class _TorusSection:
 
     def halves(self, kind: str, low: float, high: float, tau: np.ndarray):
         """(τ wrapped to [0, 2π), u, v's middle, its swing) at τ: v = middle ± swing, both
-        branches of a loop going around from one evaluation (`_DomainScan`)."""
+        branches of a loop going around from one evaluation (`_DomainScan` takes u and the
+        v halves in two steps, to stop after u where the loop misses the face)."""
         tau, u = self.u_at(kind, low, high, tau)
         return (tau, u, *self.v_halves(u))
 
@@ -178,6 +179,7 @@ _DOMAIN_COS = np.cos(_DOMAIN_TAU)
 _DOMAIN_TURNING = _turning_sign(_DOMAIN_TAU)
 for _samples in (_DOMAIN_TAU, _DOMAIN_COS, _DOMAIN_TURNING):
     _samples.setflags(write=False)
+del _samples
 
 
 class _DomainScan:
