@@ -25,7 +25,8 @@ from freecad_conformal.geometry.frames import cross, points_array
 from freecad_conformal.geometry.plane_curves import (ON_CURVE, VERTEX_CLEARANCE, closed_piece, curve_name,
                                                      curve_end, curve_spans, edge_crosser, finite,
                                                      surface_curves)
-from freecad_conformal.geometry.planar_faces import Piece, SectionFace, faces_from_pieces
+from freecad_conformal.geometry.planar_faces import (Piece, PlaneFrame, SectionFace,
+                                                     faces_from_pieces)
 from freecad_conformal.geometry.uv_domain import FaceDomain
 
 #: OCC joins two edge ends into one vertex when they are closer than their tolerances
@@ -496,11 +497,8 @@ class FaceCutter:
             if len(cuts) > 2 and cuts[-1] - cuts[-2] < 1e-12:
                 cuts.pop(-2)
             pieces.extend(zip(cuts, cuts[1:]))
-        App, Part = self._App, self._Part
-        Vector2d = App.Base.Vector2d
-        origin = np.array(tuple(plane.Position))
-        x_axis = np.array(tuple(plane.Rotation.multVec(App.Vector(1, 0, 0))))
-        y_axis = np.array(tuple(plane.Rotation.multVec(App.Vector(0, 1, 0))))
+        Part, Vector2d = self._Part, self._App.Base.Vector2d
+        frame = PlaneFrame(plane)
         edges = []
         for index, (a, b) in enumerate(pieces):
             piece = curve.copy()
@@ -512,9 +510,9 @@ class FaceCutter:
                 poles[0] = points[first]
             if index == len(pieces) - 1 and last is not None:
                 poles[-1] = points[last]
-            relative = poles - origin
-            uv = [Vector2d(u, v) for u, v in zip((relative @ x_axis).tolist(),
-                                                  (relative @ y_axis).tolist())]
+            relative = poles - frame.origin
+            uv = [Vector2d(u, v) for u, v in zip((relative @ frame.x_axis).tolist(),
+                                                  (relative @ frame.y_axis).tolist())]
             flat = Part.Geom2d.BSplineCurve2d()
             flat.buildFromPolesMultsKnots(uv, piece.getMultiplicities(), piece.getKnots(), False,
                                           piece.Degree, piece.getWeights())

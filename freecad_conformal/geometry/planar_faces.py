@@ -10,6 +10,7 @@ outer loops from holes. The faces' exact areas and centroids are integrated only
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -37,43 +38,22 @@ POLYGON_ERROR_FACTOR = 4.0
 Piece = tuple[list, "int | None", "int | None"]
 
 
-class SectionFace:
-    """One section face; its exact area (mm²) and centroid (3,) are OCC's integrals of it,
-    computed when first read (or given, when known). `outer_first`: its first wire is its
-    outer one, as in the faces built here (a Boolean's faces are asked: OCC classifies
-    each wire for that, 0.7 ms a face of the bottle)."""
+class SectionFace(NamedTuple):
+    """One section face. `outer_first`: its first wire is its outer one, as in the faces
+    built here (a Boolean's faces are asked: OCC classifies each wire for that, 0.7 ms a
+    face of the bottle). Its area and centroid are OCC's integrals, made at each read (a
+    section reads them once, when asked: `sections.PlanarSection.area`)."""
 
-    __slots__ = ("face", "_area", "_centroid", "outer_first")
-
-    def __init__(self, face, area: float | None = None, centroid: np.ndarray | None = None,
-                 outer_first: bool = False):
-        self.face = face
-        self._area = area
-        self._centroid = centroid
-        self.outer_first = outer_first
-
-    @classmethod
-    def of(cls, face) -> "SectionFace":
-        return cls(face)
+    face: object
+    outer_first: bool = False
 
     @property
     def area(self) -> float:
-        if self._area is None:
-            self._area = float(self.face.Area)
-        return self._area
+        return float(self.face.Area)
 
     @property
     def centroid(self) -> np.ndarray:
-        if self._centroid is None:
-            self._centroid = np.array(tuple(self.face.CenterOfMass))
-        return self._centroid
-
-    @property
-    def known(self) -> tuple[float | None, np.ndarray | None, bool]:
-        """(area, centroid, outer_first), the first two as far as computed: what travels
-        with the face to another process (`SectionFace(face, *known)` there), which
-        integrates the rest if it reads them."""
-        return self._area, self._centroid, self.outer_first
+        return np.array(tuple(self.face.CenterOfMass))
 
 
 def faces_from_pieces(pieces: list[Piece], point_count: int, plane) -> list[SectionFace] | None:
@@ -138,7 +118,7 @@ def _faces_of_wires(wires: list, plane) -> list[SectionFace] | None:
     order, as from exact areas alone.
     """
     _, Part = import_freecad()
-    frame = _PlaneFrame(plane)
+    frame = PlaneFrame(plane)
     loops = [_Loop(wire, plane, frame) for wire in wires]
     if any(loop.sliver() for loop in loops):
         return None
@@ -163,15 +143,16 @@ def _faces_of_wires(wires: list, plane) -> list[SectionFace] | None:
     return faces
 
 
-class _PlaneFrame:
-    """2D coordinates in the plane: x, y along its axes (x × y its normal, so a positive
+class PlaneFrame:
+    """2D coordinates in a Part.Plane: x, y along its axes (x × y its normal, so a positive
     polygon area is the positive exact one)."""
 
     def __init__(self, plane) -> None:
         App, _ = import_freecad()
         self.origin = np.array(tuple(plane.Position))
-        self.axes = np.array([tuple(plane.Rotation.multVec(App.Vector(1, 0, 0))),
-                              tuple(plane.Rotation.multVec(App.Vector(0, 1, 0)))]).T
+        self.x_axis = np.array(tuple(plane.Rotation.multVec(App.Vector(1, 0, 0))))
+        self.y_axis = np.array(tuple(plane.Rotation.multVec(App.Vector(0, 1, 0))))
+        self.axes = np.array([self.x_axis, self.y_axis]).T
 
     def to_2d(self, points: np.ndarray) -> np.ndarray:
         return (points - self.origin) @ self.axes
@@ -183,7 +164,7 @@ class _Loop:
     and from the exact face built on the wire alone (computed once, when needed) where
     that error could change the answer."""
 
-    def __init__(self, wire, plane, frame: _PlaneFrame) -> None:
+    def __init__(self, wire, plane, frame: PlaneFrame) -> None:
         self.wire, self._plane = wire, plane
         points = points_array(wire.discretize(Deflection=LOOP_DEFLECTION))
         self.polygon = frame.to_2d(points)

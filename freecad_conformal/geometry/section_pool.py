@@ -118,18 +118,18 @@ def section_work(slicer) -> int:
 
 def job_as_binary(cut: list) -> tuple[bytes, list]:
     """A job's sections (per height: SectionFaces, or None where the face-by-face cut gave
-    up) as one binary compound of all their faces, with each height's [what is known of
-    each face] (`SectionFace.known`) or None: one file's trip per job, not per height."""
+    up) as one binary compound of all their faces, with each height's [whether each face's
+    first wire is its outer one] or None: one file's trip per job, not per height."""
     faces = [item.face for items in cut if items is not None for item in items]
-    layout = [None if items is None else [item.known for item in items] for items in cut]
+    layout = [None if items is None else [item.outer_first for item in items] for items in cut]
     return faces_to_binary(faces), layout
 
 
 def job_from_binary(data: bytes, layout: list) -> list:
     """The job's sections `job_as_binary` wrote."""
     faces = iter(faces_from_binary(data))
-    return [None if props is None else [SectionFace(next(faces), *known) for known in props]
-            for props in layout]
+    return [None if flags is None else [SectionFace(next(faces), flag) for flag in flags]
+            for flags in layout]
 
 
 def _cut(solid_index: int, heights: np.ndarray, boolean: bool, slicer=None) -> list:
@@ -280,12 +280,9 @@ def _sent_already(queue) -> tuple | None:
     """The next (index, payload) a worker put on `queue`, None when there is none yet.
     Raises GeometryError when a worker reported a failure."""
     try:
-        index, payload = queue.get_nowait()
+        return _unless_failed(*queue.get_nowait())
     except Empty:
         return None
-    if index is None and payload is not None:
-        raise GeometryError(f"a section worker failed: {payload}")
-    return index, payload
 
 
 def next_result(queue, processes: list) -> tuple:
@@ -293,14 +290,17 @@ def next_result(queue, processes: list) -> tuple:
     Raises GeometryError when a worker reported a failure or all died without a word."""
     while True:
         try:
-            index, payload = queue.get(timeout=WORKER_POLL)
+            return _unless_failed(*queue.get(timeout=WORKER_POLL))
         except Empty:
             if not any(process.is_alive() for process in processes):
                 raise GeometryError("a section worker process died before it finished") from None
-            continue
-        if index is None and payload is not None:
-            raise GeometryError(f"a section worker failed: {payload}")
-        return index, payload
+
+
+def _unless_failed(index, payload) -> tuple:
+    """A worker's (index, payload); GeometryError for its report of a failure."""
+    if index is None and payload is not None:
+        raise GeometryError(f"a section worker failed: {payload}")
+    return index, payload
 
 
 def _shared(slicer, levels: np.ndarray, jobs: list, boolean: list[bool], workers: int,

@@ -50,10 +50,9 @@ class PlanarSection:
     faces: list = field(repr=False)
     chord_tolerance: float = DEFAULT_CHORD_TOLERANCE
     _loops: list[Loop] | None = field(default=None, repr=False)
-    #: (area, centroid) when known, else how to get them: the faces (`SectionFace`s) whose
-    #: integrals they sum, or the section this one is a moved copy of, with the move
+    #: (area, centroid) once read: the faces' integrals summed, or those of the section this
+    #: one is a moved copy of (`_copy_of`: it and the move)
     _measures: tuple | None = field(default=None, repr=False)
-    _items: list[SectionFace] | None = field(default=None, repr=False)
     _copy_of: tuple["PlanarSection", np.ndarray] | None = field(default=None, repr=False)
     #: per face, whether its first wire is its outer one (`SectionFace.outer_first`)
     _outer_first: list[bool] | None = field(default=None, repr=False)
@@ -75,11 +74,11 @@ class PlanarSection:
                 source, shift = self._copy_of
                 self._measures = (source.area, source.centroid + shift)
             else:
-                items = self._items if self._items is not None else [
-                    SectionFace(face) for face in self.faces]
-                area = float(sum(item.area for item in items))
-                centroid = (sum((item.centroid * item.area for item in items), np.zeros(3)) / area
-                            if items else np.full(3, np.nan))
+                measured = [(item.area, item.centroid)
+                            for item in (SectionFace(face) for face in self.faces)]
+                area = float(sum(a for a, _ in measured))
+                centroid = (sum((c * a for a, c in measured), np.zeros(3)) / area
+                            if measured else np.full(3, np.nan))
                 self._measures = (area, centroid)
         return self._measures
 
@@ -448,8 +447,7 @@ class PlanarSlicer:
             common = solid.common([plane], FUZZY_VALUE)
         except Exception:   # OCC's Boolean errors are plain exceptions; the caller reports
             return []
-        return [SectionFace(f, area) for f in common.Faces
-                if (area := float(f.Area)) > MIN_SECTION_AREA]
+        return [SectionFace(f) for f in common.Faces if f.Area > MIN_SECTION_AREA]
 
     def _chunks(self, solid_index: int, levels: np.ndarray, size: int | None = None) -> list[np.ndarray]:
         """Indices of `levels` that meet the solid's box, grouped into chunks of `size`."""
@@ -493,7 +491,7 @@ class PlanarSlicer:
             if slot > 0 and abs(sorted_heights[slot - 1] - h) < abs(sorted_heights[slot] - h):
                 slot -= 1
             result[int(order[slot])].append(face)
-        return [[SectionFace.of(face) for face in _merge_touching(faces)] for faces in result]
+        return [[SectionFace(face) for face in _merge_touching(faces)] for faces in result]
 
     def make_section(self, height: float, items: list[SectionFace],
                      loops: list[Loop] | None = None) -> PlanarSection:
@@ -502,7 +500,6 @@ class PlanarSlicer:
         return PlanarSection(height=float(height), frame=self.frame,
                              faces=[item.face for item in items],
                              chord_tolerance=self.chord_tolerance, _loops=loops,
-                             _items=list(items),
                              _outer_first=[item.outer_first for item in items])
 
 

@@ -37,7 +37,7 @@ def test_loops_come_in_the_order_of_their_exact_areas(App, Part, plane):
              _circle(App, Part, (0, 40), 3.0),
              _circle(App, Part, (40, 40), 3.0),
              _circle(App, Part, (0, -40), 7.0)]
-    frame = planar_faces._PlaneFrame(plane)
+    frame = planar_faces.PlaneFrame(plane)
     loops = [planar_faces._Loop(wire, plane, frame) for wire in wires]
     assert abs(loops[1].polygon_area) < abs(loops[0].polygon_area)  # the trap is set
     ordered = planar_faces._largest_first(loops)
