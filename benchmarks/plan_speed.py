@@ -11,17 +11,20 @@ and checks the goals of issue 21: plan <= 5x PrusaSlicer, no stage above 40 % of
 no part above 60 s, peak memory under 2 GB; and issue 16's: the plan choice with its layers
 (everything before paths) within 20 s on every part (3 s on CrankArm).
 
-Run: `.venv/bin/python benchmarks/plan_speed.py [--repeat N] [PART ...]` (needs
+Run: `.venv/bin/python benchmarks/plan_speed.py [--repeat N] [--freecad1] [PART ...]` (needs
 prusa-slicer: `TMPDIR=/var/tmp apt-get install -y prusa-slicer`). With `--repeat N` each
 part is planned and sliced N times, alternating, and the fastest run of each side is
 reported (ours with its own stages): on a shared machine one run's load can move a
-stage's share by 5 points either way.
+stage's share by 5 points either way. With `--freecad1` (as root) our side runs on
+FreeCAD 1.0 (OCCT 7.8, Python 3.13), most users' FreeCAD, in the chroot of
+`ci/freecad1.sh` (set up first: this checkout as committed); PrusaSlicer runs here.
 """
 from __future__ import annotations
 
 import argparse
 import compileall
 import json
+import os
 import resource
 import shutil
 import subprocess
@@ -114,10 +117,22 @@ def _peak_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
-def ours(part: str, work: Path) -> dict:
+#: The FreeCAD 1.0 chroot (`ci/freecad1.sh`): its root, and where the checkout, its Python
+#: and the shared parts are inside it.
+CHROOT = Path(os.environ.get("ROOT", "/srv/trixie"))
+CHROOT_PROJECT, CHROOT_PYTHON, CHROOT_PARTS = "/root/conformal", "/root/venv/bin/python", "/root/shared/parts"
+
+
+def ours(part: str, work: Path, freecad1: bool = False) -> dict:
+    """Our plan of `part` in a fresh process (on FreeCAD 1.0 in its chroot: `part` is then
+    a path inside it, or a sample's name)."""
     started = time.perf_counter()
-    run = subprocess.run([sys.executable, __file__, "--child", part, str(work / "ours.ngc")],
-                         capture_output=True, text=True)
+    command = [sys.executable, __file__, "--child", part, str(work / "ours.ngc")]
+    if freecad1:
+        command = [str(ROOT / "ci" / "freecad1.sh"), "run", CHROOT_PYTHON,
+                   f"{CHROOT_PROJECT}/benchmarks/plan_speed.py", "--child", part,
+                   "/var/tmp/plan_speed_ours.ngc"]
+    run = subprocess.run(command, capture_output=True, text=True)
     wall = time.perf_counter() - started
     lines = [line for line in run.stdout.splitlines() if line.startswith("{")]
     if run.returncode != 0 or not lines:
@@ -145,20 +160,51 @@ def _own_part(name: str, folder: Path) -> str:
     return str(path)
 
 
-def main(names: list[str], repeat: int = 1) -> int:
+def _prepare_freecad1() -> None:
+    """Set the chroot up (this checkout as committed, the shared parts) and compile the
+    package there once, as for this side."""
+    subprocess.run([str(ROOT / "ci" / "freecad1.sh"), "setup"], check=True, capture_output=True)
+    subprocess.run([str(ROOT / "ci" / "freecad1.sh"), "run", CHROOT_PYTHON, "-m", "compileall",
+                    "-q", f"{CHROOT_PROJECT}/freecad_conformal"], check=True, capture_output=True)
+
+
+def _inside_chroot(part: str) -> str:
+    """`part` as the chroot sees it: a shared part in its copy of them, an own part written
+    under its /var/tmp (by `_own_part`), a sample's name as it is."""
+    path = Path(part).resolve() if Path(part).exists() else Path(part)
+    if path.parent == PARTS_DIR.resolve():
+        return f"{CHROOT_PARTS}/{path.name}"
+    if CHROOT in path.parents:
+        return "/" + str(path.relative_to(CHROOT))
+    if path.suffix:
+        raise SystemExit(f"--freecad1: {part} is not in {PARTS_DIR} nor an own part")
+    return part
+
+
+def main(names: list[str], repeat: int = 1, freecad1: bool = False) -> int:
     from freecad_conformal.geometry.samples import load_part
 
     if shutil.which("prusa-slicer") is None:
         print("prusa-slicer is not installed: TMPDIR=/var/tmp apt-get install -y prusa-slicer")
         return 1
+    if freecad1 and os.geteuid() != 0:
+        print("--freecad1 runs ci/freecad1.sh (a chroot): run as root")
+        return 1
     # An installed package runs from bytecode (pip and FreeCAD's first import write it);
     # where PYTHONDONTWRITEBYTECODE is set (this machine's shells) every run would compile
     # the ~100 modules again first (65 ms of a 0.5 s plan of wedge_ok), which no user pays.
     compileall.compile_dir(str(ROOT / "freecad_conformal"), quiet=1)
-    own_folder = Path(tempfile.mkdtemp(prefix="plan_speed_own_"))
+    if freecad1:
+        _prepare_freecad1()
+        own_folder = CHROOT / "var" / "tmp" / "plan_speed_own"
+        own_folder.mkdir(parents=True, exist_ok=True)
+    else:
+        own_folder = Path(tempfile.mkdtemp(prefix="plan_speed_own_"))
     parts = names or [str(p) for p in sorted(PARTS_DIR.glob("*"))
                       if p.suffix.lower() in (".step", ".brep")] + list(SAMPLES) + list(OWN_PARTS)
     parts = [_own_part(name, own_folder) if name in OWN_PARTS else name for name in parts]
+    if freecad1:
+        print("ours on FreeCAD 1.0 (ci/freecad1.sh's chroot), PrusaSlicer here")
     print(f"{'part':22} {'ours s':>8} {'prusa s':>8} {'ratio':>6} {'peak MB':>8}  "
           "largest stage        stages (s)")
     misses = []
@@ -168,7 +214,7 @@ def main(names: list[str], repeat: int = 1) -> int:
         with tempfile.TemporaryDirectory() as folder:
             work = Path(folder)
             for _ in range(repeat):
-                runs.append(ours(part, work))
+                runs.append(ours(_inside_chroot(part) if freecad1 else part, work, freecad1))
                 slices.append(prusa(shape, work))
         failed = [run for run in runs if "error" in run]
         mine = failed[0] if failed else min(runs, key=lambda run: run["wall"])
@@ -210,7 +256,9 @@ if __name__ == "__main__":
                             "default: all")
         parser.add_argument("--repeat", type=int, default=1,
                             help="runs per part and side; the fastest of each is reported")
+        parser.add_argument("--freecad1", action="store_true",
+                            help="plan on FreeCAD 1.0 in ci/freecad1.sh's chroot (root)")
         arguments = parser.parse_args()
         if arguments.repeat < 1:
             parser.error(f"--repeat must be at least 1, got {arguments.repeat}")
-        sys.exit(main(arguments.parts, arguments.repeat))
+        sys.exit(main(arguments.parts, arguments.repeat, arguments.freecad1))

@@ -5,6 +5,7 @@
 #
 #   sudo ci/freecad1.sh test [PYTEST ARGS]   set up (first time ~5 min, ~3.5 GB), then run the
 #                                            whole suite on FreeCAD 1.0 against this checkout
+#   sudo ci/freecad1.sh setup                set up only (this checkout as committed, the parts)
 #   sudo ci/freecad1.sh run CMD...           run CMD in the chroot (project at /root/conformal)
 #   sudo ci/freecad1.sh umount               unmount what a killed run left mounted
 #
@@ -126,7 +127,8 @@ case "${1:-test}" in
       CONFORMAL_REQUIRE_PARTS=${CONFORMAL_REQUIRE_PARTS:-0} \
       /root/venv/bin/python -m pytest -q -p no:cacheprovider "$@"' pytest "$@"
     ;;
+  setup) setup ;;
   run) shift; mount_all; in_root "$@" ;;
   umount) umount_list "${MOUNTS[@]}" ;;
-  *) echo "usage: $0 test [PYTEST ARGS] | run CMD... | umount" >&2; exit 2 ;;
+  *) echo "usage: $0 test [PYTEST ARGS] | setup | run CMD... | umount" >&2; exit 2 ;;
 esac
