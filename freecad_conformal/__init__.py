@@ -1,7 +1,8 @@
 """Conformal: multi-axis additive manufacturing process planning on exact B-rep solids.
 
 This package imports no FreeCAD module at import time, so its pure parts (toolpath, post,
-process, stream) run in any Python with numpy.
+process, stream) run in any Python with numpy. It imports shapely where there is one, to take
+shapely 2.1.0's per-call signature checks off the hot path (`shapely_speed.py`).
 """
 from __future__ import annotations
 
@@ -24,3 +25,10 @@ def _read_version() -> str:
 
 
 __version__ = _read_version()
+
+try:
+    from freecad_conformal.shapely_speed import unwrap_slow_checks
+
+    unwrap_slow_checks()
+except ImportError:  # no shapely: the pure parts (toolpath, post, stream) do not need it
+    pass

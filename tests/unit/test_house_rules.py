@@ -12,7 +12,7 @@ PACKAGE = Path(__file__).resolve().parents[2] / "freecad_conformal"
 #: Rooms from the bottom up: a room may import its own modules and rooms below it only.
 ROOMS = [
     {"package", "errors", "tolerances", "fileio", "progress", "freecad_env", "child_python",
-     "settings", "dependencies"},
+     "settings", "dependencies", "shapely_speed"},
     {"toolpath"},
     {"process", "post", "stream"},
     {"geometry"},
@@ -27,8 +27,8 @@ ROOMS = [
 ]
 RANK = {room: level for level, rooms in enumerate(ROOMS) for room in rooms}
 #: Rooms that run in any Python with numpy: no FreeCAD, no Qt, not even lazily.
-PURE = {"errors", "tolerances", "fileio", "progress", "settings", "dependencies", "toolpath", "process",
-        "post", "stream"}
+PURE = {"errors", "tolerances", "fileio", "progress", "settings", "dependencies", "shapely_speed",
+        "toolpath", "process", "post", "stream"}
 FREECAD_MODULES = {"FreeCAD", "Part", "Mesh", "MeshPart", "FreeCADGui", "Import"}
 SCREEN_MODULES = {"FreeCADGui", "PySide", "PySide2", "PySide6", "pivy"}
 

@@ -1,0 +1,98 @@
+"""Shapely 2.1.0's per-call signature inspection is taken off our hot path
+(freecad_conformal/shapely_speed.py), and nothing else is touched."""
+from __future__ import annotations
+
+import functools
+import inspect
+import sys
+import types
+import warnings
+
+import pytest
+
+from freecad_conformal import shapely_speed
+
+
+def _fake_shapely(version: str) -> tuple[types.ModuleType, dict]:
+    """A package shaped as shapely 2.1.0 is: a checking decorator (its per-call
+    `inspect.signature` included), a submodule of checked and plain functions, and the
+    top-level names re-exported from it."""
+    package = types.ModuleType("shapely")
+    package.__version__ = version
+    decorators = types.ModuleType("shapely.decorators")
+
+    def deprecate_positional(should_be_kwargs, category=DeprecationWarning):
+        def decorator(func):
+            @functools.wraps(func)
+            def wrapper(*args, **kwargs):
+                value = func(*args, **kwargs)
+                bound = inspect.signature(func).bind_partial(*args)
+                if any(name in should_be_kwargs for name in bound.arguments):
+                    warnings.warn(f"positional argument for {func.__name__}", category, stacklevel=2)
+                return value
+            return wrapper
+        return decorator
+
+    decorators.deprecate_positional = deprecate_positional
+    creation = types.ModuleType("shapely.creation")
+
+    def polygons(shell, holes=None, indices=None):
+        return ("polygon", shell, holes, indices)
+
+    def plain(x):
+        return x
+
+    creation.polygons = deprecate_positional(["indices"])(polygons)
+    creation.plain = plain
+    package.decorators, package.creation = decorators, creation
+    package.polygons, package.plain = creation.polygons, creation.plain
+    originals = {"polygons": polygons, "plain": plain}
+    return package, {"shapely": package, "shapely.decorators": decorators,
+                     "shapely.creation": creation}, originals
+
+
+def test_the_slow_release_gets_its_functions_unwrapped(monkeypatch):
+    package, modules, originals = _fake_shapely(shapely_speed.SLOW_RELEASE)
+    for name, module in modules.items():
+        monkeypatch.setitem(sys.modules, name, module)
+    with pytest.warns(DeprecationWarning):
+        package.polygons("shell", None, "given by position")
+    # The top-level name and the submodule's: both are what callers look up.
+    assert shapely_speed.unwrap_slow_checks() == 2
+    assert package.polygons is originals["polygons"]
+    assert package.creation.polygons is originals["polygons"]
+    assert package.plain is originals["plain"] and package.creation.plain is originals["plain"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert package.polygons("shell", None, 3) == ("polygon", "shell", None, 3)
+    assert shapely_speed.unwrap_slow_checks() == 0     # nothing left to unwrap
+
+
+@pytest.mark.parametrize("version", ["2.0.7", "2.1.1", "2.2.0"])
+def test_other_releases_are_left_alone(monkeypatch, version):
+    package, modules, _ = _fake_shapely(version)
+    for name, module in modules.items():
+        monkeypatch.setitem(sys.modules, name, module)
+    checked = package.polygons
+    assert shapely_speed.unwrap_slow_checks() == 0
+    assert package.polygons is checked and package.creation.polygons is checked
+
+
+def test_the_installed_shapely_carries_no_slow_check_once_imported():
+    """Importing the package is enough (freecad_conformal/__init__.py): no public shapely
+    function still inspects its arguments on every call."""
+    import shapely
+    import shapely.decorators
+
+    import freecad_conformal  # noqa: F401
+
+    if not hasattr(shapely.decorators, "deprecate_positional"):
+        pytest.skip(f"shapely {shapely.__version__} has no positional-argument check")
+    check = shapely.decorators.deprecate_positional([])(lambda: None).__code__
+    slow = [name for name, value in vars(shapely).items()
+            if getattr(value, "__code__", None) is check]
+    if shapely.__version__ != shapely_speed.SLOW_RELEASE:
+        assert shapely_speed.unwrap_slow_checks() == 0
+    else:
+        assert slow == []
+        assert shapely.Polygon([(0, 0), (1, 0), (1, 1)]).area == pytest.approx(0.5)
