@@ -44,11 +44,20 @@ def _fake_shapely(version: str) -> tuple[types.ModuleType, dict]:
 
     creation.polygons = deprecate_positional(["indices"])(polygons)
     creation.plain = plain
+    geometry = types.ModuleType("shapely.geometry.base")
+
+    def buffer(self, distance, quad_segs=16):
+        return ("buffered", distance, quad_segs)
+
+    # A geometry class, as shapely's, whose method is checked the same way.
+    geometry.BaseGeometry = type("BaseGeometry", (), {
+        "__module__": "shapely.geometry.base",
+        "buffer": deprecate_positional(["quad_segs"])(buffer)})
     package.decorators, package.creation = decorators, creation
     package.polygons, package.plain = creation.polygons, creation.plain
-    originals = {"polygons": polygons, "plain": plain}
+    originals = {"polygons": polygons, "plain": plain, "buffer": buffer}
     return package, {"shapely": package, "shapely.decorators": decorators,
-                     "shapely.creation": creation}, originals
+                     "shapely.creation": creation, "shapely.geometry.base": geometry}, originals
 
 
 def test_the_slow_release_gets_its_functions_unwrapped(monkeypatch):
@@ -57,10 +66,16 @@ def test_the_slow_release_gets_its_functions_unwrapped(monkeypatch):
         monkeypatch.setitem(sys.modules, name, module)
     with pytest.warns(DeprecationWarning):
         package.polygons("shell", None, "given by position")
-    # The top-level name and the submodule's: both are what callers look up.
-    assert shapely_speed.unwrap_slow_checks() == 2
+    # The top-level name and the submodule's (both are what callers look up) and the
+    # geometry method.
+    assert shapely_speed.unwrap_slow_checks() == 3
     assert package.polygons is originals["polygons"]
     assert package.creation.polygons is originals["polygons"]
+    base = modules["shapely.geometry.base"].BaseGeometry
+    assert base.__dict__["buffer"] is originals["buffer"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert base().buffer(1.0, 8) == ("buffered", 1.0, 8)
     assert package.plain is originals["plain"] and package.creation.plain is originals["plain"]
     with warnings.catch_warnings():
         warnings.simplefilter("error")
@@ -83,13 +98,15 @@ def test_the_installed_shapely_carries_no_slow_check_once_imported():
     function still inspects its arguments on every call."""
     import shapely
     import shapely.decorators
+    import shapely.geometry.base
 
     import freecad_conformal  # noqa: F401
 
     if not hasattr(shapely.decorators, "deprecate_positional"):
         pytest.skip(f"shapely {shapely.__version__} has no positional-argument check")
     check = shapely.decorators.deprecate_positional([])(lambda: None).__code__
-    slow = [name for name, value in vars(shapely).items()
+    slow = [name for name, value in [*vars(shapely).items(),
+                                     *vars(shapely.geometry.base.BaseGeometry).items()]
             if getattr(value, "__code__", None) is check]
     if shapely.__version__ != shapely_speed.SLOW_RELEASE:
         assert shapely_speed.unwrap_slow_checks() == 0
