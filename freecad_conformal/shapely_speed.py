@@ -5,9 +5,9 @@ functions (`polygons`, `linearrings`, `buffer`, `simplify`, ...) in a check that
 the caller's arguments (`inspect.signature`) on every call, to warn about arguments given
 by position: 5-10x the cost of making a small polygon (shapely issues #2280, #2282), and
 the geometry methods (`buffer`, `intersection`, `difference`, `simplify`) pay it too: a
-fifth of the jack's plan there, a tenth of the bottle's. Shapely 2.1.1 made the check cheap. On 2.1.0 only,
-the public functions and geometry methods are given back their unwrapped selves: the same
-functions, less the warning.
+fifth of the jack's plan there, a tenth of the bottle's. Shapely 2.1.1 made the check
+cheap. On 2.1.0 only, the public functions and geometry methods are given back their
+unwrapped selves: the same functions, less the warning.
 """
 from __future__ import annotations
 
