@@ -20,6 +20,7 @@ from freecad_conformal.decomposition.cut_search import CutSearch, best_cut
 from freecad_conformal.decomposition.cuts import (LazyAxis, SavingEstimate, area_jump_candidates,
                                              face_candidates)
 from freecad_conformal.geometry.overhang import lowest_level, overhang_report
+from freecad_conformal.geometry.vertex_points import heights as vertex_heights
 from freecad_conformal.tolerances import (
     BASE_LEVEL_TOLERANCE, PARALLEL_COS_SLACK, SAME_DIRECTION_ANGLE)
 
@@ -260,7 +261,7 @@ def _thinner_than(shape, direction: np.ndarray, thickness: float) -> bool:
     control polygon's box (CrankArm: 7.9 mm for a 0.002 mm slice)."""
     from freecad_conformal.geometry.sections import extent_along
 
-    heights = [float(np.array(tuple(v.Point)) @ direction) for v in shape.Vertexes]
+    heights = vertex_heights(shape, direction)
     if heights and max(heights) - min(heights) >= thickness:
         return False
     low, high = extent_along(shape, direction)

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 from typing import Callable, Generic, TypeVar
 
+from freecad_conformal.geometry.shape_access import hash_code, is_same, orientation
+
 Value = TypeVar("Value")
 
 
@@ -38,10 +40,10 @@ class ShapeCache(Generic[Value]):
         _CACHES.append(self)
 
     def _same(self, a, b) -> bool:
-        return a.isSame(b) and (not self.oriented or a.Orientation == b.Orientation)
+        return is_same(a, b) and (not self.oriented or orientation(a) == orientation(b))
 
     def get(self, shapes: tuple, compute: Callable[[], Value]) -> Value:
-        key = tuple(shape.hashCode() for shape in shapes)
+        key = tuple(hash_code(shape) for shape in shapes)
         for known, value in self._buckets.get(key, []):
             if all(self._same(a, b) for a, b in zip(known, shapes)):
                 return value
@@ -63,7 +65,7 @@ class ShapeCache(Generic[Value]):
 
     def peek(self, shapes: tuple) -> Value | None:
         """The value cached for these shapes, None when there is none (nothing computed)."""
-        key = tuple(shape.hashCode() for shape in shapes)
+        key = tuple(hash_code(shape) for shape in shapes)
         for known, value in self._buckets.get(key, []):
             if all(self._same(a, b) for a, b in zip(known, shapes)):
                 return value
