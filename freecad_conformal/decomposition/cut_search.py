@@ -21,6 +21,7 @@ from freecad_conformal.decomposition.cuts import (MAX_EXACT_CUTS, SAVING_TIE, La
 from freecad_conformal.decomposition.mesh_cut import mesh_overhang, mesh_trial
 from freecad_conformal.geometry.face_normals import plane_normal
 from freecad_conformal.geometry.overhang import lowest_level
+from freecad_conformal.geometry.shape_parts import faces as faces_of
 from freecad_conformal.tolerances import DIVISION_GUARD
 
 
@@ -112,8 +113,9 @@ def _keeper_factor(piece, angle: float, search: CutSearch) -> np.ndarray:
 def _factor_of(piece, report, angle: float) -> np.ndarray:
     overhang = dict(report.faces)
     threshold = math.sin(angle)
-    factor = np.ones(len(piece.shape.Faces))
-    for index, face in enumerate(piece.shape.Faces):
+    faces = faces_of(piece.shape)
+    factor = np.ones(len(faces))
+    for index, face in enumerate(faces):
         normal = plane_normal(face)
         if normal is not None and normal @ piece.direction < -threshold:
             factor[index] = overhang.get(index, 0.0) / max(float(face.Area), DIVISION_GUARD)

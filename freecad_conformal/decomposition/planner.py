@@ -20,7 +20,7 @@ from freecad_conformal.decomposition.cut_search import CutSearch, best_cut
 from freecad_conformal.decomposition.cuts import (LazyAxis, SavingEstimate, area_jump_candidates,
                                              face_candidates)
 from freecad_conformal.geometry.overhang import lowest_level, overhang_report
-from freecad_conformal.geometry.vertex_points import heights as vertex_heights
+from freecad_conformal.geometry.shape_parts import faces as faces_of, heights as vertex_heights, vertex_points
 from freecad_conformal.tolerances import (
     BASE_LEVEL_TOLERANCE, PARALLEL_COS_SLACK, SAME_DIRECTION_ANGLE)
 
@@ -284,11 +284,11 @@ def touch_area(shape, region) -> float:
     normal = plane_normal(region)
     level = float(np.array(tuple(region.Vertexes[0].Point)) @ normal)
     area = 0.0
-    for face in shape.Faces:
+    for face in faces_of(shape):
         n = plane_normal(face)
         if n is None or abs(abs(n @ normal) - 1) > PARALLEL_COS_SLACK:
             continue
-        if abs(float(np.array(tuple(face.Vertexes[0].Point)) @ normal) - level) > LEVEL_TOLERANCE:
+        if abs(float(vertex_points(face)[0] @ normal) - level) > LEVEL_TOLERANCE:
             continue
         if face.BoundBox.intersect(region.BoundBox):
             area += float(face.common(region).Area)

@@ -18,7 +18,7 @@ import numpy as np
 from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry.face_normals import plane_normal
 from freecad_conformal.geometry.shape_cache import ShapeCache
-from freecad_conformal.geometry.vertex_points import vertex_points
+from freecad_conformal.geometry.shape_parts import faces as faces_of, vertex_points
 from freecad_conformal.geometry.surface_mesh import face_part, mesh_deflection, mesh_faces
 from freecad_conformal.tolerances import PARALLEL_COS_SLACK, ZERO_LENGTH
 
@@ -77,12 +77,11 @@ def base_area(shape, d: np.ndarray) -> float:
     facing straight down at the shape's lowest level."""
     low = lowest_level(shape, d)
     area = 0.0
-    for face in shape.Faces:
-        if type(face.Surface).__name__ != "Plane":
+    for face in faces_of(shape):
+        normal = plane_normal(face)     # None: not a plane
+        if normal is None:
             continue
-        u0, u1, v0, v1 = face.ParameterRange
-        normal = np.array(tuple(face.normalAt(0.5 * (u0 + u1), 0.5 * (v0 + v1))), dtype=float)
-        point = np.array(tuple(face.Vertexes[0].Point), dtype=float)
+        point = vertex_points(face)[0]
         if float(normal @ d) < -1.0 + PARALLEL_COS_SLACK and abs(float(point @ d) - low) < ON_PLANE_TOLERANCE:
             area += float(face.Area)
     return area
@@ -112,7 +111,7 @@ def overhang_report(shape, direction: Sequence[float], angle: float = DEFAULT_OV
     deflection = mesh_deflection(shape)
     mesh_faces(shape, deflection)
     faces = []
-    for index, face in enumerate(shape.Faces):
+    for index, face in enumerate(faces_of(shape)):
         normal = plane_normal(face)
         if normal is None:
             area = curved_overhang(face, d, threshold, deflection)
@@ -155,7 +154,7 @@ def share_overhang_areas(original, copy) -> None:
 def _supported_area(face, normal: np.ndarray, d: np.ndarray, low: float | None,
                     base_faces: Sequence) -> float:
     """How much of a downward planar face rests on the bed or on the base faces."""
-    level = float(np.array(tuple(face.Vertexes[0].Point)) @ d)
+    level = float(vertex_points(face)[0] @ d)
     if low is not None and abs(normal @ d + 1.0) < PARALLEL_COS_SLACK and abs(level - low) < ON_PLANE_TOLERANCE:
         return float(face.Area)
     supported = 0.0
@@ -163,8 +162,8 @@ def _supported_area(face, normal: np.ndarray, d: np.ndarray, low: float | None,
         base_normal = plane_normal(base)
         if base_normal is None or abs(abs(base_normal @ normal) - 1.0) > PARALLEL_COS_SLACK:
             continue
-        if abs(float(np.array(tuple(base.Vertexes[0].Point)) @ normal)
-               - float(np.array(tuple(face.Vertexes[0].Point)) @ normal)) > ON_PLANE_TOLERANCE:
+        if abs(float(vertex_points(base)[0] @ normal)
+               - float(vertex_points(face)[0] @ normal)) > ON_PLANE_TOLERANCE:
             continue
         if not face.BoundBox.intersect(base.BoundBox):
             continue

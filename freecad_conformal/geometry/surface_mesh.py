@@ -17,6 +17,7 @@ import numpy as np
 from freecad_conformal.geometry.face_normals import node_normals, plane_normal
 from freecad_conformal.geometry.rows import find_rows, unique_rows
 from freecad_conformal.geometry.shape_cache import ShapeCache
+from freecad_conformal.geometry.shape_parts import faces as faces_of
 
 #: Linear deflection relative to the shape's bounding-box diagonal: 0.1 % (0.16 mm on
 #: CrankArm's 160 mm arm) keeps section outlines well inside the 1e-3 mm² cut decisions'
@@ -166,7 +167,7 @@ def mesh_faces(shape, deflection: float) -> None:
     two faces, where meshing face by face meshes it again for each (Pump_Nut's 25 faces:
     0.11 s against 0.21 s). Faces already triangulated keep their triangles. Only curved
     faces count: a plane's overhang is read from its normal, without a mesh."""
-    if any(_FACES.peek((face,)) is None and plane_normal(face) is None for face in shape.Faces):
+    if any(_FACES.peek((face,)) is None and plane_normal(face) is None for face in faces_of(shape)):
         shape.tessellate(deflection)
 
 

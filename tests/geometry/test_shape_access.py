@@ -1,5 +1,5 @@
 """Shape methods and properties read through their type (geometry/shape_access.py), and
-vertex points read once per shape (geometry/vertex_points.py): the same values as the
+vertex points read once per shape (geometry/shape_parts.py): the same values as the
 attributes, never another shape's."""
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import numpy as np
 from freecad_conformal.geometry import samples
 from freecad_conformal.geometry.shape_access import hash_code, is_same, orientation, point
 from freecad_conformal.geometry.shape_cache import ShapeCache
-from freecad_conformal.geometry.vertex_points import heights, vertex_points
+from freecad_conformal.geometry.shape_parts import faces, heights, vertex_points
 
 
 def test_type_level_reads_equal_the_attributes(App):
@@ -50,3 +50,17 @@ def test_heights_are_the_products_the_vertices_gave_before():
     direction /= np.linalg.norm(direction)
     expected = [float(np.array(tuple(v.Point)) @ direction) for v in solid.Vertexes]
     assert heights(solid, direction) == expected     # bit for bit: plans read these
+
+
+def test_faces_are_read_once_per_shape_and_orientation(App):
+    solid = samples.hinge()
+    listed = faces(solid)
+    assert listed is faces(solid)
+    assert all(a.isSame(b) and a.Orientation == b.Orientation
+               for a, b in zip(listed, solid.Faces)) and len(listed) == len(solid.Faces)
+    # A reversed solid's faces are reversed: not the cached ones.
+    turned = solid.reversed()
+    assert [f.Orientation for f in faces(turned)] == [f.Orientation for f in turned.Faces]
+    assert faces(turned)[0].Orientation != listed[0].Orientation
+    moved = solid.translated(App.Vector(3, 0, 0))
+    assert faces(moved)[0].BoundBox.XMin == moved.Faces[0].BoundBox.XMin
