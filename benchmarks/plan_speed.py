@@ -163,9 +163,13 @@ def _own_part(name: str, folder: Path) -> str:
 def _prepare_freecad1() -> None:
     """Set the chroot up (this checkout as committed, the shared parts) and compile the
     package there once, as for this side."""
-    subprocess.run([str(ROOT / "ci" / "freecad1.sh"), "setup"], check=True, capture_output=True)
-    subprocess.run([str(ROOT / "ci" / "freecad1.sh"), "run", CHROOT_PYTHON, "-m", "compileall",
-                    "-q", f"{CHROOT_PROJECT}/freecad_conformal"], check=True, capture_output=True)
+    for step in (["setup"], ["run", CHROOT_PYTHON, "-m", "compileall", "-q",
+                             f"{CHROOT_PROJECT}/freecad_conformal"]):
+        run = subprocess.run([str(ROOT / "ci" / "freecad1.sh"), *step], capture_output=True,
+                             text=True)
+        if run.returncode != 0:
+            tail = (run.stderr.strip() or run.stdout.strip()).splitlines()[-5:]
+            raise SystemExit(f"--freecad1: ci/freecad1.sh {step[0]} failed:\n" + "\n".join(tail))
 
 
 def _inside_chroot(part: str) -> str:
