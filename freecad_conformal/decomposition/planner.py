@@ -282,7 +282,7 @@ def touch_area(shape, region) -> float:
     from freecad_conformal.geometry.face_normals import plane_normal
 
     normal = plane_normal(region)
-    level = float(np.array(tuple(region.Vertexes[0].Point)) @ normal)
+    level = float(vertex_points(region)[0] @ normal)
     area = 0.0
     for face in faces_of(shape):
         n = plane_normal(face)

@@ -18,7 +18,7 @@ import numpy as np
 from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry.face_normals import plane_normal
 from freecad_conformal.geometry.shape_cache import ShapeCache
-from freecad_conformal.geometry.shape_parts import faces as faces_of, vertex_points
+from freecad_conformal.geometry.shape_parts import faces as faces_of, heights as vertex_heights, vertex_points
 from freecad_conformal.geometry.surface_mesh import face_part, mesh_deflection, mesh_faces
 from freecad_conformal.tolerances import PARALLEL_COS_SLACK, ZERO_LENGTH
 
@@ -64,7 +64,7 @@ def check_angle(angle: float) -> float:
 def lowest_level(shape, d: np.ndarray) -> float:
     """Lowest height of the shape's vertices along d (planar bottoms are bounded by vertices;
     curved bottoms do not rest on the bed flat anyway)."""
-    return float(min(p @ d for p in vertex_points(shape)))
+    return min(vertex_heights(shape, d))
 
 
 #: A part stands on the bed only on a flat face at least this large (mm²): a vertex or an

@@ -29,7 +29,7 @@ from freecad_conformal.geometry.prism_runs import copy_sources, free_runs
 from freecad_conformal.geometry.plane_curves import STRAIGHT_CURVES, curve_name
 from freecad_conformal.geometry.section_pool import cut_sections
 from freecad_conformal.geometry.shape_cache import ShapeCache
-from freecad_conformal.geometry.shape_parts import faces as faces_of, vertex_points
+from freecad_conformal.geometry.shape_parts import faces as faces_of, heights as vertex_heights
 from freecad_conformal.geometry.frames import LayerFrame
 from freecad_conformal.geometry.loops import Loop, loops_of_faces, polygons_of_loops
 from freecad_conformal.geometry.solids import solids_of
@@ -253,8 +253,8 @@ def _faces_reaching(shape, n: np.ndarray) -> list[tuple[float, object]]:
     `n`, highest reach first: a face whose box ends below the highest vertex cannot. The
     box is OCC's optimal one (`boxes.py`), which only errs on the large side."""
     faces = faces_of(shape)
-    points = vertex_points(shape)
-    highest = max(float(p @ n) for p in points) if points else -np.inf
+    heights = vertex_heights(shape, n)
+    highest = max(heights) if heights else -np.inf
     reaching = [(box_reach(optimal_box(face), n), index) for index, face in enumerate(faces)]
     reaching = sorted((item for item in reaching if item[0] >= highest - BOX_MARGIN),
                       reverse=True)

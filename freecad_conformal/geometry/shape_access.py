@@ -26,12 +26,10 @@ def _bind() -> dict[str, Callable]:
 
 
 def _getter(kind: type, name: str) -> Callable:
-    """The C getter of property `name` of `kind` (or of the class that defines it)."""
-    for klass in kind.__mro__:
-        if name in vars(klass):
-            descriptor = vars(klass)[name]
-            return lambda shape: descriptor.__get__(shape, kind)
-    raise AttributeError(f"{kind.__name__} has no property {name!r}")
+    """The C getter of property `name` of `kind` (read on the type, a property is its
+    descriptor)."""
+    descriptor = getattr(kind, name)
+    return lambda shape: descriptor.__get__(shape, kind)
 
 
 def is_same(a, b) -> bool:
