@@ -27,6 +27,7 @@ from freecad_conformal.geometry.plane_curves import (ON_CURVE, VERTEX_CLEARANCE,
                                                      surface_curves)
 from freecad_conformal.geometry.planar_faces import (Piece, PlaneFrame, SectionFace,
                                                      faces_from_pieces)
+from freecad_conformal.geometry.revolved_torus import revolved_torus
 from freecad_conformal.geometry.uv_domain import FaceDomain
 
 #: OCC joins two edge ends into one vertex when they are closer than their tolerances
@@ -136,11 +137,15 @@ TRIM_SHARE = 0.8
 
 
 def _cut_surface(face):
-    """The surface a plane is intersected with for `face`: its own, or for a B-spline face
+    """The surface a plane is intersected with for `face`: its own; for a B-spline face
     covering little of it, the piece over the face's (u, v) box (the same geometry, cut by
-    knot insertion, so the curves are as exact)."""
+    knot insertion, so the curves are as exact); a circle revolved about an axis in its
+    plane as the torus it is (`revolved_torus.py`)."""
     surface = face.Surface
-    if type(surface).__name__ != "BSplineSurface":
+    kind = type(surface).__name__
+    if kind == "SurfaceOfRevolution":
+        return revolved_torus(surface) or surface
+    if kind != "BSplineSurface":
         return surface
     u0, u1, v0, v1 = face.ParameterRange
     su0, su1, sv0, sv1 = surface.bounds()
