@@ -16,27 +16,30 @@ GRID = 7
 
 
 def _revolved(App, Part, kind: str):
-    """Solids whose round faces are surfaces of revolution of circles."""
+    """Solids with surfaces of revolution of circles: profiles swept along a quarter arc
+    (FreeCAD's sweep makes the bend so; its revolve makes tori on FreeCAD 1.0)."""
     V = App.Vector
+    path = Part.Wire(Part.Circle(V(40, 0, 0), V(0, 1, 0), 40).toShape(math.pi / 2, math.pi))
+
+    def swept(*edges):
+        return path.makePipeShell([Part.Wire(list(edges))], True, False)
+
+    def circle(radius: float, normal=(0, 0, 1)):
+        return Part.Circle(V(0, 0, 0), V(*normal), radius)
     if kind == "elbow":
-        # A pipe swept along a quarter arc (FreeCAD's sweep makes its bend so).
-        path = Part.Wire(Part.Circle(V(40, 0, 0), V(0, 1, 0), 40).toShape(math.pi / 2, math.pi))
-
-        def tube(radius: float):
-            profile = Part.Wire(Part.Circle(V(0, 0, 0), V(0, 0, 1), radius).toShape())
-            return path.makePipeShell([profile], True, False)
-        return tube(10).cut(tube(7))
-    if kind == "ring":
-        # A disc turned by 270° about Z, its circle's normal against the turn.
-        circle = Part.Circle(V(20, 0, 0), V(0, -1, 0), 5)
-        return Part.Face(Part.Wire(circle.toShape())).revolve(V(0, 0, 0), V(0, 0, 1), 270)
-    # A half disc (D profile) about a leaning axis: faces trimmed in v as well as in u.
-    arc = Part.ArcOfCircle(Part.Circle(V(20, 0, 0), V(0, 1, 0), 5), 0.3, 0.3 + math.pi)
-    wire = Part.Wire([arc.toShape(), Part.LineSegment(arc.EndPoint, arc.StartPoint).toShape()])
-    return Part.Face(wire).revolve(V(0, 0, 0), V(0.2, 0, 1), 200)
+        return swept(circle(10).toShape()).cut(swept(circle(7).toShape()))
+    if kind == "reversed":
+        # The profile's circle runs the other way: the torus' v runs against its parameter.
+        return swept(circle(6, (0, 0, -1)).toShape())
+    # A half disc (D profile), turned about a leaning axis: faces trimmed in v as well as
+    # in u, the surfaces placed by the shape's location.
+    arc = Part.ArcOfCircle(circle(6), 0.3, 0.3 + math.pi)
+    solid = swept(arc.toShape(), Part.LineSegment(arc.EndPoint, arc.StartPoint).toShape())
+    solid.rotate(V(3, 2, 1), V(1, 2, 0.5), 33)
+    return solid
 
 
-KINDS = ("elbow", "ring", "half_disc")
+KINDS = ("elbow", "reversed", "half_disc")
 
 
 def _revolution_faces(solid) -> list:
@@ -65,6 +68,14 @@ def test_each_point_of_the_surface_is_the_torus_point_of_the_mapped_parameters(A
                     torus.MinorRadius, abs=1e-9)
                 turn = (torus_v - (torus.v_offset + torus.v_sign * v)) % (2 * math.pi)
                 assert min(turn, 2 * math.pi - turn) < 1e-9
+
+
+def test_the_solids_run_the_circle_both_ways(App, Part):
+    """The parameter check above meets both senses of the circle (else a sense error in
+    one of them would pass unseen)."""
+    signs = {revolved_torus(face.Surface).v_sign for kind in KINDS
+             for face in _revolution_faces(_revolved(App, Part, kind))}
+    assert signs == {1.0, -1.0}
 
 
 def test_other_revolutions_are_left_to_occ(App, Part):
