@@ -71,6 +71,17 @@ class ShapeCache(Generic[Value]):
                 return value
         return None
 
+    def discard(self, shapes: tuple) -> bool:
+        """Forget the value cached for these shapes; whether there was one."""
+        key = tuple(hash_code(shape) for shape in shapes)
+        bucket = self._buckets.get(key, [])
+        for index, (known, _) in enumerate(bucket):
+            if all(self._same(a, b) for a, b in zip(known, shapes)):
+                del bucket[index]
+                self._count -= 1
+                return True
+        return False
+
     def clear(self) -> None:
         self._buckets.clear()
         self._count = 0

@@ -75,10 +75,16 @@ def surface_mesh(shape, deflection: float | None = None) -> SurfaceMesh | None:
 
 def _build(shape, deflection: float) -> SurfaceMesh | None:
     # The shape's own triangulation first: faces a cut left untouched keep theirs, so
-    # BRepMesh meshes only the new faces. Other code may have re-meshed a face on its own
-    # (its edges then no longer match its neighbours'); a fresh copy is meshed whole then.
+    # BRepMesh meshes only the new faces. Where it meshed again faces whose parts were
+    # read before, those parts are stale and the shape's own mesh is whole: its faces are
+    # read again (a swept spring's box, and so its deflection, shrinks once it has a mesh:
+    # BRepMesh meshed its coil again, and meshing a copy as well cost 3.2 s more). Other
+    # code may have re-meshed a face on its own (its edges then no longer match its
+    # neighbours'); a fresh copy is meshed whole then.
     shape.tessellate(deflection)
     mesh = _read(shape, deflection)
+    if mesh is None and any([_FACES.discard((face,)) for face in shape.Faces]):
+        mesh = _read(shape, deflection)
     if mesh is None:
         copy = shape.copy()
         copy.tessellate(deflection)

@@ -129,6 +129,30 @@ def test_overhang_reports_leave_the_solids_triangulation_shared(parts_dir):
     assert _read(arm, deflection) is not None
 
 
+def test_a_solid_meshed_again_finer_is_read_from_its_own_new_mesh(App, Part):
+    """Faces read at one deflection, then the solid's mesh asked finer (a swept spring's
+    box shrinks once it has a mesh): BRepMesh meshes the coil again, and the faces' parts
+    are read again from the solid's new mesh, not left stale beside a mesh of a copy
+    (which cost the spring a third meshing, 3.2 s)."""
+    from freecad_conformal.geometry.surface_mesh import face_part
+
+    helix = Part.makeHelix(6, 12, 8)
+    edge = helix.Edges[0]
+    start = edge.valueAt(edge.FirstParameter)
+    profile = Part.Wire(Part.Circle(start, edge.tangentAt(edge.FirstParameter), 1.5).toShape())
+    coil = Part.Wire(helix.Edges).makePipeShell([profile], True, True).Solids[0]
+    coarse, fine = 0.1, 0.05
+    coil.tessellate(coarse)
+    # As an overhang report reads them: the curved faces only (a plane's normal is known).
+    before = [(face, face_part(face, coarse)) for face in coil.Faces
+              if type(face.Surface).__name__ != "Plane"]
+    mesh = surface_mesh(coil, fine)
+    assert mesh is not None and before
+    assert all(face_part(face, fine) is not old for face, old in before)
+    for index, face in enumerate(coil.Faces):
+        assert len(face_part(face, fine).triangles) == int(np.sum(mesh.faces == index))
+
+
 def test_only_the_cuts_the_mesh_ranks_best_are_made_exactly(monkeypatch):
     made = []
     try_cut = planner.try_cut
