@@ -3,7 +3,10 @@
 Issue 16 asks the plan choice to stay within 20 s on parts like these, which took minutes to
 decompose when tried as a new user would: a modelled screw thread (a profile swept along a
 helix), fan blades (lofted twisted sections on a hub) and a small free-form connecting rod
-(a loft through ellipses between two bosses).
+(a loft through ellipses between two bosses). Two more that were slow when first tried: a
+pipe elbow (a tube swept along an arc, whose bend is a surface of revolution: 31 s, 11x
+PrusaSlicer, before such faces were cut as tori) and a coil spring on a disc (a circle swept
+along a helix: 31 s, its coil meshed three times).
 """
 from __future__ import annotations
 
@@ -73,4 +76,30 @@ def connecting_rod(length: float = 60.0):
     return big.fuse(small).fuse(shank).removeSplitter().Solids[0]
 
 
-OWN_PARTS = {"screw_thread": screw_thread, "fan": fan, "connecting_rod": connecting_rod}
+def pipe_elbow(bend: float = 40.0, outer: float = 10.0, inner: float = 7.0):
+    """A tube bent through a quarter turn, standing on a flange."""
+    App, Part = import_freecad()
+    V = App.Vector
+    path = Part.Wire(Part.Circle(V(bend, 0, 0), V(0, 1, 0), bend).toShape(math.pi / 2, math.pi))
+
+    def tube(radius: float):
+        profile = Part.Wire(Part.Circle(V(0, 0, 0), V(0, 0, 1), radius).toShape())
+        return path.makePipeShell([profile], True, False)
+    flange = Part.makeCylinder(18, 4, V(0, 0, -4)).cut(Part.makeCylinder(inner, 4, V(0, 0, -4)))
+    return tube(outer).cut(tube(inner)).fuse(flange).removeSplitter().Solids[0]
+
+
+def coil_spring(turns: float = 5.0, pitch: float = 6.0, radius: float = 12.0, wire: float = 1.5):
+    """A round wire coiled along a helix, standing on a disc."""
+    App, Part = import_freecad()
+    V = App.Vector
+    helix = Part.makeHelix(pitch, turns * pitch, radius)
+    edge = helix.Edges[0]
+    start, along = edge.valueAt(edge.FirstParameter), edge.tangentAt(edge.FirstParameter)
+    profile = Part.Wire(Part.Circle(start, along, wire).toShape())
+    coil = Part.Wire(helix.Edges).makePipeShell([profile], True, True)
+    return coil.fuse(Part.makeCylinder(radius + 2.0, 2.0, V(0, 0, -2.0))).removeSplitter().Solids[0]
+
+
+OWN_PARTS = {"screw_thread": screw_thread, "fan": fan, "connecting_rod": connecting_rod,
+             "pipe_elbow": pipe_elbow, "coil_spring": coil_spring}

@@ -1,7 +1,8 @@
 """Wall time of `plan` against PrusaSlicer's CLI on the same part, in the same run.
 
-For every part in ../shared/parts, the built-in samples and the B-spline-heavy parts of our
-own making (benchmarks/own_parts.py: a screw thread, a fan, a connecting rod): our plan in a fresh process (its
+For every part in ../shared/parts, the built-in samples and the curved parts of our own
+making (benchmarks/own_parts.py: a screw thread, a fan, a connecting rod, a pipe elbow, a
+coil spring): our plan in a fresh process (its
 wall time, peak memory and time per stage: plan choice (decomposition or candidate
 orientations, laid out, sliced and costed: jobs/plan.choose_plan, less the chosen plan's
 layers), layers (the chosen plan's, whether the choice sliced them or the job), paths,
