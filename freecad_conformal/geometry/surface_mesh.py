@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.face_normals import node_normals, plane_normal
 from freecad_conformal.geometry.rows import find_rows, unique_rows
 from freecad_conformal.geometry.shape_cache import ShapeCache
@@ -172,9 +173,15 @@ def mesh_faces(shape, deflection: float) -> None:
     one by one (`face_part`): meshing a solid whole shares each edge's polygon between its
     two faces, where meshing face by face meshes it again for each (Pump_Nut's 25 faces:
     0.11 s against 0.21 s). Faces already triangulated keep their triangles. Only curved
-    faces count: a plane's overhang is read from its normal, without a mesh."""
-    if any(_FACES.peek((face,)) is None and plane_normal(face) is None for face in faces_of(shape)):
-        shape.tessellate(deflection)
+    faces count, and only they are meshed, as one compound: a plane's overhang is read from
+    its normal, and meshing a plate's two faces round its 100 holes took BRepMesh 1.45 s of
+    1.6 (their edges are meshed with the curved faces, and a later mesh of the solid meshes
+    the planes on them)."""
+    curved = [face for face in faces_of(shape)
+              if _FACES.peek((face,)) is None and plane_normal(face) is None]
+    if curved:
+        _, Part = import_freecad()
+        Part.makeCompound(curved).tessellate(deflection)
 
 
 def share_face_parts(original, copy) -> None:

@@ -153,6 +153,29 @@ def test_a_solid_meshed_again_finer_is_read_from_its_own_new_mesh(App, Part):
         assert len(face_part(face, fine).triangles) == int(np.sum(mesh.faces == index))
 
 
+def test_a_solid_scanned_before_it_is_meshed_gets_the_mesh_it_would_get_unscanned(App, Part):
+    """The overhang scan meshes only the curved faces; the planes are meshed later, on the
+    edges the curved faces' meshing left: the solid's mesh must be the very mesh it gets
+    when nothing was meshed before (closed, the same nodes and triangles)."""
+    from freecad_conformal.geometry.shape_cache import clear_all
+
+    def plate():
+        solid = Part.makeBox(40, 30, 6)
+        solid = solid.makeFillet(2.0, [e for e in solid.Edges if abs(e.BoundBox.ZLength - 6) < 1e-9])
+        for x in (10, 20, 30):
+            solid = solid.cut(Part.makeCylinder(3, 10, App.Vector(x, 15, -2)))
+        return solid.Solids[0]
+
+    scanned = plate()
+    overhang_report(scanned, (0, 0, -1), ANGLE)
+    after_scan = surface_mesh(scanned)
+    clear_all()
+    alone = surface_mesh(plate())
+    assert after_scan is not None and alone is not None
+    np.testing.assert_array_equal(after_scan.points, alone.points)
+    np.testing.assert_array_equal(after_scan.triangles, alone.triangles)
+
+
 def test_only_the_cuts_the_mesh_ranks_best_are_made_exactly(monkeypatch):
     made = []
     try_cut = planner.try_cut
