@@ -4,7 +4,7 @@ as one, a plane meets it in closed form (`torus_sections.py`).
 CAD makes such faces wherever a round profile turns about an axis: a pipe swept along an
 arc (FreeCAD's `makePipeShell`), a revolved sketch with an arc in it, a STEP surface of
 revolution. OCC walks a plane through them (14 ms a plane on a pipe elbow's bend: 22 of
-its 25 s of 3-D layers), where its own torus takes the closed form's few tenths of a ms.
+its 25 s of 3-D layers); read as tori they take the closed form (the elbow's layers: 11 s).
 """
 from __future__ import annotations
 
@@ -87,4 +87,3 @@ def revolved_torus(surface) -> RevolvedTorus | None:
 def _unit(vector) -> np.ndarray:
     v = np.asarray(vector, dtype=float)
     return v / np.linalg.norm(v)
-

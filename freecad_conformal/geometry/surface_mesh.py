@@ -84,8 +84,10 @@ def _build(shape, deflection: float) -> SurfaceMesh | None:
     # neighbours'); a fresh copy is meshed whole then.
     shape.tessellate(deflection)
     mesh = _read(shape, deflection)
-    if mesh is None and any([_FACES.discard((face,)) for face in shape.Faces]):
-        mesh = _read(shape, deflection)
+    if mesh is None:
+        dropped = [_FACES.discard((face,)) for face in shape.Faces]
+        if any(dropped):
+            mesh = _read(shape, deflection)
     if mesh is None:
         copy = shape.copy()
         copy.tessellate(deflection)
