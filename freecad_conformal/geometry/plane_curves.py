@@ -151,12 +151,9 @@ def surface_curves(surface, parameter_range, plane, n: np.ndarray, height: float
     `parameter_range` is the face's (u0, u1, v0, v1). `surface` may be a torus read from a
     surface of revolution (`revolved_torus.RevolvedTorus`)."""
     kind = type(surface).__name__
-    if kind == "Toroid":
-        curves = torus_plane_curves(surface, n, height, parameter_range)
-        if curves is not None:
-            return curves
-    if kind == "RevolvedTorus":
-        curves = torus_plane_curves(surface, n, height, surface.domain(parameter_range))
+    if kind in ("Toroid", "RevolvedTorus"):
+        domain = surface.domain(parameter_range) if kind == "RevolvedTorus" else parameter_range
+        curves = torus_plane_curves(surface, n, height, domain)
         if curves is not None:
             return curves
     if kind == "Sphere":

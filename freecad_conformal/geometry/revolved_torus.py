@@ -12,6 +12,8 @@ import math
 
 import numpy as np
 
+from freecad_conformal.geometry.frames import unit
+
 #: The circle's plane holds the axis when its normal is square to the axis within this
 #: (cosine) and its centre off the axis' plane by less than `IN_PLANE`: then the surface is
 #: a torus to OCC's own accuracy. Anything further off is left to OCC's walking (the
@@ -60,10 +62,10 @@ def revolved_torus(surface) -> RevolvedTorus | None:
         basis = basis.Circle    # a trimmed circle keeps its circle's parameter
     if type(basis).__name__ != "Circle":
         return None
-    w = _unit(tuple(surface.Direction))
+    w = unit(tuple(surface.Direction))
     on_axis = np.array(tuple(surface.Location))
     circle_centre = np.array(tuple(basis.Center))
-    normal = _unit(tuple(basis.Axis))
+    normal = unit(tuple(basis.Axis))
     if abs(float(normal @ w)) > SQUARE_COS or abs(float((circle_centre - on_axis) @ normal)) > IN_PLANE:
         return None
     offset = circle_centre - on_axis
@@ -74,7 +76,7 @@ def revolved_torus(surface) -> RevolvedTorus | None:
     if major <= minor:
         return None     # a spindle torus or a sphere: no ring for the closed form
     outward = radial / major
-    x_axis, y_axis = _unit(tuple(basis.XAxis)), _unit(tuple(basis.YAxis))
+    x_axis, y_axis = unit(tuple(basis.XAxis)), unit(tuple(basis.YAxis))
     # The circle's point at t is minor·(cos t X + sin t Y) from its centre, the torus' at v
     # minor·(cos v outward + sin v w): X sits at v = α, and Y a quarter turn on (v = α + t)
     # or back (v = α − t).
@@ -83,7 +85,3 @@ def revolved_torus(surface) -> RevolvedTorus | None:
     sign = 1.0 if float(y_axis @ quarter) > 0.0 else -1.0
     return RevolvedTorus(surface, on_axis + along * w, w, major, minor, alpha, sign)
 
-
-def _unit(vector) -> np.ndarray:
-    v = np.asarray(vector, dtype=float)
-    return v / np.linalg.norm(v)
