@@ -114,6 +114,32 @@ def test_a_section_growing_on_one_side_is_no_bend(App, Part):
     assert layers[10].area / layers[0].area < tilted.BEND_AREA_RATIO
 
 
+def test_a_side_growing_within_the_shape_change_is_no_bend():
+    """A 10 × 10 mm bar with a 10 mm wide boss growing out of its +X side, 0.03 mm a layer
+    (a pedestal on an ellipsoid's side, a fan blade seen along the hub): the centroid leans
+    ~4° to the same side window after window and the section changes by under 10 % of its
+    area, as a bend's does; but moving it by the drift misses the next section more than
+    leaving it does. The bar moved by the same drift is a bend."""
+    frame = LayerFrame.for_direction(Z)
+    bounds = LayerSettings().bounds
+
+    def stack(regions):
+        return [Layer(subpart=0, index=k, frame=frame, section_height=(k + 0.5) * 0.2,
+                      region=MultiPolygon([region]), top_point=(k + 1) * 0.2 * Z,
+                      top_normal=Z, thickness_min=0.2, thickness_max=0.2)
+                for k, region in enumerate(regions)]
+
+    grown = stack([box(-5, -5, 5, 5).union(box(5 - 1e-9, -5, 5 + 0.03 * k, 5)) if k else
+                   box(-5, -5, 5, 5) for k in range(60)])
+    lean = np.degrees(np.arctan2(grown[40].region.centroid.x - grown[30].region.centroid.x, 2.0))
+    assert lean > np.degrees(tilted.BEND_MIN_ANGLE)
+    assert tilted._shape_change(grown[30], grown[40]) < tilted.BEND_SHAPE_CHANGE
+    assert not tilted.axis_bends(grown, bounds)
+    drifts = [layer.region.centroid.x for layer in grown]
+    moved = stack([box(-5 + x, -5, 5 + x, 5) for x in drifts])
+    assert tilted.axis_bends(moved, bounds)
+
+
 def _stack(shifts, thickness=0.2) -> list[Layer]:
     """Layers of a 4 × 4 mm bar whose section is moved sideways (x) by `shifts[k]` at layer k."""
     frame = LayerFrame.for_direction(Z)
