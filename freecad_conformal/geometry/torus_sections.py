@@ -14,6 +14,10 @@ points where the two branches meet. Parametrising u = m − h·cos τ clusters s
 makes both branches one smooth closed curve in τ. The exact points are interpolated by a
 periodic B-spline, refined until its distance to both surfaces (closed form) is within
 `FIT_TOLERANCE`.
+
+A spindle torus (R < r, a domed head in a STEP file) has the same equation; its quadratic
+opens downwards, so the plane meets it outside the roots, and its inner sheet lies across
+the axis. OCC walks even its circles (planes square to the axis), which are given here.
 """
 from __future__ import annotations
 
@@ -33,6 +37,12 @@ FIT_TOLERANCE = 1e-7
 #: Cases closer than this to a degenerate configuration (plane normal to the axis, two
 #: loops touching, a branch touching itself) are left to OCC (returns None).
 DEGENERATE = 1e-9
+
+#: A plane whose normal leans less than this (rad) from a torus' axis is square to it: its
+#: sections are circles (a lean of 1e-12 moves them by 1e-10 mm on a 100 mm torus). OCC
+#: gives a ring torus' circles in closed form, but walks a spindle torus' (9 ms a plane on
+#: the screw's domed head, 0.3 of its 0.5 s of layers).
+SQUARE_TO_AXIS = 1e-12
 
 #: Samples for a whole loop on the first try, the fewest for a stretch, and the most before
 #: giving the case to OCC. On Pump_Nut's fillets no loop met the tolerance with 128 samples,
@@ -68,8 +78,10 @@ def torus_plane_curves(torus, normal: np.ndarray, height: float,
     across = n - c * w
     s = float(np.linalg.norm(across))
     k = float(height - n @ centre)
-    if s < 1e-6 or (abs(c) < 1e-12 and abs(k) < 1e-9) or R <= r:
-        return None  # OCC's analytic cases (circles) or a spindle torus
+    if R < r and s < SQUARE_TO_AXIS:
+        return _spindle_circles(centre, w, R, r, c, k, App, Part)
+    if s < 1e-6 or (abs(c) < 1e-12 and abs(k) < 1e-9) or abs(R - r) < DEGENERATE * r:
+        return None  # OCC's analytic cases (circles) or a horn torus (its tube meets the axis)
     e1 = across / s
     e2 = cross(w, e1)
     loops = _loops_in_u(R, r, s, c, k)
@@ -138,6 +150,10 @@ class _TorusSection:
         along = rel @ self.w
         radial = np.linalg.norm(rel - along[:, None] * self.w, axis=1)
         off_torus = np.abs(np.hypot(radial - self.R, along) - self.r)
+        if self.R < self.r:
+            # A spindle torus' inner sheet (R + r cos v < 0) lies across the axis: its
+            # points are r from the core circle's opposite point.
+            off_torus = np.minimum(off_torus, np.abs(np.hypot(radial + self.R, along) - self.r))
         off_plane = np.abs(points @ self.n - self.height)
         return float(max(off_torus.max(), off_plane.max()))
 
@@ -250,6 +266,8 @@ def _fit(section, kind, low, high, branch, first, last, App, Part):
 
 def _loops_in_u(R: float, r: float, s: float, c: float, k: float):
     """Loops as ("turning", u1, u2) or ("around", 0, 2π) (two branches); None if degenerate."""
+    if R < r:
+        return _spindle_loops_in_u(R, r, s, c, k)
     root = r * math.sqrt(k * k + (R * R - r * r) * c * c)
     denominator = (R * R - r * r) * s
     a, b = (k * R - root) / denominator, (k * R + root) / denominator
@@ -265,3 +283,46 @@ def _loops_in_u(R: float, r: float, s: float, c: float, k: float):
     if a <= -1.0:
         return [("turning", math.acos(b), 2 * math.pi - math.acos(b))]
     return [("turning", math.acos(b), math.acos(a)), ("turning", -math.acos(a), -math.acos(b))]
+
+
+def _spindle_circles(centre: np.ndarray, w: np.ndarray, R: float, r: float, c: float,
+                     k: float, App, Part) -> list | None:
+    """The circles where a plane square to a spindle torus' axis (n = c·w, offset k from the
+    centre) meets it: r·c·sin v = k at two v, each a circle of radius |R + r cos v| about
+    the axis. None where the plane touches the tube or a circle shrinks onto the axis."""
+    sine = k / (r * c)
+    if abs(sine) >= 1.0 - DEGENERATE:
+        return [] if abs(sine) > 1.0 + DEGENERATE else None
+    circles = []
+    for v in (math.asin(sine), math.pi - math.asin(sine)):
+        radius = R + r * math.cos(v)
+        if abs(radius) < DEGENERATE * r:
+            return None
+        middle = centre + r * math.sin(v) * w
+        circles.append(Part.Circle(App.Vector(*middle), App.Vector(*w), abs(radius)))
+    return circles
+
+
+def _spindle_loops_in_u(R: float, r: float, s: float, c: float, k: float):
+    """`_loops_in_u` of a spindle torus (R < r: a lemon inside an apple, as STEP files give
+    for a domed head): the quadratic in x = cos u opens downwards, so the plane meets the
+    surface outside its roots, not between them."""
+    discriminant = k * k + (R * R - r * r) * c * c
+    if abs(discriminant) < DEGENERATE * r * r:
+        return None
+    if discriminant < 0.0:
+        return [("around", 0.0, 2 * math.pi)]       # no root: every u meets the plane
+    root = r * math.sqrt(discriminant)
+    denominator = (R * R - r * r) * s
+    low, high = sorted(((k * R - root) / denominator, (k * R + root) / denominator))
+    for end in (low, high):
+        if abs(abs(end) - 1.0) < DEGENERATE or abs(high - low) < DEGENERATE:
+            return None
+    if high < -1.0 or low > 1.0:
+        return [("around", 0.0, 2 * math.pi)]
+    loops = []
+    if low > -1.0:
+        loops.append(("turning", math.acos(low), 2 * math.pi - math.acos(low)))
+    if high < 1.0:
+        loops.append(("turning", -math.acos(high), math.acos(high)))
+    return loops

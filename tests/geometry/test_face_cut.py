@@ -45,7 +45,8 @@ def _compare(shape, direction, spacing):
 @pytest.mark.parametrize("name, direction", [
     ("Pump_Nut.brep", (0, 0, 1)), ("Pump_Nut.brep", (0.3, -0.5, 0.8)),
     ("bottle.brep", (1, 0, 0)), ("CrankArm.brep", (0, 0, 1)), ("CrankArm.brep", (1, 1, 1)),
-    ("MODERN_Table_1.brep", (1, 1, 1)), ("screw.step", (0, 0, 1)),
+    ("MODERN_Table_1.brep", (1, 1, 1)), ("screw.step", (0, 0, 1)), ("screw.step", (1, 0, 0)),
+    ("screw.step", (0.3, -0.5, 0.8)),
     ("sliced_cylinder.step", (1, 0, 0)), ("revolved_sphere.step", (1, 0, 0)),
 ])
 def test_face_by_face_sections_match_the_boolean(parts_dir, name, direction):
@@ -187,6 +188,39 @@ def test_torus_curves_lie_on_torus_and_plane_and_match_occ(App, Part, normal, he
     assert _torus_points_error(curves, torus, n, height) <= FIT_TOLERANCE
     occ = torus.intersectSS(Part.Plane(App.Vector(*(height * n)), App.Vector(*n)))
     assert sum(c.length() for c in curves) == pytest.approx(sum(c.length() for c in occ), rel=1e-6)
+
+
+@pytest.mark.parts
+def test_spindle_torus_curves_lie_on_it_and_match_occ(App, Part, parts_dir):
+    """The screw's domed head is a spindle torus (R 8.25 < r 54.87), which OCC walks even
+    square to its axis: its circles and its slanted sections in closed form, on both sheets
+    (the head is the inner one, across the axis), as long as OCC's, through its faces."""
+    head = [face for face in load_shape(parts_dir / "screw.step").Faces
+            if type(face.Surface).__name__ == "Toroid"]
+    assert head and all(f.Surface.MajorRadius < f.Surface.MinorRadius for f in head)
+    torus = head[0].Surface
+    centre, w = np.array(tuple(torus.Center)), np.array(tuple(torus.Axis))
+    R, r = torus.MajorRadius, torus.MinorRadius
+    checked = 0
+    for face in head:
+        u0, u1, v0, v1 = face.ParameterRange
+        through = np.array(tuple(face.Surface.value(0.5 * (u0 + u1), 0.5 * (v0 + v1))))
+        for normal in (w, (1, 0.35, 0), (0.3, 0.2, 0.93)):
+            n = np.asarray(normal, float) / np.linalg.norm(normal)
+            height = float(through @ n)
+            curves = torus_plane_curves(torus, n, height)
+            assert curves, (normal, height)
+            for curve in curves:
+                for t in np.linspace(curve.FirstParameter, curve.LastParameter, 201):
+                    p = np.array(tuple(curve.value(t)))
+                    along = (p - centre) @ w
+                    radial = np.linalg.norm(p - centre - along * w)
+                    off = min(abs(math.hypot(radial - R, along) - r), abs(math.hypot(radial + R, along) - r))
+                    assert off <= FIT_TOLERANCE and abs(p @ n - height) <= FIT_TOLERANCE
+            occ = torus.intersectSS(Part.Plane(App.Vector(*(height * n)), App.Vector(*n)))
+            assert sum(c.length() for c in curves) == pytest.approx(sum(c.length() for c in occ), rel=1e-6)
+            checked += 1
+    assert checked == 3 * len(head)
 
 
 def test_torus_cases_occ_solves_in_closed_form_are_left_to_it(Part):
