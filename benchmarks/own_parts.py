@@ -6,7 +6,9 @@ helix), fan blades (lofted twisted sections on a hub) and a small free-form conn
 (a loft through ellipses between two bosses). Two more that were slow when first tried: a
 pipe elbow (a tube swept along an arc, whose bend is a surface of revolution: 31 s, 11x
 PrusaSlicer, before such faces were cut as tori) and a coil spring on a disc (a circle swept
-along a helix: 31 s, its coil meshed three times).
+along a helix: 31 s, its coil meshed three times). And two whose growing sides were taken
+for bends and got 3-D layers that follow no axis: a square lofted into an offset circle
+(17 s, 10x PrusaSlicer) and an ellipsoid with a pedestal on its side (7.5 s, 6.8x).
 """
 from __future__ import annotations
 
@@ -101,5 +103,28 @@ def coil_spring(turns: float = 5.0, pitch: float = 6.0, radius: float = 12.0, wi
     return coil.fuse(Part.makeCylinder(radius + 2.0, 2.0, V(0, 0, -2.0))).removeSplitter().Solids[0]
 
 
+def transition(side: float = 30.0, radius: float = 10.0, offset: float = 5.0,
+               height: float = 40.0):
+    """A solid duct lofted from a square on the bed into a circle moved off its axis."""
+    App, Part = import_freecad()
+    V = App.Vector
+    h = side / 2
+    square = Part.makePolygon([V(-h, -h, 0), V(h, -h, 0), V(h, h, 0), V(-h, h, 0), V(-h, -h, 0)])
+    circle = Part.Wire(Part.Circle(V(offset, 0, height), V(0, 0, 1), radius).toShape())
+    return Part.makeLoft([square, circle], True, True).Solids[0]
+
+
+def ellipsoid_pedestal():
+    """An ellipsoid (a scaled sphere: B-spline faces, 40 x 20 x 14 mm) on a round pedestal."""
+    App, Part = import_freecad()
+    V = App.Vector
+    scale = App.Matrix()
+    scale.scale(2.0, 1.0, 0.7)
+    body = Part.makeSphere(10).transformGeometry(scale)
+    body.translate(V(0, 0, 14))
+    return body.fuse(Part.makeCylinder(6, 8)).removeSplitter().Solids[0]
+
+
 OWN_PARTS = {"screw_thread": screw_thread, "fan": fan, "connecting_rod": connecting_rod,
-             "pipe_elbow": pipe_elbow, "coil_spring": coil_spring}
+             "pipe_elbow": pipe_elbow, "coil_spring": coil_spring, "transition": transition,
+             "ellipsoid_pedestal": ellipsoid_pedestal}

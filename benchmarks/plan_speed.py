@@ -2,7 +2,7 @@
 
 For every part in ../shared/parts, the built-in samples and the curved parts of our own
 making (benchmarks/own_parts.py: a screw thread, a fan, a connecting rod, a pipe elbow, a
-coil spring): our plan in a fresh process (its
+coil spring, a lofted transition, an ellipsoid on a pedestal): our plan in a fresh process (its
 wall time, peak memory and time per stage: plan choice (decomposition or candidate
 orientations, laid out, sliced and costed: jobs/plan.choose_plan, less the chosen plan's
 layers), layers (the chosen plan's, whether the choice sliced them or the job), paths,
