@@ -74,7 +74,7 @@ def revolved_torus(surface) -> RevolvedTorus | None:
     major = float(np.linalg.norm(radial))
     minor = float(basis.Radius)
     if major <= minor:
-        return None     # a spindle torus or a sphere: no ring for the closed form
+        return None     # a spindle torus or a sphere: left to OCC (not tried as tori)
     outward = radial / major
     x_axis, y_axis = unit(tuple(basis.XAxis)), unit(tuple(basis.YAxis))
     # The circle's point at t is minor·(cos t X + sin t Y) from its centre, the torus' at v

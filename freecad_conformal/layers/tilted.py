@@ -143,9 +143,12 @@ def axis_bends(layers: list[Layer], bounds: tuple[float, float] | None = None) -
             continue
         if not BEND_MIN_ANGLE <= leans[k] <= BEND_MAX_ANGLE:
             continue
-        moved, left = _mismatch(layers[k], layers[k + window])
-        if moved / max(layers[k].area, 1e-12) > BEND_SHAPE_CHANGE or moved > BEND_MOVE_SHARE * left:
-            continue        # the section grew or shrank on one side: the drift explains little
+        lower, upper = layers[k], layers[k + window]
+        moved = _moved_mismatch(lower, upper)
+        if moved / max(lower.area, 1e-12) > BEND_SHAPE_CHANGE:
+            continue        # the section grew or shrank on one side
+        if moved > BEND_MOVE_SHARE * float(lower.region.symmetric_difference(upper.region).area):
+            continue        # it moved less than it changed: the drift explains little
         later = [k + j * window for j in range(1, BEND_WINDOWS)]
         if not all(m < len(drifts) and single[m] and leans[m] >= BEND_MIN_ANGLE
                    and _same_side(sides[k], sides[m]) for m in later):
@@ -163,18 +166,16 @@ def _same_side(a: np.ndarray, b: np.ndarray) -> bool:
     return sizes > 0.0 and float(a @ b) / sizes >= BEND_SAME_SIDE_COS
 
 
-def _mismatch(lower: Layer, upper: Layer) -> tuple[float, float]:
-    """Areas of (lower moved by the centroid drift) △ upper and of lower △ upper: a section
-    that moves along a bend misses the next one far less moved than left in place."""
+def _moved_mismatch(lower: Layer, upper: Layer) -> float:
+    """Area of (lower moved by the centroid drift) △ upper."""
     (x0, y0), (x1, y1) = lower.region.centroid.coords[0], upper.region.centroid.coords[0]
     moved = affinity.translate(lower.region, x1 - x0, y1 - y0)
-    return (float(moved.symmetric_difference(upper.region).area),
-            float(lower.region.symmetric_difference(upper.region).area))
+    return float(moved.symmetric_difference(upper.region).area)
 
 
 def _shape_change(lower: Layer, upper: Layer) -> float:
     """Area of (lower moved by the centroid drift) △ upper, relative to the lower area."""
-    return _mismatch(lower, upper)[0] / max(lower.area, 1e-12)
+    return _moved_mismatch(lower, upper) / max(lower.area, 1e-12)
 
 
 class _Sections:
