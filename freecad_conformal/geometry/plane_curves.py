@@ -89,16 +89,17 @@ class CircleCrosser:
         self.amplitude, self.phase = math.hypot(p, q), math.atan2(q, p)
         self.centre_height = float(self.centre @ n)
 
-    def extremes(self) -> list[float]:
-        """Heights of the circle's highest and lowest points along the normal that lie on
-        the edge; none for a circle parallel to the cut."""
+    def extremes(self) -> list[tuple[float, bool]]:
+        """(height, whether highest) of the circle's highest and lowest points along the
+        normal that lie on the edge; none for a circle parallel to the cut."""
         if self.amplitude < VERTEX_CLEARANCE:
             return []
         found = []
-        for theta, height in ((self.phase, self.centre_height + self.amplitude),
-                              (self.phase + math.pi, self.centre_height - self.amplitude)):
+        for theta, height, top in ((self.phase, self.centre_height + self.amplitude, True),
+                                   (self.phase + math.pi, self.centre_height - self.amplitude,
+                                    False)):
             if self.first + (theta - self.first) % (2 * math.pi) <= self.last:
-                found.append(height)
+                found.append((height, top))
         return found
 
     def at(self, height: float) -> list[np.ndarray] | None:

@@ -300,6 +300,10 @@ EXTENT_MARGIN = 1e-6
 #: A failed plane is cut again this far (mm) above, then below: off the vertex or tangency
 #: that defeated both cuts, and far below any layer height (the error is area × 1e-4 mm).
 RETRY_NUDGE = 1e-4
+#: A sampling plane crossing a circular edge less than this (mm) inside its extreme is moved
+#: too (`FaceCutter.near_circle_extreme`): twice RETRY_NUDGE, so that of the two moves off
+#: an extreme only the one to the side where the plane misses the circle is clear.
+NEAR_EXTREME = 2 * RETRY_NUDGE
 #: Fuzzy value (mm) of the last-resort Boolean: OCC's fuzzy common glues near-coincident
 #: geometry within this distance.
 FUZZY_VALUE = 1e-5
@@ -401,13 +405,15 @@ class PlanarSlicer:
 
     def off_vertices(self, heights: Sequence[float]) -> list[float]:
         """`heights` moved by RETRY_NUDGE (up, else down) where a vertex of the solids lies
-        in the plane: such a plane costs a Boolean (0.1-0.3 s on a real part) where one
-        beside it is cut face by face. For a layer's sampling plane, whose slab is a
-        thousand times thicker, the move is immaterial; round-number parts hit it often
-        (a feature at 7.5 mm meets the middle of a 0.2 mm layer)."""
+        in the plane, or where it touches a circular edge at its extreme or crosses it just
+        inside (NEAR_EXTREME): such a plane costs a Boolean (0.1-0.3 s on a real part)
+        where one beside it is cut face by face. For a layer's sampling plane, whose slab
+        is a thousand times thicker, the move is immaterial; round-number parts hit it
+        often (a feature at 7.5 mm meets the middle of a 0.2 mm layer)."""
         cutters = [self.cutter(index) for index in range(len(self.solids))]
-        return nudged_off(heights, lambda height: not any(cutter.touches_vertex(height)
-                                                          for cutter in cutters))
+        return nudged_off(heights, lambda height: not any(
+            cutter.touches_vertex(height) or cutter.near_circle_extreme(height, NEAR_EXTREME)
+            for cutter in cutters))
 
     def extent(self, solid_index: int) -> tuple[float, float]:
         """Exact (min, max) of one solid along the direction, computed once."""

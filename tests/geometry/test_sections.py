@@ -361,6 +361,36 @@ def test_a_plane_touching_a_circular_edge_is_cut_by_the_boolean_meanwhile(App, P
     assert pooled[-1].area > 0
 
 
+def test_a_layer_plane_at_a_circles_extreme_moves_to_the_side_that_misses_it(App, Part):
+    """A layer's sampling plane touching a hole's circular edges at their lowest or highest
+    point (a 7.5 mm hole 35 mm up: 27.5 and 42.5 mm, middles of 0.2 mm layers) is moved off
+    it to the side where it misses the circles, and is cut face by face. Moved the other
+    way it would cross them 1e-4 mm inside their extreme, where the bottle's planes went
+    to the Boolean (the chord there lies nearer the face's edge than its domain can tell)."""
+    from freecad_conformal.geometry.sections import NEAR_EXTREME, RETRY_NUDGE
+
+    hole = Part.makeCylinder(7.5, 60, App.Vector(-30, 0, 35), App.Vector(1, 0, 0))
+    # Turned so that no seam vertex sits at the circles' extremes: the rule is the circles'.
+    hole.rotate(App.Vector(0, 0, 35), App.Vector(1, 0, 0), 30.0)
+    part = Part.makeBox(40, 30, 50, App.Vector(-20, -15, 0)).cut(hole)
+    slicer = PlanarSlicer(part, (0, 0, 1))
+    cutter = slicer.cutter(0)
+    assert not any(cutter.touches_vertex(h) for h in (27.5, 42.5))
+    heights = [0.1 + 0.2 * k for k in range(250)]
+    moved = slicer.off_vertices(heights)
+    changed = [(round(h, 9), m - h) for h, m in zip(heights, moved) if m != h]
+    assert [h for h, _ in changed] == [27.5, 42.5]
+    assert [step for _, step in changed] == pytest.approx([-RETRY_NUDGE, RETRY_NUDGE], rel=1e-6)
+    slicer.sections(moved)
+    assert slicer.counts["boolean"] == 0
+    # Just inside an extreme is near it, just outside is not, on either side.
+    for extreme, inward in ((27.5, 1.0), (42.5, -1.0)):
+        assert cutter.near_circle_extreme(extreme, NEAR_EXTREME)
+        assert cutter.near_circle_extreme(extreme + inward * RETRY_NUDGE, NEAR_EXTREME)
+        assert not cutter.near_circle_extreme(extreme - inward * RETRY_NUDGE, NEAR_EXTREME)
+        assert not cutter.near_circle_extreme(extreme + inward * 3 * RETRY_NUDGE, NEAR_EXTREME)
+
+
 def test_an_edge_freecad_cannot_name_is_not_straight(App, Part):
     """FreeCAD raises for curve types it has no Python class for: such an edge only makes
     its face no polygon (its ends are then measured by distance), it stops no plan."""
