@@ -220,14 +220,17 @@ def _levels(per_member: list[list[list[Path3D]]], member_layers: list[list[Layer
     items = sorted((float(layer.top_point @ d), k, paths)
                    for k, (paths_of, layers_of) in enumerate(zip(per_member, member_layers))
                    for layer, paths in zip(layers_of, paths_of))
-    merged: list[list[Path3D]] = []
+    levels: list[list[tuple[int, list[Path3D]]]] = []
     level = None
-    for height, _, paths in items:
+    for height, k, paths in items:
         if level is None or height - level > SAME_LEVEL:
-            merged.append([])
+            levels.append([])
             level = height
-        merged[-1].extend(paths)
-    return merged
+        levels[-1].append((k, paths))
+    # In group order within a level: tops a rounding apart (the table's legs, cut from one
+    # solid, differ by 1e-13 mm) must not decide which leg is built first.
+    return [[path for _, paths in sorted(members, key=lambda member: member[0]) for path in paths]
+            for members in levels]
 
 
 #: Bisection steps for the common cooling feed cap: 40 halvings of a feed range of
