@@ -22,7 +22,7 @@ from freecad_conformal.geometry.rotation import rodrigues_matrix, rotation_to
 from freecad_conformal.geometry.shape_cache import ShapeCache
 from freecad_conformal.geometry.solids import moved_rigidly
 from freecad_conformal.geometry.overhang import share_overhang_areas
-from freecad_conformal.geometry.surface_mesh import share_face_parts
+from freecad_conformal.geometry.surface_mesh import share_deflection, share_face_parts
 from freecad_conformal.decomposition.subparts import BuildPlan
 
 #: Directions of the part tried as "up", the part as placed first.
@@ -80,6 +80,7 @@ def turn_up(shape, up) -> tuple[object, Placement]:
             share_face_parts(shape, copy)
             share_overhang_areas(shape, copy)
         moved_rigidly(shape, copy)
+        share_deflection(shape, copy)
         return copy
 
     return (_TURNED.get_keyed((shape,), tuple(float(c) for c in up), turned),

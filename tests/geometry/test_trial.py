@@ -132,12 +132,15 @@ def test_the_child_meshes_at_the_deflection_the_unmeshed_solid_gives():
     from freecad_conformal.decomposition.trial import prepared
     from freecad_conformal.geometry.occ_binary import from_binary, to_binary
     from freecad_conformal.geometry.samples import SAMPLES
-    from freecad_conformal.geometry.surface_mesh import mesh_deflection
+    from freecad_conformal.geometry.surface_mesh import RELATIVE_DEFLECTION, mesh_deflection
 
     written = to_binary(SAMPLES["domed_cylinder"]().Solids[0])
     _, solid, deflection = prepared(written)
     assert deflection == mesh_deflection(from_binary(written).Solids[0])
-    assert deflection != mesh_deflection(solid)     # meshed: its box is read from the mesh
+    # Meshed, its box is read from the mesh and would ask for another; the deflection is
+    # read once per shape, before.
+    assert deflection != RELATIVE_DEFLECTION * solid.BoundBox.DiagonalLength
+    assert deflection == mesh_deflection(solid)
 
 
 def test_an_early_trial_is_taken_for_its_solid_or_a_copy_left_in_place_only(monkeypatch):
