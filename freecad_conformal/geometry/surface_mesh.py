@@ -79,8 +79,8 @@ def share_deflection(original, copy) -> None:
     """Give `copy`, made of `original` with its mesh (`Shape.copy(False, True)`), turned or
     not, the original's deflection: its box, read from that mesh, would ask for another,
     and BRepMesh meshed the spring's placed copy again at the finer one (5.1 s of its
-    plan choice). The decomposition's trial child, reading the solid without a mesh,
-    finds the original's value too."""
+    plan choice). The decomposition's trial child, which plans only a copy left in place
+    and reads it without a mesh, finds the original's value too."""
     _DEFLECTIONS.get((copy,), lambda: mesh_deflection(original))
 
 

@@ -17,12 +17,13 @@ def test_a_placed_copy_is_meshed_at_its_originals_deflection(Part):
     scans used for the part: its own box, read from the mesh it carries, is tighter than the
     part's was before any mesh (a B-spline ball's: 50 -> 34.6 mm), and BRepMesh meshed the
     swept spring's copy again at the finer deflection (5.1 s of its plan choice)."""
-    from freecad_conformal.geometry.surface_mesh import mesh_deflection, surface_mesh
+    from freecad_conformal.geometry.surface_mesh import (RELATIVE_DEFLECTION, mesh_deflection,
+                                                         surface_mesh)
 
     ball = Part.makeSphere(10.0).toNurbs().Solids[0]
     first = mesh_deflection(ball)
     surface_mesh(ball)
-    assert ball.BoundBox.DiagonalLength < 0.8 * first / 1e-3
+    assert RELATIVE_DEFLECTION * ball.BoundBox.DiagonalLength < 0.8 * first
     assert mesh_deflection(ball) == first
     for up in ((0.0, 0.0, 1.0), (1.0, 0.0, 0.0), (0.3, 0.4, np.sqrt(0.75))):
         placed, _ = turn_up(ball, up)
