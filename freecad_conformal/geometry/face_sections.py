@@ -320,9 +320,7 @@ class FaceCutter:
         extreme along the normal, inside the edge: the crossing there is double, and the cut
         face by face gives up as at a vertex. A guess of which heights the Boolean will cut
         (`section_pool`), never a verdict: the cut itself decides."""
-        tops, bottoms = self._extremes()
-        return bool(np.any(np.abs(tops - height) < VERTEX_CLEARANCE)
-                    or np.any(np.abs(bottoms - height) < VERTEX_CLEARANCE))
+        return self.near_circle_extreme(height, VERTEX_CLEARANCE)
 
     def near_circle_extreme(self, height: float, reach: float) -> bool:
         """Whether the plane at `height` touches a circular edge at its extreme along the
