@@ -29,14 +29,17 @@ from freecad_conformal.decomposition.planner import (LEVEL_TOLERANCE, MIN_SAVING
 from freecad_conformal.decomposition.trial import (EarlyTrial, Trial, can_start_child, planned,
                                                    trial_spec, worth_a_trial)
 from freecad_conformal.decomposition.subparts import BuildPlan, SubPart
-from freecad_conformal.geometry.overhang import (DEFAULT_OVERHANG_ANGLE, MIN_BASE_AREA,
+from freecad_conformal.geometry.overhang import (AXIS_DIRECTIONS, CUBE_DIRECTIONS,
+                                                DEFAULT_OVERHANG_ANGLE, MIN_BASE_AREA,
                                                 base_area, best_single_direction, check_angle,
                                                 lowest_level, orientation_candidates,
-                                                overhang_area, overhang_report)
+                                                overhang_area, overhang_report,
+                                                standing_directions)
 from freecad_conformal.settings.decompose import METHODS
 from freecad_conformal.tolerances import PARALLEL_COS_SLACK, ZERO_LENGTH
 #: `root_direction` value that lets each solid's root be built along the best of ±X, ±Y, ±Z
-#: when that leaves less overhang than the part as placed (+Z).
+#: (or a further direction: `_turned_further`) when that leaves less overhang than the part
+#: as placed (+Z).
 AUTO_ROOT = "auto"
 #: Machine build axis: every sub-part is turned so its build direction points along it.
 BUILD_AXIS = np.array([0.0, 0.0, 1.0])
@@ -60,8 +63,10 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
         method: "true-direction" (the axis follows inclined members) or "published"
             (the axis turns to the nearest of ±X, ±Y, ±Z as in METHODS section 3).
         root_direction: build direction of each solid's first sub-part, or "auto": +Z
-            unless building the solid's root along its best single axis direction leaves
-            less overhang after the split (a note says so).
+            unless building the solid's root along its best single axis direction, or the
+            best of the cube's edges and corners or of its largest faces' on which it
+            stands (`_turned_further`), leaves less overhang after the split (a note says
+            so).
         max_subparts: stop splitting beyond this many sub-parts (a note says so).
         check_collisions: order brothers so the tool envelope clears what is built.
         axis_step: step of the centroidal axis (mm); default from the part's size.
@@ -134,7 +139,7 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
                     continue
             pristine = None
             if auto:
-                direction, area = best_single_direction(solid, overhang_angle)
+                direction, area = best_single_direction(solid, overhang_angle, AXIS_DIRECTIONS)
                 turn = angle_between(direction, root) > SAME_DIRECTION
                 if (worth and turn
                         and overhang_area(solid, root, overhang_angle) > area + MIN_SAVING):
@@ -147,7 +152,10 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
                     trial.stop()
                     trial = None
             axis, refined = plan(root, notes)
-            if auto and _total(refined) > area + MIN_SAVING and turn:
+            placed_total = _total(refined)
+            # Said once the root is settled: a further root may still replace this one.
+            root_notes: list[str] = []
+            if auto and placed_total > area + MIN_SAVING and turn:
                 # The part as placed keeps more overhang than turning it whole would: plan
                 # from that direction and keep whichever leaves less.
                 trial_notes: list[str] = []
@@ -177,12 +185,16 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
                     # Only an alternative to the plan as placed, which stands: a Boolean
                     # OCC cannot do there (the bottle along X) must not lose the part.
                     notes.append(f"solid {solid_index + 1}: planning from {_text(direction)} "
-                                 f"failed ({exc}); the root is built as placed")
+                                 f"failed ({exc})")
                 if other is not None and _total(other[1]) < _total(refined) - MIN_SAVING:
                     axis, refined = other
-                    notes.extend(trial_notes)
-                    notes.append(f"solid {solid_index + 1}: root built along "
-                                 f"{_text(direction)} (less overhang than as placed)")
+                    root_notes = [*trial_notes, f"solid {solid_index + 1}: root built along "
+                                  f"{_text(direction)} (less overhang than as placed)"]
+            if auto:
+                (axis, refined), root_notes = _turned_further(
+                    plan, root, (direction, area), placed_total, ((axis, refined), root_notes),
+                    notes)
+            notes.extend(root_notes)
         finally:
             if trial is not None:
                 trial.stop()
@@ -199,6 +211,45 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
     return BuildPlan(subparts=subparts, order=order, support_area_single_direction=single[1],
                      notes=notes, overhang_angle=overhang_angle, method=method,
                      single_direction=single[0], axes=axes)
+
+
+def _turned_further(plan: Planner, root: np.ndarray, best_axis: tuple[np.ndarray, float],
+                    placed_total: float, chosen: tuple, notes: list[str]) -> tuple:
+    """`chosen` ((axis, pieces), the notes saying how they were planned), or the plan from
+    a further root where it leaves less overhang, with its notes. The further roots are the
+    direction of least whole overhang among the cube's edges and corners, and the one among
+    the largest planar faces' (`orientation_candidates`), each where the solid stands on a
+    flat face, differs from the roots planned, and leaves the whole solid no more overhang
+    than the best axis (`best_axis`: direction, area) and less than the part as placed kept
+    (`placed_total`, the rule the best axis is planned by). With the six axes alone a part
+    modelled turned lost its own directions: an L-bracket turned 33° was planned in five
+    sub-parts with 356 mm² of overhang left, where standing it on its base leaves 15 mm² in
+    one piece. A root OCC cannot plan from is noted in `notes` and passed over."""
+    solid, angle = plan.solid, plan.angle
+    candidates = orientation_candidates(solid)
+    families = (candidates[len(AXIS_DIRECTIONS):len(CUBE_DIRECTIONS)],
+                candidates[len(CUBE_DIRECTIONS):])
+    tried = [root, best_axis[0]]
+    for family in families:
+        family = standing_directions(solid, family)
+        if not family:
+            continue
+        direction, area = best_single_direction(solid, angle, family)
+        if (area > best_axis[1] + MIN_SAVING or area >= placed_total - MIN_SAVING
+                or any(angle_between(direction, d) <= SAME_DIRECTION for d in tried)):
+            continue
+        tried.append(direction)
+        trial_notes: list[str] = []
+        try:
+            other = plan(direction, trial_notes)
+        except GeometryError as exc:
+            notes.append(f"solid {plan.solid_index + 1}: planning from {_text(direction)} "
+                         f"failed ({exc})")
+            continue
+        if _total(other[1]) < _total(chosen[0][1]) - MIN_SAVING:
+            chosen = other, [*trial_notes, f"solid {plan.solid_index + 1}: root built along "
+                             f"{_text(direction)} (less overhang than the other roots)"]
+    return chosen
 
 
 def _support_free_whole(solid, root: np.ndarray, angle: float) -> np.ndarray | None:

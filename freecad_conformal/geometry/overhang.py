@@ -203,10 +203,22 @@ def orientation_candidates(shape, largest: int = PLACE_ON_FACES) -> list[np.ndar
     return candidates
 
 
+def standing_directions(shape, directions: Sequence[np.ndarray]) -> list[np.ndarray]:
+    """Those of `directions` in which the part stands on a flat face (MIN_BASE_AREA)."""
+    return [d for d in directions if base_area(shape, d) >= MIN_BASE_AREA]
+
+
 def best_single_direction(shape, angle: float = DEFAULT_OVERHANG_ANGLE,
-                          candidates: Sequence[np.ndarray] = AXIS_DIRECTIONS
+                          candidates: Sequence[np.ndarray] | None = None
                           ) -> tuple[np.ndarray, float]:
-    """The candidate direction with the least overhang for the whole part, and that area."""
+    """The candidate direction with the least overhang for the whole part, and that area;
+    the first of those within NEGLIGIBLE_AREA of it. Candidates default to the six axes,
+    then the rest of `orientation_candidates` in which the part stands on a flat face: the
+    axes alone missed a part's own directions once it was modelled turned (see
+    decomposition/decompose._turned_further)."""
+    if candidates is None:
+        others = orientation_candidates(shape)[len(AXIS_DIRECTIONS):]
+        candidates = [*AXIS_DIRECTIONS, *standing_directions(shape, others)]
     best = None
     for candidate in candidates:
         area = overhang_area(shape, candidate, angle)

@@ -162,6 +162,26 @@ def test_a_u_channel_with_inward_lips_builds_whole_on_its_side(App, Part):
     assert plan.subparts[0].overhang_area == pytest.approx(0.0, abs=1e-3)
 
 
+def test_a_part_modelled_turned_is_planned_as_well_as_upright(App, Part):
+    """An L-bracket with a bore through its base and one through its upright needs support
+    for one bore whichever way it stands. Modelled turned 33° off every axis, its roots
+    were the six axes of the file's frame: four sub-parts with 244.5 mm² left. Standing
+    it on its base (a place-on-face direction) leaves the upright's bore alone, as upright."""
+    V = App.Vector
+    bracket = Part.makeBox(40, 30, 5).fuse(Part.makeBox(5, 30, 40))
+    bracket = bracket.cut(Part.makeCylinder(4, 5, V(0, 15, 25), V(1, 0, 0)))
+    bracket = bracket.cut(Part.makeCylinder(5, 5, V(25, 15, 0), V(0, 0, 1))).removeSplitter()
+    turned = bracket.copy()
+    turned.rotate(V(20, 15, 20), V(1, 1, 0), 33)
+    turned.translate(V(120, -80, 30))
+    upright = decompose(bracket, root_direction="auto", with_axes=False)
+    plan = decompose(turned, root_direction="auto", with_axes=False)
+    assert len(upright.subparts) == len(plan.subparts) == 1
+    assert upright.support_area > 1.0       # a bore's top: no direction is support-free
+    assert plan.support_area == pytest.approx(upright.support_area, rel=1e-3)
+    assert any("less overhang than the other roots" in note for note in plan.notes)
+
+
 def test_a_part_is_never_stood_on_a_corner_to_avoid_support():
     """The jack has no overhang balanced on a corner (every face 35° off vertical), but a
     corner gives no adhesion: its root must stand on a flat face."""

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from freecad_conformal.geometry.overhang import overhang_area, overhang_report
@@ -102,3 +103,36 @@ def test_twisted_blade_overhang_matches_its_surface(App, Part, down):
     # Built along -Z the corners' normals read 164.8 mm² of the surface's 181.8 (-9 %):
     # the long triangles off its trailing edge. Along +Z they read 1.7 % high.
     assert meshed == pytest.approx(surface, rel=0.01 if down else 0.03)
+
+
+def test_the_best_single_direction_may_stand_a_turned_part_on_a_face(App, Part):
+    """A block with a hole through it, turned off every axis: the best single direction
+    stands it on a face (the hole then runs upright, no overhang), not on one of the six
+    axes of the file's frame; and a direction that balances it on a corner is never taken,
+    however little it overhangs."""
+    from freecad_conformal.geometry.overhang import (AXIS_DIRECTIONS, MIN_BASE_AREA,
+                                                     base_area, best_single_direction)
+
+    V = App.Vector
+    block = Part.makeBox(30, 20, 10).cut(Part.makeCylinder(3, 10, V(15, 10, 0)))
+    block.rotate(V(0, 0, 0), V(1, 2, 0), 40)
+    direction, area = best_single_direction(block, ANGLE)
+    _, axis_area = best_single_direction(block, ANGLE, AXIS_DIRECTIONS)
+    assert axis_area > 100.0
+    assert area == pytest.approx(0.0, abs=1e-6)
+    assert base_area(block, direction) >= MIN_BASE_AREA
+    assert min(abs(float(direction @ axis)) for axis in AXIS_DIRECTIONS) < 0.99
+
+
+def test_the_best_single_direction_never_balances_a_part_on_a_corner():
+    """The jack has no overhang along its cube's corners, where it touches the bed at a
+    point: a planar slicer could not print it so, and neither can the plan."""
+    from freecad_conformal.geometry import samples
+    from freecad_conformal.geometry.overhang import (MIN_BASE_AREA, base_area,
+                                                     best_single_direction, overhang_area)
+
+    jack = samples.jack()
+    assert overhang_area(jack, np.ones(3) / math.sqrt(3.0), ANGLE) == pytest.approx(0.0, abs=1e-6)
+    direction, area = best_single_direction(jack, ANGLE)
+    assert area > 100.0
+    assert base_area(jack, direction) >= MIN_BASE_AREA
