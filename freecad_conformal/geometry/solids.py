@@ -35,18 +35,38 @@ def load_shape(path: str | os.PathLike):
     if suffix not in SHAPE_SUFFIXES:
         raise GeometryError(
             f"cannot read {file.name}: suffix {suffix!r} is not one of {', '.join(SHAPE_SUFFIXES)}")
+    if file.stat().st_size == 0:
+        raise GeometryError(f"{file.name} is empty (0 bytes)")
+    _check_step_header(file, suffix)
     with reading_watchdog(file):
         if suffix == ".fcstd":
             return without_meshes(_load_fcstd(App, Part, file))
         try:
             shape = Part.read(str(file))
         except Exception as exc:  # OCC reader errors are plain Exceptions with terse text
-            raise GeometryError(f"cannot read {file.name}: {exc}") from exc
+            raise GeometryError(f"cannot read {file.name}: {exc}; the file may be damaged "
+                                "(repair or re-export it)") from exc
     if shape.isNull():
         raise GeometryError(f"{file.name} holds no shape")
     if not shape.Solids and shape.Faces:
         shape = _sewn_solids(Part, shape, file.name)
     return without_meshes(shape) if suffix in MESH_CARRYING_SUFFIXES else shape
+
+
+#: A STEP file begins with this (ISO 10303-21), after at most a byte-order mark and blanks.
+STEP_MAGIC = b"ISO-10303-21;"
+
+
+def _check_step_header(file: Path, suffix: str) -> None:
+    """A file named .step/.stp that is not one (another format renamed, a text saved under
+    that name) is said to be so: OCC's reader only says "Error in reading STEP"."""
+    if suffix not in (".step", ".stp"):
+        return
+    with open(file, "rb") as handle:
+        head = handle.read(256).lstrip(b"\xef\xbb\xbf").lstrip()
+    if not head.startswith(STEP_MAGIC):
+        raise GeometryError(f"{file.name} is not a STEP file: it does not begin with "
+                            f"{STEP_MAGIC.decode()!r} (another format renamed {suffix}?)")
 
 
 #: Formats that may store triangulations with the geometry (BREP; FreeCAD documents hold BREP).

@@ -30,6 +30,7 @@ def folder(tmp_path, Part):
     (tmp_path / "empty.step").write_text("")
     (tmp_path / "garbage.step").write_text("ISO-10303-21;\nthis is not step\n")
     (tmp_path / "text.brep").write_text("hello")
+    (tmp_path / "text.step").write_text("solid part\nendsolid part\n")   # an STL renamed
     (tmp_path / "zero.npz").write_bytes(b"")
     Part.makeBox(10, 10, 10).Faces[0].exportBrep(str(tmp_path / "face.brep"))
     (tmp_path / "twice.csv").write_text("A,B,A,y\n1,1,1,2\n-1,1,-1,3\n1,-1,1,4\n-1,-1,-1,5\n")
@@ -95,8 +96,9 @@ S = ["sections", "box.step"]
 R = ["feature", "ball.step", "--face", "Face1", "-o", "x.npz", "--kind"]
 CASES += [
     # unreadable parts
-    (["plan", "empty.step", "-o", "x.ngc"], ["cannot read empty.step"]),
-    (["plan", "garbage.step", "-o", "x.ngc"], ["cannot read garbage.step"]),
+    (["plan", "empty.step", "-o", "x.ngc"], ["empty.step is empty (0 bytes)"]),
+    (["plan", "text.step", "-o", "x.ngc"], ["text.step is not a STEP file", "ISO-10303-21;"]),
+    (["plan", "garbage.step", "-o", "x.ngc"], ["cannot read garbage.step", "damaged"]),
     (["plan", "text.brep", "-o", "x.ngc"], ["text.brep holds no shape"]),
     (["plan", "sub", "-o", "x.ngc"], ["not found: sub"]),
     # library and machine names
