@@ -64,12 +64,19 @@ class LayerSettings:
         """Raise PlanError for thicknesses that are not positive, inverted or larger than the part."""
         if self.mode not in MODES:
             raise PlanError(f"layer mode {self.mode!r} is not one of {', '.join(MODES)}")
-        for name, value in (("layer height", self.thickness), ("minimum layer height", self.bounds[0]),
-                            ("maximum layer height", self.bounds[1])):
+        low, high = self.bounds
+        for name, value, default in (
+                ("layer height", self.thickness, False),
+                ("minimum layer height", low, self.min_thickness is None),
+                ("maximum layer height", high, self.max_thickness is None)):
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise PlanError(f"{name} must be a positive number of mm, got {value!r}")
-            if part_size is not None and value > part_size:
-                raise PlanError(f"{name} {value:g} mm is larger than the part ({part_size:.3f} mm)")
+            if part_size is not None and value > part_size * (1.0 + ROUNDING_SLACK):
+                # A bound left to its default says where it comes from: the user never set it.
+                source = (f" ({'0.5' if name.startswith('minimum') else '1.5'} x the layer "
+                          "height)") if default else ""
+                raise PlanError(f"{name} {value:g} mm{source} is larger than the part "
+                                f"({part_size:.3f} mm across at its thinnest)")
         low, high = self.bounds
         if low > high:
             raise PlanError(f"minimum layer height {low:g} mm exceeds the maximum {high:g} mm")

@@ -154,6 +154,16 @@ def test_layer_larger_than_the_part_is_refused():
         LayerSettings(thickness=80.0).validate(part_size=62.0)
 
 
+def test_a_default_layer_bound_says_where_it_comes_from_and_rounding_is_no_excess():
+    """A 0.3 mm part was refused: "maximum layer height 0.3 mm is larger than the part
+    (0.300 mm)": 1.5 x 0.2 is 0.30000000000000004, and the user had set no maximum."""
+    LayerSettings(thickness=0.2).validate(part_size=0.3)
+    with pytest.raises(PlanError, match=r"maximum layer height 0.3 mm \(1.5 x the layer height\)"):
+        LayerSettings(thickness=0.2).validate(part_size=0.25)
+    with pytest.raises(PlanError, match=r"maximum layer height 0.28 mm is larger"):
+        LayerSettings(thickness=0.2, max_thickness=0.28).validate(part_size=0.25)
+
+
 def _loft(App, Part):
     """A solid with B-spline faces: lofted through a circle and two ellipses."""
     V = App.Vector
