@@ -151,6 +151,24 @@ def _without_spurs(lines: list[LineString], shortest: float) -> list[LineString]
     return kept
 
 
+def medial_beads(features: list[Polygon], width: float) -> list[tuple[np.ndarray, float, bool]]:
+    """(points (N, 2), median width, closed) of each line of the features' medial axes
+    (`medial_lines`) at least `MIN_LENGTH_WIDTHS` bead widths long: the width is twice the
+    distance to the feature's outline, its median along the line (ends and joins are
+    narrower)."""
+    beads = []
+    for feature in features:
+        boundary = feature.boundary
+        for line in medial_lines(feature, width):
+            if line.length < MIN_LENGTH_WIDTHS * width:
+                continue
+            along = shapely.get_coordinates(shapely.segmentize(line, 0.5 * width))
+            wide = 2.0 * shapely.distance(boundary, shapely.points(along))
+            points = np.asarray(line.simplify(0.25 * width / SAMPLES_PER_WIDTH).coords)
+            beads.append((points, float(np.median(wide)), bool(line.is_ring)))
+    return beads
+
+
 def thin_wall_beads(island: Polygon, width: float, eroded,
                     mitre_limit: float) -> list[tuple[np.ndarray, float, bool]]:
     """(points (N, 2), bead width, closed) of each thin-wall bead of `island` (`eroded`:
@@ -158,18 +176,7 @@ def thin_wall_beads(island: Polygon, width: float, eroded,
     `thin_features`): along the medial axis of each feature narrower than `width` whose
     median width along it is `MIN_WIDTH_SHARE` of `width` at least; the bead as wide as
     that median, but `MIN_BEAD_SHARE` of `width` at least and `width` at most."""
-    beads = []
-    for feature in thin_features(island, width, eroded, mitre_limit):
-        boundary = feature.boundary
-        for line in medial_lines(feature, width):
-            if line.length < MIN_LENGTH_WIDTHS * width:
-                continue
-            along = shapely.get_coordinates(shapely.segmentize(line, 0.5 * width))
-            wide = 2.0 * shapely.distance(boundary, shapely.points(along))
-            bead = float(np.median(wide))     # its ends and joins are narrower
-            if bead < MIN_WIDTH_SHARE * width:
-                continue
-            points = np.asarray(line.simplify(0.25 * width / SAMPLES_PER_WIDTH).coords)
-            beads.append((points, min(max(bead, MIN_BEAD_SHARE * width), width),
-                          bool(line.is_ring)))
-    return beads
+    return [(points, min(max(median, MIN_BEAD_SHARE * width), width), closed)
+            for points, median, closed in medial_beads(
+                thin_features(island, width, eroded, mitre_limit), width)
+            if median >= MIN_WIDTH_SHARE * width]
