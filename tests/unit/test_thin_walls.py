@@ -31,6 +31,27 @@ def test_a_wall_narrower_than_the_bead_gets_one_closed_bead_along_its_middle():
     assert paths[0].width == pytest.approx(width)
 
 
+@pytest.mark.parametrize("size", [(50, 40), (80, 50), (160, 20)])
+def test_a_long_thin_wall_gets_one_bead_along_its_middle(size):
+    """GEOS's triangulation is Delaunay only after a bounded number of edge-flip rounds:
+    a 0.3 mm wall round a box 50 x 40 mm or larger got beads zigzagging across the wall in
+    several pieces; long features are triangulated in tiles."""
+    x, y = size
+    wall = box(0, 0, x, y).difference(box(0.3, 0.3, x - 0.3, y - 0.3))
+    (points, width, closed), = beads_of(wall)
+    middle = box(0.15, 0.15, x - 0.15, y - 0.15).exterior
+    assert closed and width == pytest.approx(MIN_BEAD_SHARE * WIDTH)
+    assert LineString(points).length == pytest.approx(middle.length, rel=0.001)
+    assert shapely.hausdorff_distance(LineString(points), middle) < 0.05
+
+
+def test_a_long_fin_gets_one_bead_along_its_middle():
+    fin = box(0, 0, 10, 10).union(box(10, 4.85, 200, 5.15))
+    (points, _, closed), = beads_of(fin)
+    assert not closed and np.allclose(points[:, 1], 5.0, atol=1e-6)
+    assert points[:, 0].max() == pytest.approx(200 - 0.15, abs=0.05)
+
+
 def test_a_fin_on_a_block_gets_a_bead_from_the_block_to_its_end():
     fin = box(10, 4.82, 20, 5.18)                                     # 0.36 mm
     (points, width, closed), = beads_of(box(0, 0, 10, 10).union(fin))
