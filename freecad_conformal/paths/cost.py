@@ -1,9 +1,10 @@
 """What a plan will cost before its paths are planned: print time and material per layer.
 
-The fill of `paths.fill2d` is measured, not planned: per layer the perimeter loops are the
-fill's own offsets of the section (`perimeter_rings`), the infill areas its own split into
-solid and sparse (skins, pieces under `solid_below_area`), and the infill rows its own scan
-lines (`scan_pieces` at the fewest-turns angle), so lengths and material match the fill.
+The fill of `paths.fill2d` is measured, not planned: per layer the perimeter loops and the
+beads filling the gaps between them are the fill's own (`perimeter_walls`,
+`gap_fill_paths`), the infill areas its own split into solid and sparse (skins, pieces
+under `solid_below_area`), and the infill rows its own scan lines (`scan_pieces` at the
+fewest-turns angle), so lengths and material match the fill.
 What is skipped is the expensive part: linking rows into zigzags, ordering, mapping to 3D
 and building the toolpath. Times come from the motion model of `paths.timing` applied to
 the pieces: every loop is run through the jerk and acceleration model edge by edge; every
@@ -33,8 +34,8 @@ from freecad_conformal.paths.assemble import (PERIMETER_ROLES, SMALL_PERIMETER_L
                                               PathSettings, solid_areas, together)
 from freecad_conformal.paths.bead import bead_area, bead_spacing
 from freecad_conformal.paths.stack_fill import SIMPLIFY_FRACTION, wkb_key
-from freecad_conformal.paths.fill2d import (Rows, fill_area, infill_areas, infill_rows,
-                                            inset, perimeter_rings, polygons_of,
+from freecad_conformal.paths.fill2d import (Rows, Walls, fill_area, gap_fill_paths, infill_areas,
+                                            infill_rows, inset, perimeter_walls, polygons_of,
                                             scan_pieces, thin_wall_paths, valid_region)
 from freecad_conformal.paths.timing import DEFAULT_JERK, junction_speeds, move_times
 
@@ -140,6 +141,9 @@ class _Tally:
     travel_length: float = 0.0
     #: Σ length × width over the bead width (mm²): beads spread wider carry more per mm
     wider_area: float = 0.0
+    #: mm³ that beads costed by their own cross-section carry beyond as long a bead of the
+    #: settings' width (gap fill: one narrower than the layer is high is round, not `wider`)
+    own_material: float = 0.0
 
     def work(self, length: float, seconds: float, feed_mm_s: float, wider: float = 0.0) -> None:
         self.seconds += seconds
@@ -153,10 +157,10 @@ class _Tally:
 
 
 def _perimeters(island: Polygon, settings: PathSettings, spacing: float, motion: Motion,
-                tally: _Tally, external) -> int:
+                tally: _Tally, external) -> Walls:
     width = settings.fill.bead_width
-    depths = perimeter_rings(island, width, settings.fill.perimeters, spacing, external)
-    for depth, rings in enumerate(depths):
+    walls = perimeter_walls(island, width, settings.fill.perimeters, spacing, external)
+    for depth, rings in enumerate(walls.depths):
         role = PERIMETER_ROLES[0] if depth == 0 else PERIMETER_ROLES[1]
         for ring in rings:
             length = float(np.linalg.norm(np.diff(ring, axis=0), axis=1).sum())
@@ -166,7 +170,7 @@ def _perimeters(island: Polygon, settings: PathSettings, spacing: float, motion:
             speed = motion.work_speed(feed)
             tally.work(length, _ring_time(ring, speed, motion), speed)
             tally.travel(spacing)
-    return len(depths)
+    return walls
 
 
 def _thin_walls(island: Polygon, settings: PathSettings, motion: Motion, tally: _Tally,
@@ -178,6 +182,25 @@ def _thin_walls(island: Polygon, settings: PathSettings, motion: Motion, tally: 
         tally.work(path.length, _ring_time(path.points, speed, motion), speed,
                    (path.width or 0.0) - settings.fill.bead_width)
         tally.travel(settings.fill.bead_width)
+
+
+def _gap_fill(walls: Walls, settings: PathSettings, spacing: float, height: float,
+              motion: Motion, tally: _Tally) -> None:
+    """The beads along the gaps the perimeter loops leave (`fill2d.gap_fill_paths`), each
+    as wide as fills its gap and carrying its own cross-section, at their role's speed (a
+    closed one no longer than a small perimeter at that speed, as
+    `paths.assemble.Feeds.for_path` feeds it)."""
+    fill = settings.fill
+    usual = bead_area(fill.bead_width, height, fill.bead_model)
+    for path in gap_fill_paths(walls, fill, spacing):
+        feed = settings.feeds.for_role(path.role)
+        if path.closed and path.role in PERIMETER_ROLES and path.length <= SMALL_PERIMETER_LENGTH:
+            feed = min(feed, settings.feeds.small_perimeter)
+        speed = motion.work_speed(feed)
+        tally.work(path.length, _ring_time(path.points, speed, motion), speed)
+        tally.own_material += path.length * (
+            bead_area(path.width or fill.bead_width, height, fill.bead_model) - usual)
+        tally.travel(fill.bead_width)
 
 
 def _rows(area, laid: Rows, speed: float, motion: Motion, tally: _Tally) -> None:
@@ -202,11 +225,12 @@ def _rows(area, laid: Rows, speed: float, motion: Motion, tally: _Tally) -> None
         tally.travel(math.sqrt(max(area.area, 0.0)) * 0.5)
 
 
-def _infill(island: Polygon, depth_count: int, solid, settings: PathSettings, spacing: float,
+def _infill(island: Polygon, walls: Walls, solid, settings: PathSettings, spacing: float,
             layer_index: int, motion: Motion, tally: _Tally, bridge=None) -> None:
     fill = settings.fill
     width = fill.bead_width
-    inner = fill_area(island, depth_count, width, spacing, fill.infill_overlap)
+    inner = fill_area(island, len(walls.depths), width, spacing, fill.infill_overlap,
+                      walls.interior)
     if inner.is_empty:
         return
     for area, pitch, role, part in infill_areas(inner, solid, bridge, fill, spacing):
@@ -236,9 +260,10 @@ def layer_cost(layer: Layer, skin, settings: PathSettings, motion: Motion,
     for island in islands:
         try:
             external = inset(island, 0.5 * width)
-            depths = _perimeters(island, settings, spacing, motion, tally, external)
+            walls = _perimeters(island, settings, spacing, motion, tally, external)
             _thin_walls(island, settings, motion, tally, external)
-            _infill(island, depths, solid, settings, spacing, layer.index, motion, tally,
+            _gap_fill(walls, settings, spacing, layer.thickness, motion, tally)
+            _infill(island, walls, solid, settings, spacing, layer.index, motion, tally,
                     bridge)
         except shapely.errors.GEOSException:
             continue   # the fill raises a named error for this island; the estimate skips it
@@ -260,7 +285,7 @@ def layer_cost(layer: Layer, skin, settings: PathSettings, motion: Motion,
     travel_nominal = 60.0 * tally.travel_length / travel_feed
     # A bead wider by Δw at the same height carries Δw·h more per mm (either bead model).
     material = (tally.length * bead_area(width, layer.thickness, settings.fill.bead_model)
-                + tally.wider_area * layer.thickness)
+                + tally.wider_area * layer.thickness + tally.own_material)
     return LayerCost(level, tally.seconds + travel_seconds, tally.nominal + travel_nominal,
                      travel_nominal, material, tally.length)
 

@@ -30,7 +30,8 @@ from shapely.geometry import LineString, MultiPolygon, Polygon
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.paths.bead import BEAD_MODELS, bead_spacing
-from freecad_conformal.paths.thin_walls import thin_wall_beads
+from freecad_conformal.paths.thin_walls import (MIN_LENGTH_WIDTHS, MIN_WIDTH_SHARE,
+                                                 gap_beads, thin_wall_beads)
 
 ROLES = ("external_perimeter", "perimeter", "infill", "solid_infill")
 #: Infill roles laid at one spacing (solid areas and bridges over sparse infill).
@@ -73,6 +74,19 @@ LINE_END_INSET = 0.5
 
 #: Loops shorter than this many bead widths are dust left by offsetting thin features.
 MIN_LOOP_WIDTHS = 2.0
+
+#: An inner loop is laid only where the inset it follows is at least this many bead
+#: spacings wide, so two stretches of one loop (or two loops) are never closer: PrusaSlicer's
+#: min_spacing, a spacing less its INSET_OVERLAP_TOLERANCE of 40 %. Every loop used to be
+#: laid wherever its inset was not empty: a 1.2 mm wall (0.4 mm beads, 0.2 mm layers) got
+#: two inner loops 0.086 mm apart, their beads overlapping by 75 %, and 13-19 % more
+#: material than the wall holds; where a loop has no room, gap fill fills the gap instead.
+LOOP_ROOM = 0.6
+
+#: An opened inset whose area differs from the inset's by less than this (mm²) lost
+#: nothing: the inset's own vertices are kept (offsetting back and forth only rounds them),
+#: so walls with room for every loop keep the paths they had.
+OPENING_NOISE = 1e-6
 
 #: Connectors between zigzag lines may lie this far (as a fraction of the bead width) outside
 #: the infill area: they run along its boundary, where rounding puts them either side.
@@ -151,24 +165,86 @@ def polygons_of(geometry) -> list[Polygon]:
     return [g for g in getattr(geometry, "geoms", []) if g.geom_type == "Polygon" and not g.is_empty]
 
 
-def perimeter_rings(island: Polygon, width: float, count: int,
-                    spacing: float | None = None, external=None) -> list[list[np.ndarray]]:
-    """Rings per depth (0 = external, half a width in; each next one `spacing` further,
-    default the width): each an (N, 2) closed polyline. `external`: the island inset by
-    half a width, when the caller has it."""
+@dataclass
+class Walls:
+    """An island's perimeters: rings per depth (0 the external one), each an (N, 2) closed
+    polyline; the gaps (polygons) loops leave where a further loop had no room, to be
+    filled along their middle (`gap_fill_paths`); and of those the gap inside the
+    innermost loops (`interior`: empty for none), which the infill leaves to gap fill."""
+
+    depths: list[list[np.ndarray]]
+    gaps: list[Polygon]
+    interior: object
+
+
+def _opened(geometry, distance: float):
+    """`geometry` less its parts narrower than twice `distance` (mitred, as `inset`)."""
+    with np.errstate(divide="ignore", invalid="ignore"):    # as in `inset`
+        return inset(geometry, distance).buffer(distance, join_style="mitre",
+                                                mitre_limit=MITRE_LIMIT)
+
+
+def perimeter_walls(island: Polygon, width: float, count: int, spacing: float | None = None,
+                    external=None) -> Walls:
+    """The island's perimeter loops and the gaps between them (`Walls`). The external loop
+    runs half a width in (`external`: the island inset so, when the caller has it); each
+    further one `spacing` (default the width) further in, but only where its inset is at
+    least `LOOP_ROOM` spacings wide (PrusaSlicer's classic perimeters: the inset opened).
+    Where a loop has no room, the strip between the half-spacing lines of the loops around
+    it is a gap; so is the strip inside the innermost loops where one more would have none
+    (PrusaSlicer looks one loop further for these gaps)."""
     spacing = width if spacing is None else spacing
-    depths = []
-    for k in range(count):
-        if k == 0 and external is not None:
+    external = inset(island, 0.5 * width) if external is None else external
+    depths: list[list[np.ndarray]] = []
+    gaps: list[Polygon] = []
+    interior = Polygon()
+    previous = external
+    for k in range(count + 1):
+        if k == 0:
             offset = external
         else:
-            offset = inset(island, 0.5 * width + k * spacing)
+            plain = inset(island, 0.5 * width + k * spacing)
+            offset = _opened(plain, 0.5 * LOOP_ROOM * spacing)
+            if abs(plain.area - offset.area) <= OPENING_NOISE:
+                offset = plain
+            interior = _gap(previous, offset, width, spacing)
+            gaps += polygons_of(interior)
+        if k == count:
+            break
         rings = [np.asarray(ring.coords) for poly in polygons_of(offset)
                  for ring in [poly.exterior, *poly.interiors] if ring.length >= MIN_LOOP_WIDTHS * width]
         if not rings:
             break
         depths.append(rings)
-    return depths
+        previous, interior = offset, Polygon()
+    return Walls(depths, gaps, interior)
+
+
+def _gap(outer, inner, width: float, spacing: float):
+    """What lies between loops along `outer` (a region of loop centres) and along `inner`
+    (the next one, a spacing in) uncovered by either's half spacing: the strips where a
+    loop had no room. Slivers of offsets that do not quite meet, and gaps under
+    `MIN_WIDTH_SHARE` of a bead (which gap fill leaves), are opened away."""
+    if outer.is_empty:
+        return Polygon()
+    reach = inset(outer, 0.5 * spacing)
+    if not inner.is_empty:
+        with np.errstate(divide="ignore", invalid="ignore"):    # as in `inset`
+            covered = inner.buffer(0.5 * spacing, join_style="mitre", mitre_limit=MITRE_LIMIT)
+        if reach.area - covered.area < MIN_WIDTH_SHARE * MIN_LENGTH_WIDTHS * width * width:
+            # Less than the smallest gap a bead fills is left (most loops: the work of
+            # the difference and the opening saved).
+            return Polygon()
+        reach = reach.difference(covered)
+    return _opened(reach, 0.5 * MIN_WIDTH_SHARE * width)
+
+
+def perimeter_rings(island: Polygon, width: float, count: int,
+                    spacing: float | None = None, external=None) -> list[list[np.ndarray]]:
+    """Rings per depth of `perimeter_walls` (0 = external, half a width in; each next one
+    `spacing` further, default the width, where it has room): each an (N, 2) closed
+    polyline."""
+    return perimeter_walls(island, width, count, spacing, external).depths
 
 
 #: Scan-line pieces shorter than this (mm) are dropped: a line grazing a vertex leaves a
@@ -615,14 +691,28 @@ def _extent_across(area, angle: float) -> tuple[float, float]:
 
 
 def fill_area(island: Polygon, depth_count: int, width: float, spacing: float,
-              infill_overlap: float):
+              infill_overlap: float, interior=None):
     """What the infill of an island with `depth_count` perimeter rings fills: inside the
     innermost ring's centre line by half a spacing less `infill_overlap` of one (its beads
-    then overlap the ring's by that share); the whole island without perimeters."""
+    then overlap the ring's by that share); the whole island without perimeters. Less the
+    gap inside the innermost rings (`Walls.interior`), which gap fill fills: grown by the
+    same overlap, so no line reaches into it further than into a ring."""
     if not depth_count:
         return island
     depth = 0.5 * width + (depth_count - 0.5 - infill_overlap) * spacing
-    return inset(island, depth)
+    area = inset(island, depth)
+    if interior is None or interior.is_empty or area.is_empty:
+        return area
+    with np.errstate(divide="ignore", invalid="ignore"):    # as in `inset`
+        taken = interior.buffer(infill_overlap * spacing + GAP_CLEARANCE, join_style="mitre",
+                                mitre_limit=MITRE_LIMIT)
+    return area.difference(taken)
+
+
+#: Where the gap inside the innermost loops spans the fill area, the two share their outline
+#: once the gap is grown by the infill overlap: grown this much (mm) further, no sliver of
+#: fill area is left along it.
+GAP_CLEARANCE = 1e-4
 
 
 def _line_area(area, spacing: float):
@@ -637,9 +727,12 @@ def _island_fill(island: Polygon, settings: FillSettings, spacing: float, layer_
     """(perimeter rings per depth, infill chains) of one island."""
     width = settings.bead_width
     external = inset(island, 0.5 * width)
-    depths = perimeter_rings(island, width, settings.perimeters, spacing, external)
-    infill: list[Path2D] = thin_wall_paths(island, settings, external)
-    inner = fill_area(island, len(depths), width, spacing, settings.infill_overlap)
+    walls = perimeter_walls(island, width, settings.perimeters, spacing, external)
+    depths = walls.depths
+    infill: list[Path2D] = (thin_wall_paths(island, settings, external)
+                            + gap_fill_paths(walls, settings, spacing))
+    inner = fill_area(island, len(depths), width, spacing, settings.infill_overlap,
+                      walls.interior)
     if inner.is_empty:
         return depths, infill
     for area, pitch, role, fill in infill_areas(inner, solid, bridge, settings, spacing):
@@ -661,6 +754,14 @@ def thin_wall_paths(island: Polygon, settings: FillSettings, external) -> list[P
     return [Path2D(points, "external_perimeter", closed, bead)
             for points, bead, closed in thin_wall_beads(island, settings.bead_width, external,
                                                         MITRE_LIMIT)]
+
+
+def gap_fill_paths(walls: Walls, settings: FillSettings, spacing: float) -> list[Path2D]:
+    """One bead along each gap the perimeter loops leave (`Walls.gaps`,
+    `paths/thin_walls.gap_beads`), as wide as fills it. Laid as inner perimeters (their
+    speed): the gaps lie between perimeter loops."""
+    return [Path2D(points, "perimeter", closed, bead)
+            for points, bead, closed in gap_beads(walls.gaps, settings.bead_width, spacing)]
 
 
 def _island_order(filled: IslandFill, settings: FillSettings, here: np.ndarray) -> list[Path2D]:

@@ -9,6 +9,9 @@ axis is the chordal axis of its constrained Delaunay triangulation (the Voronoi 
 its sampled outline with shapely < 2.1); spurs into the feature's corners are trimmed,
 features too small or too narrow are left out (`MIN_WIDTH_SHARE`, `MIN_LENGTH_WIDTHS`), and
 a bead is never narrower than `MIN_BEAD_SHARE` of the bead width.
+
+Gap fill (`gap_beads`) lays the same beads along the gaps perimeter loops leave where a
+loop had no room (`paths.fill2d.perimeter_walls`), each as wide as fills its gap.
 """
 from __future__ import annotations
 
@@ -47,6 +50,11 @@ SPUR_WIDTHS = 1.0
 #: than this is triangulated in square tiles `TILE_WIDTHS` bead widths wide.
 TILE_SAMPLES = 1000
 TILE_WIDTHS = 50.0
+
+#: A gap-fill bead fills a gap at most this many bead spacings wide (PrusaSlicer's gap fill
+#: `max`): a dropped loop leaves a gap under 1.6 spacings (`paths.fill2d.LOOP_ROOM`), so
+#: only a junction's median could ask for more.
+GAP_MAX_SPACINGS = 2.0
 
 
 def thin_features(island: Polygon, width: float, eroded, mitre_limit: float) -> list[Polygon]:
@@ -223,4 +231,21 @@ def thin_wall_beads(island: Polygon, width: float, eroded,
     return [(points, min(max(median, MIN_BEAD_SHARE * width), width), closed)
             for points, median, closed in medial_beads(
                 thin_features(island, width, eroded, mitre_limit), width)
+            if median >= MIN_WIDTH_SHARE * width]
+
+
+def gap_beads(gaps: list[Polygon], width: float,
+              spacing: float) -> list[tuple[np.ndarray, float, bool]]:
+    """(points (N, 2), bead width, closed) of the gap-fill beads of `gaps` (gaps between
+    the centres of neighbouring beads, measured between their half-spacing lines): along
+    each gap's medial axis (`medial_beads`), wide enough that the bead's spacing is the
+    gap's median width (a bead of width w fills a strip w − (width − spacing) wide: the
+    bead model's spacing rule), so the wall is filled neither over nor under. Gaps under
+    `MIN_WIDTH_SHARE` of a bead are left. A gap bead is not held to `MIN_BEAD_SHARE`: it
+    is laid between two beads that hold it, not standing alone as a thin wall does."""
+    squeeze = width - spacing
+    smallest = MIN_WIDTH_SHARE * MIN_LENGTH_WIDTHS * width * width
+    features = [gap for gap in gaps if gap.area >= smallest]
+    return [(points, min(median, GAP_MAX_SPACINGS * spacing) + squeeze, closed)
+            for points, median, closed in medial_beads(features, width)
             if median >= MIN_WIDTH_SHARE * width]
