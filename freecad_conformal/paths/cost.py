@@ -2,7 +2,7 @@
 
 The fill of `paths.fill2d` is measured, not planned: per layer the perimeter loops and the
 beads filling the gaps between them are the fill's own (`perimeter_walls`,
-`gap_fill_paths`), the infill areas its own split into solid and sparse (skins, pieces
+`gap_fill`), the infill areas its own split into solid and sparse (skins, pieces
 under `solid_below_area`), and the infill rows its own scan lines (`scan_pieces` at the
 fewest-turns angle), so lengths and material match the fill.
 What is skipped is the expensive part: linking rows into zigzags, ordering, mapping to 3D
@@ -34,7 +34,7 @@ from freecad_conformal.paths.assemble import (PERIMETER_ROLES, SMALL_PERIMETER_L
                                               PathSettings, solid_areas, together)
 from freecad_conformal.paths.bead import bead_area, bead_spacing
 from freecad_conformal.paths.stack_fill import SIMPLIFY_FRACTION, wkb_key
-from freecad_conformal.paths.fill2d import (Rows, Walls, fill_area, gap_fill_paths, infill_areas,
+from freecad_conformal.paths.fill2d import (Rows, Walls, fill_area, gap_fill, infill_areas,
                                             infill_rows, inset, perimeter_walls, polygons_of,
                                             scan_pieces, thin_wall_paths, valid_region)
 from freecad_conformal.paths.timing import DEFAULT_JERK, junction_speeds, move_times
@@ -185,14 +185,15 @@ def _thin_walls(island: Polygon, settings: PathSettings, motion: Motion, tally: 
 
 
 def _gap_fill(walls: Walls, settings: PathSettings, spacing: float, height: float,
-              motion: Motion, tally: _Tally) -> None:
-    """The beads along the gaps the perimeter loops leave (`fill2d.gap_fill_paths`), each
-    as wide as fills its gap and carrying its own cross-section, at their role's speed (a
-    closed one no longer than a small perimeter at that speed, as
-    `paths.assemble.Feeds.for_path` feeds it)."""
+              motion: Motion, tally: _Tally) -> list[Polygon]:
+    """The beads along the gaps the perimeter loops leave (`fill2d.gap_fill`), each as wide
+    as fills its gap and carrying its own cross-section, at their role's speed (a closed
+    one no longer than a small perimeter at that speed, as `paths.assemble.Feeds.for_path`
+    feeds it); returns the gaps inside the innermost loops they fill."""
     fill = settings.fill
     usual = bead_area(fill.bead_width, height, fill.bead_model)
-    for path in gap_fill_paths(walls, fill, spacing):
+    paths, filled = gap_fill(walls, fill, spacing)
+    for path in paths:
         feed = settings.feeds.for_role(path.role)
         if path.closed and path.role in PERIMETER_ROLES and path.length <= SMALL_PERIMETER_LENGTH:
             feed = min(feed, settings.feeds.small_perimeter)
@@ -201,6 +202,7 @@ def _gap_fill(walls: Walls, settings: PathSettings, spacing: float, height: floa
         tally.own_material += path.length * (
             bead_area(path.width or fill.bead_width, height, fill.bead_model) - usual)
         tally.travel(fill.bead_width)
+    return filled
 
 
 def _rows(area, laid: Rows, speed: float, motion: Motion, tally: _Tally) -> None:
@@ -225,12 +227,12 @@ def _rows(area, laid: Rows, speed: float, motion: Motion, tally: _Tally) -> None
         tally.travel(math.sqrt(max(area.area, 0.0)) * 0.5)
 
 
-def _infill(island: Polygon, walls: Walls, solid, settings: PathSettings, spacing: float,
-            layer_index: int, motion: Motion, tally: _Tally, bridge=None) -> None:
+def _infill(island: Polygon, depth_count: int, filled: list[Polygon], solid,
+            settings: PathSettings, spacing: float, layer_index: int, motion: Motion,
+            tally: _Tally, bridge=None) -> None:
     fill = settings.fill
     width = fill.bead_width
-    inner = fill_area(island, len(walls.depths), width, spacing, fill.infill_overlap,
-                      walls.interior)
+    inner = fill_area(island, depth_count, width, spacing, fill.infill_overlap, filled)
     if inner.is_empty:
         return
     for area, pitch, role, part in infill_areas(inner, solid, bridge, fill, spacing):
@@ -262,9 +264,9 @@ def layer_cost(layer: Layer, skin, settings: PathSettings, motion: Motion,
             external = inset(island, 0.5 * width)
             walls = _perimeters(island, settings, spacing, motion, tally, external)
             _thin_walls(island, settings, motion, tally, external)
-            _gap_fill(walls, settings, spacing, layer.thickness, motion, tally)
-            _infill(island, walls, solid, settings, spacing, layer.index, motion, tally,
-                    bridge)
+            filled = _gap_fill(walls, settings, spacing, layer.thickness, motion, tally)
+            _infill(island, len(walls.depths), filled, solid, settings, spacing, layer.index,
+                    motion, tally, bridge)
         except shapely.errors.GEOSException:
             continue   # the fill raises a named error for this island; the estimate skips it
     level = _level(layer)

@@ -168,13 +168,13 @@ def polygons_of(geometry) -> list[Polygon]:
 @dataclass
 class Walls:
     """An island's perimeters: rings per depth (0 the external one), each an (N, 2) closed
-    polyline; the gaps (polygons) loops leave where a further loop had no room, to be
-    filled along their middle (`gap_fill_paths`); and of those the gap inside the
-    innermost loops (`interior`: empty for none), which the infill leaves to gap fill."""
+    polyline, and the gaps they leave where a loop had no room, to be filled along their
+    middle (`gap_fill`): between loops (`gaps`) and inside the innermost ones (`interior`,
+    which the infill leaves to gap fill where a bead fills it)."""
 
     depths: list[list[np.ndarray]]
     gaps: list[Polygon]
-    interior: object
+    interior: list[Polygon]
 
 
 def _opened(geometry, distance: float):
@@ -197,7 +197,7 @@ def perimeter_walls(island: Polygon, width: float, count: int, spacing: float | 
     external = inset(island, 0.5 * width) if external is None else external
     depths: list[list[np.ndarray]] = []
     gaps: list[Polygon] = []
-    interior = Polygon()
+    left: list[Polygon] = []
     previous = external
     for k in range(count + 1):
         if k == 0:
@@ -207,8 +207,8 @@ def perimeter_walls(island: Polygon, width: float, count: int, spacing: float | 
             offset = _opened(plain, 0.5 * LOOP_ROOM * spacing)
             if abs(plain.area - offset.area) <= OPENING_NOISE:
                 offset = plain
-            interior = _gap(previous, offset, width, spacing)
-            gaps += polygons_of(interior)
+            gaps += left
+            left = _gap(previous, offset, width, spacing)
         if k == count:
             break
         rings = [np.asarray(ring.coords) for poly in polygons_of(offset)
@@ -216,27 +216,30 @@ def perimeter_walls(island: Polygon, width: float, count: int, spacing: float | 
         if not rings:
             break
         depths.append(rings)
-        previous, interior = offset, Polygon()
-    return Walls(depths, gaps, interior)
+        previous = offset
+    return Walls(depths, gaps, left)
 
 
-def _gap(outer, inner, width: float, spacing: float):
+def _gap(outer, inner, width: float, spacing: float) -> list[Polygon]:
     """What lies between loops along `outer` (a region of loop centres) and along `inner`
     (the next one, a spacing in) uncovered by either's half spacing: the strips where a
-    loop had no room. Slivers of offsets that do not quite meet, and gaps under
-    `MIN_WIDTH_SHARE` of a bead (which gap fill leaves), are opened away."""
+    loop had no room. Slivers of offsets that do not quite meet, parts under
+    `MIN_WIDTH_SHARE` of a bead wide (which gap fill leaves) and pieces too small to hold
+    a bead `MIN_LENGTH_WIDTHS` long are left out."""
     if outer.is_empty:
-        return Polygon()
+        return []
+    smallest = MIN_WIDTH_SHARE * MIN_LENGTH_WIDTHS * width * width
     reach = inset(outer, 0.5 * spacing)
     if not inner.is_empty:
         with np.errstate(divide="ignore", invalid="ignore"):    # as in `inset`
             covered = inner.buffer(0.5 * spacing, join_style="mitre", mitre_limit=MITRE_LIMIT)
-        if reach.area - covered.area < MIN_WIDTH_SHARE * MIN_LENGTH_WIDTHS * width * width:
+        if reach.area - covered.area < smallest:
             # Less than the smallest gap a bead fills is left (most loops: the work of
             # the difference and the opening saved).
-            return Polygon()
+            return []
         reach = reach.difference(covered)
-    return _opened(reach, 0.5 * MIN_WIDTH_SHARE * width)
+    return [piece for piece in polygons_of(_opened(reach, 0.5 * MIN_WIDTH_SHARE * width))
+            if piece.area >= smallest]
 
 
 def perimeter_rings(island: Polygon, width: float, count: int,
@@ -691,25 +694,25 @@ def _extent_across(area, angle: float) -> tuple[float, float]:
 
 
 def fill_area(island: Polygon, depth_count: int, width: float, spacing: float,
-              infill_overlap: float, interior=None):
+              infill_overlap: float, filled: list[Polygon] = ()):
     """What the infill of an island with `depth_count` perimeter rings fills: inside the
     innermost ring's centre line by half a spacing less `infill_overlap` of one (its beads
     then overlap the ring's by that share); the whole island without perimeters. Less the
-    gap inside the innermost rings (`Walls.interior`), which gap fill fills: grown by the
-    same overlap, so no line reaches into it further than into a ring."""
+    gaps inside the innermost rings that gap fill fills (`filled`, from `gap_fill`): grown
+    by the same overlap, so no line reaches into them further than into a ring."""
     if not depth_count:
         return island
     depth = 0.5 * width + (depth_count - 0.5 - infill_overlap) * spacing
     area = inset(island, depth)
-    if interior is None or interior.is_empty or area.is_empty:
+    if not filled or area.is_empty:
         return area
     with np.errstate(divide="ignore", invalid="ignore"):    # as in `inset`
-        taken = interior.buffer(infill_overlap * spacing + GAP_CLEARANCE, join_style="mitre",
-                                mitre_limit=MITRE_LIMIT)
+        taken = MultiPolygon(list(filled)).buffer(infill_overlap * spacing + GAP_CLEARANCE,
+                                                  join_style="mitre", mitre_limit=MITRE_LIMIT)
     return area.difference(taken)
 
 
-#: Where the gap inside the innermost loops spans the fill area, the two share their outline
+#: Where a gap inside the innermost loops spans the fill area, the two share their outline
 #: once the gap is grown by the infill overlap: grown this much (mm) further, no sliver of
 #: fill area is left along it.
 GAP_CLEARANCE = 1e-4
@@ -729,10 +732,9 @@ def _island_fill(island: Polygon, settings: FillSettings, spacing: float, layer_
     external = inset(island, 0.5 * width)
     walls = perimeter_walls(island, width, settings.perimeters, spacing, external)
     depths = walls.depths
-    infill: list[Path2D] = (thin_wall_paths(island, settings, external)
-                            + gap_fill_paths(walls, settings, spacing))
-    inner = fill_area(island, len(depths), width, spacing, settings.infill_overlap,
-                      walls.interior)
+    gap_paths, filled = gap_fill(walls, settings, spacing)
+    infill: list[Path2D] = thin_wall_paths(island, settings, external) + gap_paths
+    inner = fill_area(island, len(depths), width, spacing, settings.infill_overlap, filled)
     if inner.is_empty:
         return depths, infill
     for area, pitch, role, fill in infill_areas(inner, solid, bridge, settings, spacing):
@@ -756,12 +758,20 @@ def thin_wall_paths(island: Polygon, settings: FillSettings, external) -> list[P
                                                         MITRE_LIMIT)]
 
 
-def gap_fill_paths(walls: Walls, settings: FillSettings, spacing: float) -> list[Path2D]:
-    """One bead along each gap the perimeter loops leave (`Walls.gaps`,
-    `paths/thin_walls.gap_beads`), as wide as fills it. Laid as inner perimeters (their
-    speed): the gaps lie between perimeter loops."""
-    return [Path2D(points, "perimeter", closed, bead)
-            for points, bead, closed in gap_beads(walls.gaps, settings.bead_width, spacing)]
+def gap_fill(walls: Walls, settings: FillSettings,
+             spacing: float) -> tuple[list[Path2D], list[Polygon]]:
+    """One bead along each gap the perimeter loops leave (`Walls`,
+    `paths/thin_walls.gap_beads`), as wide as fills it, and the gaps inside the innermost
+    loops that got one (the infill leaves those; a piece too short for a bead stays the
+    infill's). Laid as inner perimeters (their speed): the gaps lie between loops."""
+    paths: list[Path2D] = []
+    filled: list[Polygon] = []
+    for gap, inside in [(gap, False) for gap in walls.gaps] + [(gap, True) for gap in walls.interior]:
+        beads = gap_beads([gap], settings.bead_width, spacing)
+        paths += [Path2D(points, "perimeter", closed, bead) for points, bead, closed in beads]
+        if beads and inside:
+            filled.append(gap)
+    return paths, filled
 
 
 def _island_order(filled: IslandFill, settings: FillSettings, here: np.ndarray) -> list[Path2D]:

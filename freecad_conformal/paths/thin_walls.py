@@ -244,8 +244,6 @@ def gap_beads(gaps: list[Polygon], width: float,
     `MIN_WIDTH_SHARE` of a bead are left. A gap bead is not held to `MIN_BEAD_SHARE`: it
     is laid between two beads that hold it, not standing alone as a thin wall does."""
     squeeze = width - spacing
-    smallest = MIN_WIDTH_SHARE * MIN_LENGTH_WIDTHS * width * width
-    features = [gap for gap in gaps if gap.area >= smallest]
     return [(points, min(median, GAP_MAX_SPACINGS * spacing) + squeeze, closed)
-            for points, median, closed in medial_beads(features, width)
+            for points, median, closed in medial_beads(gaps, width)
             if median >= MIN_WIDTH_SHARE * width]
