@@ -17,7 +17,9 @@ role (external perimeter 30, perimeters 60, perimeter loops up to 2π·6.5 mm 15
 infill 80, solid and top infill 20, travel 130 mm/s, the first layer at the same speeds), the time estimate's limits
 (acceleration 1500 mm/s², jerk 10 mm/s) and the cooling slowdown (layers under 5 s, not
 below 10 mm/s). What only PrusaSlicer does: bridges over unsupported areas (supports off),
-gap fill between perimeters, retraction (its estimate counts it; our toolpath has none).
+retraction (its estimate counts it; our toolpath has none). Where a perimeter loop has no
+room we lay gap fill, as PrusaSlicer's classic perimeter generator does; its default one
+(Arachne, used here) widens the loops instead.
 
 `--roles` also prints material and time per role on both sides (PrusaSlicer's ;TYPE:
 blocks, timed with this project's model; our toolpath's roles).
