@@ -197,7 +197,7 @@ def perimeter_walls(island: Polygon, width: float, count: int, spacing: float | 
     external = inset(island, 0.5 * width) if external is None else external
     depths: list[list[np.ndarray]] = []
     gaps: list[Polygon] = []
-    left: list[Polygon] = []
+    left: list[Polygon] = []        # the last level's gaps: inside the innermost loops at the end
     previous = external
     for k in range(count + 1):
         if k == 0:
@@ -694,7 +694,7 @@ def _extent_across(area, angle: float) -> tuple[float, float]:
 
 
 def fill_area(island: Polygon, depth_count: int, width: float, spacing: float,
-              infill_overlap: float, filled: list[Polygon] = ()):
+              infill_overlap: float, filled: list[Polygon] | None = None):
     """What the infill of an island with `depth_count` perimeter rings fills: inside the
     innermost ring's centre line by half a spacing less `infill_overlap` of one (its beads
     then overlap the ring's by that share); the whole island without perimeters. Less the
@@ -707,8 +707,8 @@ def fill_area(island: Polygon, depth_count: int, width: float, spacing: float,
     if not filled or area.is_empty:
         return area
     with np.errstate(divide="ignore", invalid="ignore"):    # as in `inset`
-        taken = MultiPolygon(list(filled)).buffer(infill_overlap * spacing + GAP_CLEARANCE,
-                                                  join_style="mitre", mitre_limit=MITRE_LIMIT)
+        taken = MultiPolygon(filled).buffer(infill_overlap * spacing + GAP_CLEARANCE,
+                                            join_style="mitre", mitre_limit=MITRE_LIMIT)
     return area.difference(taken)
 
 
