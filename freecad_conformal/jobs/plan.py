@@ -291,14 +291,16 @@ def _settings(options: PlanOptions, tool, material) -> tuple[float, PathSettings
     return float(width), paths
 
 
-def check_options(shape, options: PlanOptions, library=None):
+def check_options(shape, options: PlanOptions, library=None, part: str | None = None):
     """Validate everything that does not need the decomposition (run it first: it is quick).
+    `part`: the part's name, for the messages (a file's stem on the command line).
 
     Returns (tool, material name, bead width, path settings, machine).
     """
     from freecad_conformal.geometry.solids import solids_of
 
-    solids_of(shape, "the part")            # a face, an edge or a vertex is not a part
+    # A face, an edge or a vertex is not a part; the message names the file it came from.
+    solids_of(shape, f"the part {part!r}" if part else "the part")
     size = _part_size(shape)
     machine = load_machine(options.machine)
     check_fits(shape, machine)
@@ -404,7 +406,7 @@ def plan_additive(shape, options: PlanOptions, part: str = "part", library=None,
     """The whole job as `plan` and the Job object make it: the options checked first (before
     any geometry work), then the plan chosen and placed on the machine (`choose_plan`), then
     layers, paths and G-code."""
-    checked = check_options(shape, options, library)
+    checked = check_options(shape, options, library, part)
     choice = choose_plan(shape, options, checked)
     return run_job(choice.placed, choice.plan, options, part, library, progress, checked=checked,
                    layers=choice.layers, candidates=choice.candidates)

@@ -170,8 +170,8 @@ CASES += [
     (["batch", "box.step", "-o", "out", "--workers", "-1"], ["--workers", "-1"]),
     (["batch", "box.step", "-o", "out", "--time-limit", "-5"], ["--time-limit", "-5"]),
     # shapes that are not solids: said so, not "layer height larger than the part"
-    (["plan", "face.brep", "-o", "x.ngc"], ["the part is not a solid: it is a Face"]),
-    (["plan", "edge.brep", "-o", "x.ngc"], ["the part is not a solid: it is an Edge"]),
+    (["plan", "face.brep", "-o", "x.ngc"], ["the part 'face' is not a solid: it is a Face"]),
+    (["plan", "edge.brep", "-o", "x.ngc"], ["the part 'edge' is not a solid: it is an Edge"]),
     (["decompose", "face.brep"], ["not a solid", "Face"]),
     # inputs in another encoding than UTF-8
     (["doe", "analyze", "latin1.csv", "--response", "y", "--no-plot"],
