@@ -226,9 +226,9 @@ def _turned_further(plan: Planner, root: np.ndarray, best_axis: tuple[np.ndarray
     sub-parts with 356 mm² of overhang left, where standing it on its base leaves 15 mm² in
     one piece. A root OCC cannot plan from is noted in `notes` and passed over."""
     solid, angle = plan.solid, plan.angle
-    candidates = orientation_candidates(solid)
-    families = (candidates[len(AXIS_DIRECTIONS):len(CUBE_DIRECTIONS)],
-                candidates[len(CUBE_DIRECTIONS):])
+    # `orientation_candidates` lists the cube's directions first, then the faces' own.
+    families = (CUBE_DIRECTIONS[len(AXIS_DIRECTIONS):],
+                orientation_candidates(solid)[len(CUBE_DIRECTIONS):])
     tried = [root, best_axis[0]]
     for family in families:
         family = standing_directions(solid, family)

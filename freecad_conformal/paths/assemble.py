@@ -24,7 +24,7 @@ from freecad_conformal.errors import PlanError
 from freecad_conformal.paths.bead import bead_area
 from freecad_conformal.paths.approach import (SAFE_MARGIN, bounding_sphere, check_clearance,
                                               exit_distance, transition)
-from freecad_conformal.paths.fill2d import FillSettings, ordered_fill
+from freecad_conformal.paths.fill2d import FillSettings, Path2D, ordered_fill
 from freecad_conformal.paths.map3d import Path3D, bridge_regions, map_paths, skin_regions
 from freecad_conformal.paths.stack_fill import StackFill, stack_fills
 from freecad_conformal.layers.model import Layer
@@ -62,8 +62,9 @@ class Feeds:
         is printed at another speed (the same speed gains nothing from a second zigzag)."""
         return self.for_role("bridge_infill") != self.for_role("solid_infill")
 
-    def for_path(self, path: Path3D) -> float:
-        """The role's feed; small perimeter loops slower, so a small layer's walls can set."""
+    def for_path(self, path: Path3D | Path2D) -> float:
+        """The role's feed; small perimeter loops slower, so a small layer's walls can set
+        (a planned path, or a fill's path the cost model times: paths/cost.py)."""
         feed = self.for_role(path.role)
         if path.closed and path.role in PERIMETER_ROLES and path.length <= SMALL_PERIMETER_LENGTH:
             feed = min(feed, self.small_perimeter)

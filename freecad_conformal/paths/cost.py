@@ -187,17 +187,14 @@ def _thin_walls(island: Polygon, settings: PathSettings, motion: Motion, tally: 
 def _gap_fill(walls: Walls, settings: PathSettings, spacing: float, height: float,
               motion: Motion, tally: _Tally) -> list[Polygon]:
     """The beads along the gaps the perimeter loops leave (`fill2d.gap_fill`), each as wide
-    as fills its gap and carrying its own cross-section, at their role's speed (a closed
-    one no longer than a small perimeter at that speed, as `paths.assemble.Feeds.for_path`
-    feeds it); returns the gaps inside the innermost loops they fill."""
+    as fills its gap and carrying its own cross-section, at the feed the paths give it
+    (`paths.assemble.Feeds.for_path`); returns the gaps inside the innermost loops they
+    fill."""
     fill = settings.fill
     usual = bead_area(fill.bead_width, height, fill.bead_model)
     paths, filled = gap_fill(walls, fill, spacing)
     for path in paths:
-        feed = settings.feeds.for_role(path.role)
-        if path.closed and path.role in PERIMETER_ROLES and path.length <= SMALL_PERIMETER_LENGTH:
-            feed = min(feed, settings.feeds.small_perimeter)
-        speed = motion.work_speed(feed)
+        speed = motion.work_speed(settings.feeds.for_path(path))
         tally.work(path.length, _ring_time(path.points, speed, motion), speed)
         tally.own_material += path.length * (
             bead_area(path.width or fill.bead_width, height, fill.bead_model) - usual)
