@@ -143,15 +143,24 @@ def ours(part: str, work: Path, freecad1: bool = False) -> dict:
     return result
 
 
-def prusa(shape, work: Path) -> float:
+def prusa(shape, work: Path) -> float | str:
+    """PrusaSlicer's wall time slicing `shape` as modelled, or why it refused (a part resting
+    on an edge has "no extrusions in the first layer"): the other parts are still timed."""
     from compare_planar import PRUSA_SETTINGS
 
     stl = work / "part.stl"
     shape.exportStl(str(stl))
     started = time.perf_counter()
-    subprocess.run(["prusa-slicer", "--export-gcode", *PRUSA_SETTINGS, "--center", "100,100",
-                    "-o", str(work / "prusa.gcode"), str(stl)], check=True, capture_output=True)
-    return time.perf_counter() - started
+    run = subprocess.run(["prusa-slicer", "--export-gcode", *PRUSA_SETTINGS, "--center",
+                          "100,100", "-o", str(work / "prusa.gcode"), str(stl)],
+                         capture_output=True, text=True)
+    seconds = time.perf_counter() - started
+    if run.returncode != 0:
+        # Its reason, then "Object name: part.stl"; progress and trace lines go before.
+        said = [line for line in run.stderr.splitlines()
+                if line.strip() and not line.startswith("[") and not line.startswith("Object name")]
+        return f"PrusaSlicer failed (exit {run.returncode}): {said[-1] if said else 'no message'}"
+    return seconds
 
 
 def _own_part(name: str, folder: Path) -> str:
@@ -223,11 +232,16 @@ def main(names: list[str], repeat: int = 1, freecad1: bool = False) -> int:
                 slices.append(prusa(shape, work))
         failed = [run for run in runs if "error" in run]
         mine = failed[0] if failed else min(runs, key=lambda run: run["wall"])
-        theirs = min(slices)
         if "error" in mine:
             print(f"{name:22} failed after {mine['wall']:.1f} s: {mine['error']}")
             misses.append(f"{name}: failed")
             continue
+        refused = [s for s in slices if isinstance(s, str)]
+        if refused:
+            print(f"{name:22} {mine['wall']:8.2f}  no peer time: {refused[0]}")
+            misses.append(f"{name}: no ratio ({refused[0]})")
+            continue
+        theirs = min(slices)
         wall, stages = mine["wall"], mine["stages"]
         largest = max(stages, key=stages.get)
         share = stages[largest] / mine["seconds"]
