@@ -40,6 +40,15 @@ UP = np.array([0.0, 0.0, 1.0])
 #: Slack (mm) on the clearance checks: OCC distances are exact to far better than this.
 CHECK_SLACK = 1e-6
 
+#: A tool axis turning past `UP` closer than this (rad) is turned through it instead. `UP` is
+#: where a tilting machine's turntable angle is free (A = 0): an axis passing 0.18° from it
+#: needs the turntable to swing 45° and back within a fraction of a degree of tilt, which the
+#: post cannot follow within its tolerance (a Y-shaped part's travel between its arms was
+#: refused: "the rotary joints jump within it"). Through `UP` the turntable turns while the
+#: axis stands there (post/linearize._turn_at_poles). A travel's axis is ours to choose, and
+#: 2° off the shortest turn moves the tool body by 3.5 % of its length at most.
+POLE_CONE = math.radians(2.0)
+
 
 def bounding_sphere(shapes: Sequence) -> tuple[np.ndarray, float]:
     """Centre and radius of a sphere holding the bounding boxes of `shapes`."""
@@ -84,11 +93,33 @@ def dips(a: np.ndarray, b: np.ndarray, count: int) -> bool:
     return bool(slerp_directions(a, b, count, UP)[:, 2].min() < min(a[2], b[2]) - 1e-9)
 
 
+def passes_near_up(a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether the shortest turn from a to b passes within `POLE_CONE` of `UP` without
+    starting, ending or running through it."""
+    a = a / np.linalg.norm(a)
+    b = b / np.linalg.norm(b)
+    if min(math.acos(float(np.clip(v @ UP, -1.0, 1.0))) for v in (a, b)) < POLE_CONE:
+        return False            # an end near UP: the turn leaves or reaches it anyway
+    normal = np.cross(a, b)
+    size = float(np.linalg.norm(normal))
+    if size < 1e-12:
+        return False            # no one great circle (parallel ends), or no turn
+    normal /= size
+    off_circle = abs(float(normal @ UP))
+    if off_circle < 1e-12 or off_circle > math.sin(POLE_CONE):
+        return False            # through UP exactly, or the circle never comes near
+    # The circle's point nearest UP lies on the arc between a and b: both ends on either
+    # side of it, seen along the circle.
+    nearest = UP - (UP @ normal) * normal
+    return bool(np.cross(a, nearest) @ normal > 0 and np.cross(nearest, b) @ normal > 0)
+
+
 def turn_axis(a: np.ndarray, b: np.ndarray, count: int, over_top: bool | None = None) -> np.ndarray:
     """Tool axes from a to b: the shortest turn, unless it would dip lower (towards −Z) than
-    either end, where tilting machines run out of reach, or `over_top` asks for it; then the
-    turn goes through +Z."""
-    if not (dips(a, b, count) if over_top is None else over_top):
+    either end, where tilting machines run out of reach, or `over_top` asks for it, or it
+    passes close by +Z (`POLE_CONE`); then the turn goes through +Z."""
+    through_up = dips(a, b, count) if over_top is None else over_top
+    if not (through_up or passes_near_up(a, b)):
         return slerp_directions(a, b, count, UP)
     first = slerp_directions(a, UP, count // 2 + 1, b)
     second = slerp_directions(UP, b, count - count // 2, a)

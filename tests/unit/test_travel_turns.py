@@ -1,0 +1,66 @@
+"""Travels between sub-parts turn the tool axis where the machine can follow it."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from freecad_conformal.errors import PostError
+from freecad_conformal.paths import approach
+from freecad_conformal.paths.approach import POLE_CONE, UP, passes_near_up, transition
+from freecad_conformal.post.linearize import linearize
+from freecad_conformal.post.machine import load_machine
+from freecad_conformal.toolpath import ToolpathBuilder
+
+
+def tilted(tilt_deg: float, azimuth_deg: float) -> np.ndarray:
+    t, a = math.radians(tilt_deg), math.radians(azimuth_deg)
+    return np.array([math.sin(t) * math.cos(a), math.sin(t) * math.sin(a), math.cos(t)])
+
+
+#: A Y-shaped part's travel from the top of one arm (axis 4° from +Z) to the next arm (its
+#: axis nearly along −X): the shortest turn passes 0.13° from +Z.
+LEAVING, ARRIVING = tilted(4.0, -1.8), tilted(89.22, 180.0)
+
+
+def test_a_turn_passing_close_by_up_is_recognised():
+    assert passes_near_up(LEAVING, ARRIVING)
+    assert passes_near_up(ARRIVING, LEAVING)
+    assert not passes_near_up(tilted(4.0, 0.0), tilted(80.0, 180.0))     # through UP itself
+    assert not passes_near_up(tilted(10.0, 90.0), tilted(80.0, 180.0))   # nowhere near
+    assert not passes_near_up(tilted(1.0, 0.0), tilted(80.0, 170.0))     # starts near UP
+    # the circle comes near UP, but beyond the arc's end
+    assert not passes_near_up(tilted(30.0, 0.5), tilted(10.0, 0.5))
+
+
+def post_travel(points: np.ndarray, axes: np.ndarray):
+    builder = ToolpathBuilder()
+    builder.add_segment(points, axes, kind="travel", feed=6000)
+    return linearize(builder.build(), load_machine("trunnion_ac"))
+
+
+def test_the_travel_turns_through_up_and_posts():
+    centre, radius = np.array([0.0, 0.0, 30.0]), 40.0
+    end, start = np.array([31.0, 0.95, 60.7]), np.array([-5.25, 0.0, 26.5])
+    points, axes = transition(end, LEAVING, start, ARRIVING, centre, radius)
+    assert np.any(np.all(axes == UP, axis=1))
+    # near UP the axis runs along its ends' meridians (the turntable stands still) and
+    # turns about UP only on it
+    off = np.arccos(np.clip(axes @ UP, -1.0, 1.0))
+    near = axes[(off > 0.0) & (off < POLE_CONE)]
+    assert len(near)
+    azimuth = np.degrees(np.arctan2(near[:, 1], near[:, 0]))
+    assert np.all(np.isclose(azimuth, -1.8, atol=1e-9) | np.isclose(np.abs(azimuth), 180.0, atol=1e-9))
+    blocks = post_travel(np.vstack((end, points)), np.vstack((LEAVING, axes)))
+    assert len(blocks.joints) > len(points)
+
+
+def test_the_shortest_turn_past_up_is_what_the_post_refuses(monkeypatch):
+    """The case the turn through UP avoids (so this test's fix is the one needed)."""
+    monkeypatch.setattr(approach, "passes_near_up", lambda a, b: False)
+    centre, radius = np.array([0.0, 0.0, 30.0]), 40.0
+    end, start = np.array([31.0, 0.95, 60.7]), np.array([-5.25, 0.0, 26.5])
+    points, axes = transition(end, LEAVING, start, ARRIVING, centre, radius)
+    with pytest.raises(PostError, match="rotary joints jump"):
+        post_travel(np.vstack((end, points)), np.vstack((LEAVING, axes)))
