@@ -94,12 +94,11 @@ def dips(a: np.ndarray, b: np.ndarray, count: int) -> bool:
 
 
 def passes_near_up(a: np.ndarray, b: np.ndarray) -> bool:
-    """Whether the shortest turn from a to b passes within `POLE_CONE` of `UP` without
-    starting, ending or running through it."""
+    """Whether the shortest turn from a to b passes within `POLE_CONE` of `UP` between its
+    ends without running through it (3-D layers tilted 0.7° and 0.2° to either side of it
+    too)."""
     a = a / np.linalg.norm(a)
     b = b / np.linalg.norm(b)
-    if min(math.acos(float(np.clip(v @ UP, -1.0, 1.0))) for v in (a, b)) < POLE_CONE:
-        return False            # an end near UP: the turn leaves or reaches it anyway
     normal = np.cross(a, b)
     size = float(np.linalg.norm(normal))
     if size < 1e-12:

@@ -22,8 +22,8 @@ import numpy as np
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.paths.bead import bead_area
-from freecad_conformal.paths.approach import (SAFE_MARGIN, bounding_sphere, check_clearance,
-                                              exit_distance, transition)
+from freecad_conformal.paths.approach import (SAFE_MARGIN, UP, bounding_sphere, check_clearance,
+                                              exit_distance, passes_near_up, transition)
 from freecad_conformal.paths.fill2d import FillSettings, Path2D, ordered_fill
 from freecad_conformal.paths.map3d import Path3D, bridge_regions, map_paths, skin_regions
 from freecad_conformal.paths.stack_fill import StackFill, stack_fills
@@ -115,6 +115,20 @@ def in_layer_travel(position: np.ndarray, start: np.ndarray, axis: np.ndarray,
     if np.linalg.norm(start - position) > COINCIDENT_POINTS:
         return start[None]
     return np.zeros((0, 3))
+
+
+def layer_travel(position: np.ndarray, axis: np.ndarray, start: np.ndarray,
+                 new_axis: np.ndarray, new_layer: bool) -> tuple[np.ndarray, np.ndarray]:
+    """`in_layer_travel`'s points with their tool axes, the axis turning from `axis` to
+    `new_axis` on the first move: through +Z half-way along it where the shortest turn passes
+    close by (3-D layers tilted a fraction of a degree to either side of +Z), so that the
+    turntable turns while the axis stands there (approach.POLE_CONE)."""
+    points = in_layer_travel(position, start, new_axis, new_layer)
+    axes = np.tile(new_axis, (len(points), 1))
+    if len(points) and passes_near_up(axis, new_axis):
+        points = np.vstack((0.5 * (position + points[0]), points))
+        axes = np.vstack((UP, axes))
+    return points, axes
 
 
 #: The last few stacks' skins and bridges, with the layers and settings they were read for:
@@ -312,9 +326,9 @@ def assemble(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSett
                     checked += 1
                     travel(points, axes)
                 else:
-                    points = in_layer_travel(position, start, new_axis, k == 0)
+                    points, axes = layer_travel(position, axis, start, new_axis, k == 0)
                     if len(points):
-                        travel(points, np.tile(new_axis, (len(points), 1)))
+                        travel(points, axes)
                 first = False
                 builder.event("extruder_on")
                 builder.add_segment(path.points[1:], new_axis, kind="deposit", feed=feed, tool=tool,

@@ -9,6 +9,7 @@ import pytest
 from freecad_conformal.errors import PostError
 from freecad_conformal.paths import approach
 from freecad_conformal.paths.approach import POLE_CONE, UP, passes_near_up, transition
+from freecad_conformal.paths.assemble import layer_travel
 from freecad_conformal.post.linearize import linearize
 from freecad_conformal.post.machine import load_machine
 from freecad_conformal.toolpath import ToolpathBuilder
@@ -29,7 +30,8 @@ def test_a_turn_passing_close_by_up_is_recognised():
     assert passes_near_up(ARRIVING, LEAVING)
     assert not passes_near_up(tilted(4.0, 0.0), tilted(80.0, 180.0))     # through UP itself
     assert not passes_near_up(tilted(10.0, 90.0), tilted(80.0, 180.0))   # nowhere near
-    assert not passes_near_up(tilted(1.0, 0.0), tilted(80.0, 170.0))     # starts near UP
+    assert passes_near_up(tilted(0.72, -177.2), tilted(0.24, -8.2))      # layers either side
+    assert not passes_near_up(tilted(0.5, 10.0), tilted(1.5, 10.0))       # along a meridian
     # the circle comes near UP, but beyond the arc's end
     assert not passes_near_up(tilted(30.0, 0.5), tilted(10.0, 0.5))
 
@@ -64,3 +66,20 @@ def test_the_shortest_turn_past_up_is_what_the_post_refuses(monkeypatch):
     points, axes = transition(end, LEAVING, start, ARRIVING, centre, radius)
     with pytest.raises(PostError, match="rotary joints jump"):
         post_travel(np.vstack((end, points)), np.vstack((LEAVING, axes)))
+
+
+def test_a_new_layer_tilted_to_the_other_side_of_up_is_reached_through_it():
+    """Two 3-D layers of a symmetric Y's stem, tilted 0.72° and 0.24° to either side of +Z:
+    the rise between them turns the axis on +Z, and the move posts."""
+    position, start = np.array([-14.4, -0.58, 7.05]), np.array([-22.11, 0.45, 7.22])
+    below, above = tilted(0.724, -177.2), tilted(0.24, -8.2)
+    points, axes = layer_travel(position, below, start, above, True)
+    assert len(points) == 3 and np.array_equal(axes[0], UP)
+    np.testing.assert_allclose(axes[1:], [above, above])
+    np.testing.assert_allclose(points[-1], start)
+    post_travel(np.vstack((position, points)), np.vstack((below, axes)))
+    # layers tilted to one side keep the plain rise
+    points, axes = layer_travel(position, tilted(0.7, 10.0), start, above, True)
+    assert len(points) == 2 and not np.any(np.all(axes == UP, axis=1))
+    with pytest.raises(PostError, match="rotary joints jump"):
+        post_travel(np.vstack((position, points[-2:])), np.vstack((below, [above, above])))
