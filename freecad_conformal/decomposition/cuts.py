@@ -166,6 +166,63 @@ def area_jump_candidates(shape, direction: np.ndarray, estimate: SavingEstimate,
                               lambda point=point, normal=normal: plane_candidates(shape, point, normal))
 
 
+#: A branch's plane lies this far (mm) beyond the farthest point of the concave edges where
+#: it leaves the piece, about a layer: through that point the plane would only touch the
+#: junction curve there, a section OCC may split in slivers.
+BRANCH_CLEARANCE = 0.2
+
+#: Surfaces whose axis is a member's own direction.
+BRANCH_SURFACES = ("Cylinder", "Cone")
+
+
+def branch_candidates(shape, direction: np.ndarray, angle: float, estimate: SavingEstimate,
+                      needed: float, concave: list | None = None) -> Iterator[PlaneCandidates]:
+    """Planes square to round members that leave the piece leaning beyond the overhang
+    angle (a Y's or a coat rack's arms, a tee's branch), best estimated saving first, as
+    `area_jump_candidates`: METHODS section 3's fallback where no planar splitting face
+    exists ("silhouette edges"). For each cylinder or cone carrying concave edges (where the
+    member meets the rest), the plane is normal to its axis, pointing along the member
+    (towards the face's centre), just beyond the farthest point of those edges: the member
+    is then cut off whole, to be built along its own axis. Area-jump planes only run along
+    ±X, ±Y, ±Z, and cut an arm leaning 20° above the horizontal through its stem."""
+    if concave is None:
+        concave = concave_edges(shape)
+    faces = shape.Faces
+    ends: dict[int, list[np.ndarray]] = {}
+    for edge_angle in concave:
+        for index in edge_angle.faces:
+            if type(faces[index].Surface).__name__ in BRANCH_SURFACES:
+                ends.setdefault(index, []).append(edge_points(edge_angle.edge))
+    lean = math.cos(angle)
+    planes = []
+    for index, pieces in sorted(ends.items()):
+        surface = faces[index].Surface
+        axis = np.array(tuple(surface.Axis), dtype=float)
+        axis /= np.linalg.norm(axis)
+        points = np.vstack(pieces)
+        outward = 1.0 if (np.array(tuple(faces[index].CenterOfMass)) - points.mean(axis=0)) @ axis > 0 else -1.0
+        normal = outward * axis
+        if float(normal @ direction) > lean:
+            continue        # a member within the overhang angle grows from the piece as it is
+        origin = np.array(tuple(surface.Center), dtype=float)
+        height = float(np.max(points @ normal)) + BRANCH_CLEARANCE
+        point = origin + (height - float(origin @ normal)) * normal
+        saving = estimate.saving(SplitCandidate(point, normal, None, "branch"))
+        if saving > needed:
+            planes.append((saving, index, point, normal))
+    planes.sort(key=lambda item: (-item[0], item[1]))
+    for saving, _, point, normal in planes[:MAX_EXACT_CUTS]:
+        yield PlaneCandidates(saving, point, normal, "branch",
+                              lambda point=point, normal=normal: _branch_regions(shape, point, normal))
+
+
+def _branch_regions(shape, point: np.ndarray, normal: np.ndarray) -> list[SplitCandidate]:
+    from freecad_conformal.geometry.splitting_faces import interior_regions
+
+    return [SplitCandidate(point, normal, region, "branch")
+            for region in interior_regions(shape, point, normal)]
+
+
 def face_candidates(shape, estimate: SavingEstimate, needed: float,
                     concave: list | None = None) -> Iterator[PlaneCandidates]:
     """The planes of splitting faces worth a cut, best first, as `area_jump_candidates`.

@@ -18,7 +18,7 @@ from freecad_conformal.geometry.concave_edges import concave_edges
 from freecad_conformal.geometry.splitting_faces import SplitCandidate, split_solid
 from freecad_conformal.decomposition.cut_search import CutSearch, best_cut
 from freecad_conformal.decomposition.cuts import (LazyAxis, SavingEstimate, area_jump_candidates,
-                                             face_candidates)
+                                             branch_candidates, face_candidates)
 from freecad_conformal.geometry.overhang import lowest_level, overhang_report
 from freecad_conformal.geometry.shape_parts import faces as faces_of, heights as vertex_heights, vertex_points
 from freecad_conformal.tolerances import (
@@ -168,6 +168,9 @@ def refine(piece: Piece, angle: float, axis, budget: int, notes: list[str]) -> l
         # three axes cost more than everything else here.
         best = best_cut(piece, area_jump_candidates(piece.shape, piece.direction, estimate,
                                                     needed), angle, search)
+    if best is None:
+        best = best_cut(piece, branch_candidates(piece.shape, piece.direction, angle, estimate,
+                                                 needed, piece.concave()), angle, search)
     if best is None:
         return _members(piece, angle, axis, budget, notes)
     _, keeper, children = best

@@ -27,8 +27,10 @@ class SubPart:
             built in `build_direction`, base excluded.
         name: a short label ("P1", ...).
         rule: what made this sub-part: "root", "axis-face" (a splitting face meeting the
-            centroidal-axis criteria), "concave-face", "area-jump" or "member" (one of several
-            members leaving its parent along the same direction, decomposition/members.py).
+            centroidal-axis criteria), "concave-face", "area-jump", "branch" (a round member
+            cut off square to its axis, decomposition/cuts.branch_candidates) or "member" (one
+            of several members leaving its parent along the same direction,
+            decomposition/members.py).
         solid_index: which solid of the input it comes from (compounds give a forest).
         overhang_faces: names ("Face3") of the sub-part's faces that still overhang.
     """

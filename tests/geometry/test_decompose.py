@@ -295,3 +295,45 @@ def test_a_cut_saving_a_sliver_of_the_overhang_is_not_made(App, Part, monkeypatc
         lip = min(found, key=lambda p: p.shape.Volume)
         assert lip.shape.Volume == pytest.approx(10.0)
         assert np.allclose(lip.direction, [-1.0, 0.0, 0.0])
+
+
+def _rack(arms: int, lean_deg: float):
+    """A post (r 5, 30 mm) with `arms` round arms (r 4, 35 mm) leaving its top, leaning
+    `lean_deg` from the vertical, evenly around it: a Y, a coat rack."""
+    from freecad_conformal.freecad_env import import_freecad
+
+    App, Part = import_freecad()
+    shape = Part.makeCylinder(5.0, 30.0)
+    lean = math.radians(lean_deg)
+    for k in range(arms):
+        turn = 2 * math.pi * k / arms
+        direction = App.Vector(math.sin(lean) * math.cos(turn), math.sin(lean) * math.sin(turn),
+                               math.cos(lean))
+        shape = shape.fuse(Part.makeCylinder(4.0, 35.0, App.Vector(0, 0, 28), direction))
+    return shape.removeSplitter().Solids[0]
+
+
+@pytest.mark.parametrize("arms", [2, 4])
+def test_round_arms_leaning_off_a_post_are_each_built_along_their_own_axis(arms):
+    """No planar face marks where the arms leave the post, and area-jump planes (square to
+    X, Y, Z) cut an arm 20-30° above the horizontal through the post: before branch planes
+    the post as placed kept its arms' whole overhang (a 4-arm rack 719.7 mm², a Y 276.9)."""
+    rack = _rack(arms, 70.0 if arms == 4 else 60.0)
+    plan = decompose(rack, root_direction=(0, 0, 1))
+    post, *rest = plan.ordered()
+    np.testing.assert_allclose(post.build_direction, [0, 0, 1], atol=1e-12)
+    branches = [s for s in rest if s.rule == "branch"]
+    assert len(branches) == arms
+    lean = math.radians(70.0 if arms == 4 else 60.0)
+    for branch in branches:
+        assert branch.parent == post.index
+        assert branch.build_direction[2] == pytest.approx(math.cos(lean), abs=1e-9)
+        assert branch.volume > 0.8 * math.pi * 16 * 35 / 2
+    assert plan.support_area < 0.05 * overhang_of(rack)
+    assert sum(s.volume for s in plan.subparts) == pytest.approx(rack.Volume, rel=1e-6)
+
+
+def overhang_of(shape) -> float:
+    from freecad_conformal.geometry.overhang import overhang_area
+
+    return overhang_area(shape, np.array([0.0, 0.0, 1.0]), math.radians(45.0))
