@@ -25,7 +25,8 @@ room we lay gap fill, as PrusaSlicer's classic perimeter generator does; its def
 blocks, timed with this project's model; our toolpath's roles).
 
 Needs the Debian package prusa-slicer (`TMPDIR=/var/tmp apt-get install -y prusa-slicer`).
-Run: `.venv/bin/python benchmarks/compare_planar.py [--roles] [jack bracket hinge CrankArm]`.
+Run: `.venv/bin/python benchmarks/compare_planar.py [--roles] [jack bracket hinge CrankArm]`
+(names of samples or shared parts, or .brep/.step files of your own).
 """
 from __future__ import annotations
 
@@ -201,8 +202,10 @@ def load(name: str):
     for suffix in (".brep", ".step"):
         if (PARTS_DIR / f"{name}{suffix}").exists():
             return load_shape(PARTS_DIR / f"{name}{suffix}")
+    if Path(name).suffix.lower() in (".brep", ".brp", ".step", ".stp") and Path(name).is_file():
+        return load_shape(name)     # a part of the user's own making
     raise SystemExit(f"no part named {name!r}: a sample ({', '.join(samples.SAMPLES)}), "
-                     f"{', '.join(OWN_PARTS)}, or a .brep/.step in {PARTS_DIR}")
+                     f"{', '.join(OWN_PARTS)}, a .brep/.step in {PARTS_DIR}, or a .brep/.step file")
 
 
 def prusa_roles(gcode: Path) -> dict[str, list[float]]:
@@ -302,8 +305,9 @@ def main(names: list[str], roles: bool = False) -> int:
     rows = []
     with tempfile.TemporaryDirectory(prefix="compare_planar_") as folder:
         work = Path(folder)
-        for name in names:
-            shape = load(name)
+        for given in names:
+            shape = load(given)
+            name = Path(given).stem       # a file's name; a sample's or shared part's as given
             stl = work / f"{name}.stl"
             shape.exportStl(str(stl))
             best, bare = planar_baselines(stl, work)
