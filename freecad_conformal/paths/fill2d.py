@@ -31,7 +31,7 @@ from shapely.geometry import LineString, MultiPolygon, Polygon
 from freecad_conformal.errors import PlanError
 from freecad_conformal.paths.bead import BEAD_MODELS, bead_spacing
 from freecad_conformal.paths.thin_walls import (MIN_LENGTH_WIDTHS, MIN_WIDTH_SHARE,
-                                                 gap_beads, thin_wall_beads)
+                                                 gap_beads, joined_beads, thin_wall_beads)
 
 ROLES = ("external_perimeter", "perimeter", "infill", "solid_infill")
 #: Infill roles laid at one spacing (solid areas and bridges over sparse infill).
@@ -761,16 +761,19 @@ def thin_wall_paths(island: Polygon, settings: FillSettings, external) -> list[P
 def gap_fill(walls: Walls, settings: FillSettings,
              spacing: float) -> tuple[list[Path2D], list[Polygon]]:
     """One bead along each gap the perimeter loops leave (`Walls`,
-    `paths/thin_walls.gap_beads`), as wide as fills it, and the gaps inside the innermost
-    loops that got one (the infill leaves those; a piece too short for a bead stays the
-    infill's). Laid as inner perimeters (their speed): the gaps lie between loops."""
-    paths: list[Path2D] = []
+    `paths/thin_walls.gap_beads`), as wide as fills it, pieces whose ends meet joined
+    (`thin_walls.joined_beads`), and the gaps inside the innermost loops that got one (the
+    infill leaves those; a piece too short for a bead stays the infill's). Laid as inner
+    perimeters (their speed): the gaps lie between loops."""
+    beads = []
     filled: list[Polygon] = []
     for gap, inside in [(gap, False) for gap in walls.gaps] + [(gap, True) for gap in walls.interior]:
-        beads = gap_beads([gap], settings.bead_width, spacing)
-        paths += [Path2D(points, "perimeter", closed, bead) for points, bead, closed in beads]
-        if beads and inside:
+        found = gap_beads([gap], settings.bead_width, spacing)
+        beads += found
+        if found and inside:
             filled.append(gap)
+    paths = [Path2D(points, "perimeter", closed, bead)
+             for points, bead, closed in joined_beads(beads, settings.bead_width)]
     return paths, filled
 
 

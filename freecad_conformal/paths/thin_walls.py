@@ -21,6 +21,8 @@ import numpy as np
 import shapely
 from shapely.geometry import LineString, MultiLineString, MultiPoint, Polygon
 
+from freecad_conformal.tolerances import COINCIDENT_POINTS
+
 #: Narrower than this share of the bead, a feature is left out (PrusaSlicer's Arachne: its
 #: smallest feature, `min_feature_size`, is a quarter of the nozzle).
 MIN_WIDTH_SHARE = 0.25
@@ -286,3 +288,85 @@ def gap_beads(gaps: list[Polygon], width: float,
     return [(points, min(median, GAP_MAX_SPACINGS * spacing) + squeeze, closed)
             for points, median, closed in medial_beads(gaps, width)
             if median >= MIN_WIDTH_SHARE * width]
+
+
+#: Gap-bead ends closer than this share of a bead width are one bead's end: a gap's axis
+#: breaks into pieces at its junctions (a rib meeting a wall: three pieces ending at one
+#: point), and each piece was one start and one stop. Ends this close lie under one bead's
+#: round end (half a width); the pieces of the sample parts meet exactly.
+JOIN_REACH_SHARE = 0.25
+
+#: Gap beads whose widths differ by less than this share of a bead width are joined as one
+#: bead of their length-weighted mean width (the same material wherever a bead is wider
+#: than the layer is high: its cross-section is linear in its width there). The pieces of
+#: one wall's gap differ by their sampling only (the hollow box's: not at all); a 1 mm rib
+#: in a box of 1.2 mm walls is half a bead narrower and stays apart.
+JOIN_WIDTH_SHARE = 0.05
+
+
+def joined_beads(beads: list[tuple[np.ndarray, float, bool]],
+                 width: float) -> list[tuple[np.ndarray, float, bool]]:
+    """The open beads of `beads` ((points, bead width, closed), as `gap_beads` gives them)
+    joined where their ends meet (`JOIN_REACH_SHARE`) and their widths agree
+    (`JOIN_WIDTH_SHARE`) into one polyline each, fewer starts and stops; where several
+    ends meet, the straightest pair first (a wall's two pieces through a rib's junction,
+    not a piece into the rib). A join stays open (closed beads keep their feed rule:
+    `paths.assemble.Feeds.for_path`); closed beads are kept as they are."""
+    chains = [(np.asarray(points, dtype=float), bead) for points, bead, closed in beads
+              if not closed and len(points) >= 2]
+    kept = [b for b in beads if b[2] or len(b[0]) < 2]
+    reach, alike = JOIN_REACH_SHARE * width, JOIN_WIDTH_SHARE * width
+    while len(chains) > 1:
+        best = _straightest_join(chains, reach, alike)
+        if best is None:
+            break
+        i, j, i_tail, j_head = best
+        (a, wa), (b, wb) = chains[i], chains[j]
+        a = a if i_tail else a[::-1]
+        b = b if j_head else b[::-1]
+        la, lb = _polyline_length(a), _polyline_length(b)
+        if np.linalg.norm(a[-1] - b[0]) <= COINCIDENT_POINTS:
+            b = b[1:]               # the shared end once
+        joined = (np.vstack((a, b)), (wa * la + wb * lb) / (la + lb) if la + lb > 0 else wa)
+        chains = [c for k, c in enumerate(chains) if k not in (i, j)] + [joined]
+    return kept + [(points, bead, False) for points, bead in chains]
+
+
+def _polyline_length(points: np.ndarray) -> float:
+    return float(np.linalg.norm(np.diff(points, axis=0), axis=1).sum())
+
+
+def _straightest_join(chains: list[tuple[np.ndarray, float]], reach: float,
+                      alike: float) -> tuple[int, int, bool, bool] | None:
+    """(i, j, join at i's tail, join at j's head) of the two chains whose ends meet within
+    `reach`, widths within `alike`, that turn least there; None when no two do."""
+    ends = np.array([[c[0][0], c[0][-1]] for c in chains]).reshape(-1, 2)    # 2k: head, 2k+1: tail
+    owner = np.repeat(np.arange(len(chains)), 2)
+    widths = np.array([c[1] for c in chains])[owner]
+    apart = np.linalg.norm(ends[:, None, :] - ends[None, :, :], axis=2)
+    meets = ((apart <= reach) & (owner[:, None] < owner[None, :])
+             & (np.abs(widths[:, None] - widths[None, :]) < alike))
+    best, straightest = None, -np.inf
+    for p, q in zip(*np.nonzero(meets)):
+        i, j = int(owner[p]), int(owner[q])
+        i_tail, j_head = bool(p % 2), not q % 2
+        # Direction into the meeting end along i, and out of it along j.
+        into = _end_direction(chains[i][0], i_tail)
+        out = -_end_direction(chains[j][0], not j_head)
+        straight = float(into @ out)
+        if straight > straightest:
+            best, straightest = (i, j, i_tail, j_head), straight
+    return best
+
+
+def _end_direction(points: np.ndarray, tail: bool) -> np.ndarray:
+    """Unit direction in which the polyline arrives at its tail (`tail`), or at its head
+    when run backwards; zero when it has no length."""
+    seq = points if tail else points[::-1]
+    steps = np.diff(seq, axis=0)
+    lengths = np.linalg.norm(steps, axis=1)
+    moving = np.nonzero(lengths > 0)[0]
+    if not len(moving):
+        return np.zeros(2)
+    k = moving[-1]
+    return steps[k] / lengths[k]
