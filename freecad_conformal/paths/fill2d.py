@@ -16,12 +16,15 @@
   "sharpest" (the sharpest corner hides it).
 - Order: islands, loops and infill chains are taken greedily nearest-first from the
   nozzle's position, infill chains in whichever direction starts closer (`ordered_fill`,
-  apart from the fill itself, `layer_fill`, which does not depend on the position).
+  apart from the fill itself, `layer_fill`, which does not depend on the position). An
+  island's beads along middles (thin walls, gap fill) follow its loops, before its infill
+  (PrusaSlicer's order: perimeters with thin walls, gap fill, infill), nearest-first from
+  where the loops end.
 """
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
@@ -32,6 +35,7 @@ from freecad_conformal.errors import PlanError
 from freecad_conformal.paths.bead import BEAD_MODELS, bead_spacing
 from freecad_conformal.paths.thin_walls import (MIN_LENGTH_WIDTHS, MIN_WIDTH_SHARE,
                                                  gap_beads, joined_beads, thin_wall_beads)
+from freecad_conformal.tolerances import COINCIDENT_POINTS
 
 ROLES = ("external_perimeter", "perimeter", "infill", "solid_infill")
 #: Infill roles laid at one spacing (solid areas and bridges over sparse infill).
@@ -559,12 +563,14 @@ def fill_layer(region, settings: FillSettings, layer_index: int = 0, solid=None,
 @dataclass
 class IslandFill:
     """One island's paths before they are ordered: its perimeter rings per depth (0 the
-    external one) and its infill chains. Nothing here depends on where the nozzle is, so
-    a layer's fill can be made anywhere (`paths/stack_fill.py`) and ordered afterwards."""
+    external one), its infill chains and its beads along middles (thin walls and gap fill),
+    laid after the rings. Nothing here depends on where the nozzle is, so a layer's fill
+    can be made anywhere (`paths/stack_fill.py`) and ordered afterwards."""
 
     island: Polygon
     depths: list[list[np.ndarray]]
     infill: list[Path2D]
+    beads: list[Path2D] = field(default_factory=list)
 
 
 def layer_fill(region, settings: FillSettings, layer_index: int = 0, solid=None,
@@ -580,18 +586,19 @@ def layer_fill(region, settings: FillSettings, layer_index: int = 0, solid=None,
     filled = []
     for island in islands:
         try:
-            depths, infill = _island_fill(island, settings, spacing, layer_index, solid, bridge)
+            fill = _island_fill(island, settings, spacing, layer_index, solid, bridge)
         except shapely.errors.GEOSException:
             try:
                 # Nearly coincident edges of the island and its skin (non-noded
                 # intersections): the same on a fixed grid, where GEOS's overlay is robust.
-                depths, infill = _island_fill(_snapped(island), settings, spacing, layer_index,
-                                              _snapped(solid), _snapped(bridge))
+                fill = _island_fill(_snapped(island), settings, spacing, layer_index,
+                                    _snapped(solid), _snapped(bridge))
             except shapely.errors.GEOSException as exc:
                 raise PlanError(f"layer {layer_index}: the island at "
                                 f"{island.representative_point().wkt} ({island.area:.3f} mm²) "
                                 f"cannot be filled: {exc}") from None
-        filled.append(IslandFill(island, depths, infill))
+        fill.island = island
+        filled.append(fill)
     return filled
 
 
@@ -599,7 +606,8 @@ def ordered_fill(filled: list[IslandFill], settings: FillSettings,
                  position: np.ndarray | None = None) -> list[Path2D]:
     """A layer's paths in print order from the nozzle at `position`: islands nearest
     first; in each, its rings innermost depth first, each ring nearest first and started at
-    its seam, then its infill chains nearest first, each from its nearer end."""
+    its seam, then its thin-wall and gap-fill beads, then its infill chains, each nearest
+    first from its nearer end (a closed bead from its nearest vertex)."""
     here = np.zeros(2) if position is None else np.asarray(position, dtype=float)
     islands = list(filled)
     ordered: list[Path2D] = []
@@ -726,17 +734,19 @@ def _line_area(area, spacing: float):
 
 
 def _island_fill(island: Polygon, settings: FillSettings, spacing: float, layer_index: int,
-                 solid, bridge=None) -> tuple[list[list[np.ndarray]], list[Path2D]]:
-    """(perimeter rings per depth, infill chains) of one island."""
+                 solid, bridge=None) -> IslandFill:
+    """Perimeter rings per depth, infill chains and thin-wall and gap-fill beads of one
+    island."""
     width = settings.bead_width
     external = inset(island, 0.5 * width)
     walls = perimeter_walls(island, width, settings.perimeters, spacing, external)
     depths = walls.depths
     gap_paths, filled = gap_fill(walls, settings, spacing)
-    infill: list[Path2D] = thin_wall_paths(island, settings, external) + gap_paths
+    beads = thin_wall_paths(island, settings, external) + gap_paths
+    infill: list[Path2D] = []
     inner = fill_area(island, len(depths), width, spacing, settings.infill_overlap, filled)
     if inner.is_empty:
-        return depths, infill
+        return IslandFill(island, depths, infill, beads)
     for area, pitch, role, fill in infill_areas(inner, solid, bridge, settings, spacing):
         if area.is_empty or pitch <= 0 or area.area < width * width:
             continue
@@ -744,7 +754,7 @@ def _island_fill(island: Polygon, settings: FillSettings, spacing: float, layer_
         # The bead that fills the wider pitch of spread rows.
         line_width = width + rows.wider if rows.wider else None
         infill += zigzag(area, rows.pitch, rows.angle, width, role, rows.phase, line_width)
-    return depths, infill
+    return IslandFill(island, depths, infill, beads)
 
 
 def thin_wall_paths(island: Polygon, settings: FillSettings, external) -> list[Path2D]:
@@ -788,6 +798,9 @@ def _island_order(filled: IslandFill, settings: FillSettings, here: np.ndarray) 
             ring = start_ring_at(ring, _seam_index(ring, settings.seam, here))
             paths.append(Path2D(ring, role, closed=True))
             here = ring[-1]
+    for path in _ordered_beads(filled.beads, here):
+        paths.append(path)
+        here = path.points[-1]
     infill = list(filled.infill)
     while infill:
         k, flip = _nearest(infill, here, reversible=True)
@@ -796,3 +809,31 @@ def _island_order(filled: IslandFill, settings: FillSettings, here: np.ndarray) 
         paths.append(path)
         here = path.points[-1]
     return paths
+
+
+def _ordered_beads(beads: list[Path2D], here: np.ndarray) -> list[Path2D]:
+    """An island's thin-wall and gap-fill beads nearest first from `here`: a closed gap
+    bead from its nearest vertex (it shows no seam: it lies between loops), any other from
+    its nearer end (a closed thin wall keeps its start: its seam is on the surface)."""
+    left, ordered = list(beads), []
+    while left:
+        near = [np.min(np.linalg.norm(b.points - here, axis=1)) if _entered_anywhere(b)
+                else min(np.linalg.norm(b.points[0] - here), np.linalg.norm(b.points[-1] - here))
+                for b in left]
+        path = left.pop(int(np.argmin(near)))
+        if _entered_anywhere(path):
+            start = int(np.argmin(np.linalg.norm(path.points[:-1] - here, axis=1)))
+            path = Path2D(start_ring_at(path.points, start), path.role, path.closed, path.width)
+        elif np.linalg.norm(path.points[-1] - here) < np.linalg.norm(path.points[0] - here):
+            path = path.reversed()
+        ordered.append(path)
+        here = path.points[-1]
+    return ordered
+
+
+def _entered_anywhere(bead: Path2D) -> bool:
+    """Whether a bead may start at any of its vertices: one inside the part (not a thin
+    wall) that ends where it starts (closed, or gap pieces joined round a loop, which stay
+    open for their feed: `thin_walls.joined_beads`)."""
+    return (bead.role != "external_perimeter" and len(bead.points) > 2
+            and float(np.linalg.norm(bead.points[-1] - bead.points[0])) <= COINCIDENT_POINTS)

@@ -5,10 +5,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from shapely import affinity
 from shapely.geometry import box
 
 from freecad_conformal.paths.bead import bead_area, bead_spacing
-from freecad_conformal.paths.fill2d import FillSettings, gap_fill, perimeter_walls
+from freecad_conformal.paths.fill2d import (FillSettings, IslandFill, Path2D, fill_layer, gap_fill,
+                                            ordered_fill, perimeter_walls)
 from freecad_conformal.paths.thin_walls import (JOIN_REACH_SHARE, JOIN_WIDTH_SHARE, gap_beads,
                                                  joined_beads)
 
@@ -93,3 +95,58 @@ def test_a_narrower_rib_keeps_its_own_bead():
     rib, wall = sorted(paths, key=lambda p: p.length)
     assert rib.width < wall.width - JOIN_WIDTH_SHARE * WIDTH
     assert np.allclose(rib.points[:, 0], 20.0, atol=0.05)
+
+
+def _travel(paths, start=(0.0, 0.0)) -> float:
+    here, total = np.asarray(start, dtype=float), 0.0
+    for path in paths:
+        total += float(np.linalg.norm(path.points[0] - here))
+        here = path.points[-1]
+    return total
+
+
+def _is_gap(path) -> bool:
+    return path.role == "perimeter" and path.width is not None
+
+
+def test_gap_beads_come_right_after_their_islands_loops():
+    """A block with a 1.2 mm fin (its gap bead runs from the block's loops to the fin's
+    end) and a ribbed box beside it: in each island the gap beads follow the loops,
+    before any infill line; they used to be laid in the infill's order."""
+    block = box(0, 0, 10, 10).union(box(10, 4.4, 30, 5.6))
+    region = block.union(affinity.translate(_ribbed_box(), 40.0))
+    settings = FillSettings(bead_width=WIDTH, perimeters=2, density=0.2, solid_below_area=0.0)
+    paths = fill_layer(region, settings, height=HEIGHT)
+    kinds = ["gap" if _is_gap(p) else ("loop" if p.closed and "perimeter" in p.role
+                                        else "infill") for p in paths]
+    assert kinds.count("gap") == 2 and "infill" in kinds
+    # per island: loops, gap beads, infill; the islands one after the other
+    runs = [k for i, k in enumerate(kinds) if i == 0 or k != kinds[i - 1]]
+    assert runs in (["loop", "gap", "infill", "loop", "gap"], ["loop", "gap", "loop", "gap", "infill"])
+
+
+def test_a_closed_gap_bead_is_entered_where_the_loops_end():
+    """An 80 x 50 mm tube of 1.2 mm walls: its gap bead is one closed loop. It started at
+    its first vertex, a corner across the part from where the loops end (the layer's
+    travel 99 mm); now at its vertex nearest the nozzle, a bead's width away."""
+    tube = box(0, 0, 80, 50).difference(box(WALL, WALL, 80 - WALL, 50 - WALL))
+    paths = fill_layer(tube, FillSettings(bead_width=WIDTH), height=HEIGHT,
+                       position=np.zeros(2))
+    (k,) = [i for i, p in enumerate(paths) if _is_gap(p)]
+    assert k == len(paths) - 1 and paths[k].closed
+    assert np.linalg.norm(paths[k].points[0] - paths[k - 1].points[-1]) < 2 * WIDTH
+    assert _travel(paths) < 52.0
+
+
+def test_open_beads_are_laid_nearest_first_from_their_nearer_end():
+    """After the loop (which ends at its seam, (0, 10)): the nearer bead first, laid from
+    its far end when that end is the nearer one, then the other from where that one
+    ended."""
+    square = np.array([(0, 10), (10, 10), (10, 0), (0, 0), (0, 10)], dtype=float)
+    near = Path2D(np.array([(4.0, 9.0), (1.0, 9.0)]), "perimeter", False, 0.45)
+    far = Path2D(np.array([(9.0, 1.0), (4.0, 1.0)]), "perimeter", False, 0.45)
+    island = IslandFill(box(0, 0, 10, 10), [[square]], [], [far, near])
+    paths = ordered_fill([island], FillSettings(bead_width=WIDTH), np.array([0.0, 10.0]))
+    assert [p.closed for p in paths] == [True, False, False]
+    assert np.allclose(paths[1].points, near.points[::-1])      # reversed: (1, 9) was nearer
+    assert np.allclose(paths[2].points, far.points[::-1])       # from (4, 1), below (4, 9)
