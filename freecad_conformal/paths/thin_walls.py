@@ -11,7 +11,8 @@ features too small or too narrow are left out (`MIN_WIDTH_SHARE`, `MIN_LENGTH_WI
 a bead is never narrower than `MIN_BEAD_SHARE` of the bead width.
 
 Gap fill (`gap_beads`) lays the same beads along the gaps perimeter loops leave where a
-loop had no room (`paths.fill2d.perimeter_walls`), each as wide as fills its gap.
+loop had no room (`paths.fill2d.perimeter_walls`), each as wide as fills its gap; pieces
+whose ends meet are joined into one bead (`joined_beads`).
 """
 from __future__ import annotations
 
