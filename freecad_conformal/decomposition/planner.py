@@ -164,13 +164,16 @@ def refine(piece: Piece, angle: float, axis, budget: int, notes: list[str]) -> l
     best = best_cut(piece, face_candidates(piece.shape, estimate, needed, piece.concave()),
                     angle, search, axis)
     if best is None:
+        # A round member's own plane before an area jump: tried after them, an area jump
+        # first peeled a sliver off an arm's tip (a Y's arms each kept a 70 mm³ sub-part
+        # along X).
+        best = best_cut(piece, branch_candidates(piece.shape, piece.direction, angle, estimate,
+                                                 needed, piece.concave()), angle, search)
+    if best is None:
         # Section 4's area-jump rule only where no splitting face helps: its sections along
         # three axes cost more than everything else here.
         best = best_cut(piece, area_jump_candidates(piece.shape, piece.direction, estimate,
                                                     needed), angle, search)
-    if best is None:
-        best = best_cut(piece, branch_candidates(piece.shape, piece.direction, angle, estimate,
-                                                 needed, piece.concave()), angle, search)
     if best is None:
         return _members(piece, angle, axis, budget, notes)
     _, keeper, children = best

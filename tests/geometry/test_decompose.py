@@ -324,6 +324,9 @@ def test_round_arms_leaning_off_a_post_are_each_built_along_their_own_axis(arms)
     np.testing.assert_allclose(post.build_direction, [0, 0, 1], atol=1e-12)
     branches = [s for s in rest if s.rule == "branch"]
     assert len(branches) == arms
+    # and no sliver off an arm's tip first (an area jump along X did that when tried before
+    # the branch planes)
+    assert len(rest) == arms
     lean = math.radians(70.0 if arms == 4 else 60.0)
     for branch in branches:
         assert branch.parent == post.index
