@@ -1,4 +1,5 @@
-"""Travels between sub-parts turn the tool axis where the machine can follow it."""
+"""Travels between sub-parts and between layers turn the tool axis where the machine can
+follow it: through +Z, where a tilting table is singular, not close by it."""
 from __future__ import annotations
 
 import math
