@@ -16,6 +16,7 @@ import numpy as np
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.boxes import optimal_box
 from freecad_conformal.geometry.shape_cache import ShapeCache
+from freecad_conformal.geometry.shape_access import hash_code, is_same
 
 #: Faces meeting with normals closer than this (rad) are tangent (fillet runs, seams): 0.5°
 #: is above the normal noise of B-spline fits and below any deliberate corner.
@@ -81,19 +82,22 @@ def edge_angles(solid, only=None) -> list[EdgeAngle]:
     App, Part = import_freecad()
     faces = list(solid.Faces)
     edges = list(solid.Edges)
-    face_ids = {face.hashCode(): [] for face in faces}
-    for face_index, face in enumerate(faces):
-        face_ids.setdefault(face.hashCode(), []).append(face_index)
+    # Each edge's faces from one pass over the faces' edges. `ancestorsOfType` maps the whole
+    # solid again at each call: 7 ms an edge on a solid converted from a mesh (10,026 edges:
+    # 70 s of a 93 s plan).
+    by_hash: dict[int, list[int]] = {}
     owners: dict[int, list[int]] = {}
     for edge_index, edge in enumerate(edges):
         if only is not None and not only(edge):
-            continue  # before the ancestor search: on a piece most edges are left out
-        found = []
-        for ancestor in solid.ancestorsOfType(edge, Part.Face):
-            for face_index in face_ids.get(ancestor.hashCode(), []):
-                if faces[face_index].isSame(ancestor) and face_index not in found:
+            continue  # before the face search: on a piece most edges are left out
+        by_hash.setdefault(hash_code(edge), []).append(edge_index)
+        owners[edge_index] = []
+    for face_index, face in enumerate(faces):
+        for face_edge in face.Edges:
+            for edge_index in by_hash.get(hash_code(face_edge), ()):
+                found = owners[edge_index]
+                if is_same(edges[edge_index], face_edge) and face_index not in found:
                     found.append(face_index)
-        owners[edge_index] = found
     result = []
     for edge_index, pair in sorted(owners.items()):
         if len(pair) != 2:

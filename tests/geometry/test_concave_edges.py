@@ -133,3 +133,29 @@ def test_a_seam_leaves_the_side_to_probing(Part):
     face = next(f for f in cylinder.Faces if type(f.Surface).__name__ == "Cylinder")
     seam = next(e for e in face.Edges if e.isSeam(face))
     assert side_in_face(seam, face) is None
+
+
+def test_a_solid_converted_from_a_mesh_pairs_every_edge_with_its_two_faces(App, Part):
+    """A faceted solid (FreeCAD's shape from mesh, as users convert STL files): every edge
+    has its two triangles, the pair each edge's neighbours give, and the notch's edges
+    are concave. The faces were once found per edge by `ancestorsOfType`, which maps the
+    whole solid at each call (70 s on 10,026 edges); the pass over faces must give the
+    same pairs."""
+    import Mesh
+
+    notched = Part.makeBox(20, 10, 10).cut(Part.makeBox(8, 10, 5, App.Vector(6, 0, 5)))
+    points, triangles = notched.tessellate(0.5)
+    mesh = Mesh.Mesh([[points[i] for i in triangle] for triangle in triangles])
+    shell = Part.Shape()
+    shell.makeShapeFromMesh(mesh.Topology, 0.01)
+    solid = Part.makeSolid(Part.makeShell(shell.Faces))
+    angles = edge_angles(solid)
+    assert len(angles) == len(solid.Edges)
+    faces = solid.Faces
+    for angle in angles:
+        holding = [i for i, face in enumerate(faces)
+                   if any(edge.isSame(angle.edge) for edge in face.Edges)]
+        assert list(angle.faces) == holding
+    concave = [a for a in angles if a.concave]
+    # the notch's two inner corners (each split into triangle edges along its length)
+    assert concave and all(abs(math.degrees(a.inner_angle) - 270.0) < 1e-6 for a in concave)
