@@ -597,7 +597,7 @@ def layer_fill(region, settings: FillSettings, layer_index: int = 0, solid=None,
                 raise PlanError(f"layer {layer_index}: the island at "
                                 f"{island.representative_point().wkt} ({island.area:.3f} mm²) "
                                 f"cannot be filled: {exc}") from None
-        fill.island = island
+        fill.island = island        # the island as given, also where its snapped copy was filled
         filled.append(fill)
     return filled
 
