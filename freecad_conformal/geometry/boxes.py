@@ -20,6 +20,21 @@ def optimal_box(shape):
     return _BOXES.get((shape,), lambda: shape.optimalBoundingBox(False))
 
 
+def box_values(box) -> tuple[float, ...]:
+    """A box as (XMin, YMin, ZMin, XMax, YMax, ZMax): what another process rebuilds it from."""
+    return (box.XMin, box.YMin, box.ZMin, box.XMax, box.YMax, box.ZMax)
+
+
+def seed_boxes(shapes, values) -> None:
+    """Record each of `shapes`' optimal box as given by `box_values` (boxed in another
+    process: a worker's copy of its parent's solid, read from OCC's binary format)."""
+    from freecad_conformal.freecad_env import import_freecad
+
+    App, _ = import_freecad()
+    for shape, value in zip(shapes, values):
+        _BOXES.get((shape,), lambda value=value: App.BoundBox(*value))
+
+
 #: A turn whose matrix lies this close to one of signed unit axes permutes boxes exactly
 #: (up to rounding); any other turn would make a moved box loose.
 RIGHT_ANGLE_SLACK = 1e-12

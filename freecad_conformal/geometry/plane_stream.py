@@ -15,7 +15,6 @@ area and centroid, which the layers do not read, are integrated where read.
 """
 from __future__ import annotations
 
-import multiprocessing
 
 import numpy as np
 
@@ -58,13 +57,11 @@ class PlaneStream:
         work = expected * section_pool.section_work(slicer)
         if section_pool.useful_workers(workers, work) < 2:
             return
-        method = section_pool.start_method()
-        context = multiprocessing.get_context(method)
+        context = section_pool.worker_context()
         self._jobs, self._results = context.Queue(), context.Queue()
         source = slicer
-        if method != "fork":
+        if context.get_start_method() != "fork":
             source = section_pool.slicer_spec(slicer)
-            context.set_forkserver_preload(["freecad_conformal.geometry.sections"])
         self._process = context.Process(target=_worker, args=(self._jobs, self._results, source),
                                         daemon=True)
         self._process.start()

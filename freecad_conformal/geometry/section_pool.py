@@ -24,9 +24,11 @@ import numpy as np
 
 from freecad_conformal.errors import GeometryError
 from freecad_conformal.freecad_env import import_freecad, inside_freecad
+from freecad_conformal.geometry.boxes import box_values, optimal_box, seed_boxes
 from freecad_conformal.geometry.occ_binary import faces_from_binary, faces_to_binary, from_binary, to_binary
 from freecad_conformal.geometry.loops import loops_of_faces, loops_with_wires
 from freecad_conformal.geometry.planar_faces import SectionFace
+from freecad_conformal.geometry.solids import checked_elsewhere
 
 #: Heights per job: at least JOB_MIN, about JOBS_PER_WORKER jobs per worker. The last job
 #: a process takes decides how long the other waits: a twelfth of a worker's share (the
@@ -49,20 +51,60 @@ def start_method() -> str:
     return "fork" if occ_version() < THREAD_POOL_OCC else "forkserver"
 
 
+#: What the fork server loads once for all the workers it forks: the sections, and FreeCAD
+#: itself (0.10 s of each worker's start on the bottle). A module that cannot be imported
+#: there is skipped by multiprocessing; the worker then imports it as before.
+FORKSERVER_PRELOAD = ["freecad_conformal.geometry.sections", "FreeCAD", "Part"]
+
+
+def worker_context():
+    """The multiprocessing context section workers start from (`start_method`)."""
+    method = start_method()
+    context = multiprocessing.get_context(method)
+    if method == "forkserver":
+        context.set_forkserver_preload(FORKSERVER_PRELOAD)
+    return context
+
+
+def warm_workers(solid, thickness: float) -> None:
+    """Start the fork server now, on the other core, where sectioning `solid` in layers of
+    `thickness` (mm) will want a worker (`useful_workers`): started by the first worker, it
+    held this process 0.10 s, and the worker then loaded FreeCAD itself. Nothing to do
+    where workers are forked (FreeCAD 0.20) or none would start."""
+    if start_method() != "forkserver" or useful_workers(AUTO, MIN_PARALLEL_WORK) < 2:
+        return
+    box = solid.BoundBox
+    layers = max(box.XLength, box.YLength, box.ZLength) / max(thickness, 1e-3)
+    if layers * len(solid.Faces) < MIN_PARALLEL_WORK:
+        return
+    worker_context()
+    from multiprocessing import forkserver
+
+    forkserver.ensure_running()
+
+
 def slicer_spec(slicer) -> tuple:
     """What a fresh worker needs to build the same slicer: its class (pickled by name),
     solids in OCC's binary format (the very solids: a worker's sections are then this
-    process's), direction, chord tolerance and the face-by-face switch."""
+    process's), direction, chord tolerance, the face-by-face switch, and per solid its
+    faces' optimal boxes (`boxes.box_values`)."""
     return (type(slicer), [to_binary(solid) for solid in slicer.solids],
-            tuple(slicer.frame.n), slicer.chord_tolerance, slicer.face_by_face)
+            tuple(slicer.frame.n), slicer.chord_tolerance, slicer.face_by_face,
+            [[box_values(optimal_box(face)) for face in solid.Faces] for solid in slicer.solids])
 
 
 def slicer_from(spec: tuple):
+    """The slicer `spec` describes, built once per worker. Its solids passed OCC's check
+    in the parent (`solids_of`) and their faces were boxed there: checking and boxing the
+    copies again took 0.12 s of each worker's 0.28 s start on the bottle (FreeCAD 1.0)."""
     global _WORKER_SLICER
     if _WORKER_SLICER is None:
         _, Part = import_freecad()
-        slicer_class, written, direction, chord, face_by_face = spec
-        solids = [solid for data in written for solid in from_binary(data).Solids]
+        slicer_class, written, direction, chord, face_by_face, face_boxes = spec
+        solids = [from_binary(data).Solids[0] for data in written]
+        for solid, values in zip(solids, face_boxes):
+            checked_elsewhere(solid)
+            seed_boxes(solid.Faces, values)
         shape = solids[0] if len(solids) == 1 else Part.Compound(solids)
         _WORKER_SLICER = slicer_class(shape, direction, chord, face_by_face=face_by_face)
     return _WORKER_SLICER
@@ -324,16 +366,14 @@ def _shared(slicer, levels: np.ndarray, jobs: list, boolean: list[bool], workers
                 report(done)
         return results
     results: list = [None] * len(jobs)
-    method = start_method()
-    context = multiprocessing.get_context(method)
+    context = worker_context()
     counter = context.Value("i", 0)
     queue = context.Queue()
     spec = None
-    if method == "fork":
+    if context.get_start_method() == "fork":
         _WORKER_SLICER = slicer
     else:
         spec = slicer_spec(slicer)
-        context.set_forkserver_preload(["freecad_conformal.geometry.sections"])
     processes = []
     try:
         for _ in range(min(workers, len(jobs)) - 1):

@@ -172,6 +172,12 @@ def moved_rigidly(original, copy) -> None:
             _CHECKED.get((twin,), lambda known=known: known)
 
 
+def checked_elsewhere(solid) -> None:
+    """Record that `solid` passed OCC's check in another process (a worker's copy, read
+    from OCC's binary format, of a solid its parent checked)."""
+    _CHECKED.get((solid,), lambda: True)
+
+
 def solids_of(shape, what: str = "shape") -> list:
     """The solids of `shape`, checked: a GeometryError names a null, invalid or solid-less input."""
     App, Part = import_freecad()

@@ -333,6 +333,7 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
     sliced and costed, and the least residual overhang, then the cheapest by
     `options.objective`, wins; otherwise the one plan of `machine_plan`, or each solid built
     whole when no decomposition can be built. `progress(text)` hears of each candidate."""
+    from freecad_conformal.geometry.section_pool import warm_workers
     from freecad_conformal.geometry.solids import solids_of
 
     tool, _, _, path_settings, machine = checked
@@ -341,6 +342,7 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
     # off the platform, was meshed and scanned twice: 0.2 s of its 0.8 s choice).
     shape, centred = centred_if_off_platform(shape, machine)
     solids = solids_of(shape)
+    warm_workers(shape, options.layers.thickness)
     if not (options.decompose and isinstance(options.root, str) and len(solids) == 1):
         try:
             placed, plan = machine_plan(shape, options, decompose, tool=tool, machine=machine)
