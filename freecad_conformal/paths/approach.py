@@ -96,21 +96,30 @@ def dips(a: np.ndarray, b: np.ndarray, count: int) -> bool:
 def passes_near_up(a: np.ndarray, b: np.ndarray) -> bool:
     """Whether the shortest turn from a to b passes within `POLE_CONE` of `UP` between its
     ends without running through it (3-D layers tilted 0.7° and 0.2° to either side of it
-    too)."""
-    a = a / np.linalg.norm(a)
-    b = b / np.linalg.norm(b)
-    normal = np.cross(a, b)
-    size = float(np.linalg.norm(normal))
+    too).
+
+    In plain floats: asked of every travel, mostly between equal axes, numpy's overhead on
+    three-vectors made it 0.17 s of a 2.9 s plan (an enclosure's 3,500 travels)."""
+    ax, ay, az = a.tolist() if isinstance(a, np.ndarray) else a
+    bx, by, bz = b.tolist() if isinstance(b, np.ndarray) else b
+    if ax == bx and ay == by and az == bz:
+        return False            # no turn
+    la, lb = math.sqrt(ax * ax + ay * ay + az * az), math.sqrt(bx * bx + by * by + bz * bz)
+    ax, ay, az, bx, by, bz = ax / la, ay / la, az / la, bx / lb, by / lb, bz / lb
+    nx, ny, nz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+    size = math.sqrt(nx * nx + ny * ny + nz * nz)
     if size < 1e-12:
         return False            # no one great circle (parallel ends), or no turn
-    normal /= size
-    off_circle = abs(float(normal @ UP))
+    nx, ny, nz = nx / size, ny / size, nz / size
+    off_circle = abs(nz)        # the normal's component along UP (+Z)
     if off_circle < 1e-12 or off_circle > math.sin(POLE_CONE):
         return False            # through UP exactly, or the circle never comes near
     # The circle's point nearest UP lies on the arc between a and b: both ends on either
     # side of it, seen along the circle.
-    nearest = UP - (UP @ normal) * normal
-    return bool(np.cross(a, nearest) @ normal > 0 and np.cross(nearest, b) @ normal > 0)
+    px, py, pz = -nz * nx, -nz * ny, 1.0 - nz * nz
+    before = (ay * pz - az * py) * nx + (az * px - ax * pz) * ny + (ax * py - ay * px) * nz
+    after = (py * bz - pz * by) * nx + (pz * bx - px * bz) * ny + (px * by - py * bx) * nz
+    return before > 0 and after > 0
 
 
 def turn_axis(a: np.ndarray, b: np.ndarray, count: int, over_top: bool | None = None) -> np.ndarray:

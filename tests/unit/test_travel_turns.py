@@ -37,6 +37,30 @@ def test_a_turn_passing_close_by_up_is_recognised():
     assert not passes_near_up(tilted(30.0, 0.5), tilted(10.0, 0.5))
 
 
+def test_near_up_agrees_with_the_sampled_turn():
+    """Against the turn itself, sampled: random pairs of axes within 10° of +Z, unequal or
+    equal, whose closest approach to +Z is not within a sample's reach of the cone's edge or
+    of +Z itself."""
+    rng = np.random.default_rng(7)
+    seen = {True: 0, False: 0}
+    for _ in range(400):
+        a = tilted(rng.uniform(0.0, 10.0), rng.uniform(-180.0, 180.0))
+        b = a.copy() if rng.uniform() < 0.1 else tilted(rng.uniform(0.0, 10.0),
+                                                         rng.uniform(-180.0, 180.0))
+        if np.array_equal(a, b):
+            assert not passes_near_up(a, b)        # no turn
+            continue
+        turn = approach.slerp_directions(a, b, 4001, UP)[1:-1]
+        closest = math.degrees(math.acos(min(1.0, float(np.max(turn @ UP))))) if len(turn) else 90.0
+        ends = min(math.degrees(math.acos(min(1.0, float(e @ UP)))) for e in (a, b))
+        if abs(closest - math.degrees(POLE_CONE)) < 0.05 or closest < 1e-3 or closest >= ends - 1e-6:
+            continue            # at the cone's edge, through +Z, or nearest at an end
+        expected = closest < math.degrees(POLE_CONE)
+        assert passes_near_up(a, b) == expected, (a, b, closest)
+        seen[expected] += 1
+    assert seen[True] > 20 and seen[False] > 20
+
+
 def post_travel(points: np.ndarray, axes: np.ndarray):
     builder = ToolpathBuilder()
     builder.add_segment(points, axes, kind="travel", feed=6000)
