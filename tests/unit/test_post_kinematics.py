@@ -99,3 +99,30 @@ def test_schema_errors(tmp_path):
         load_machine("no_such")
     with pytest.raises(KinematicsError, match="does not exist"):
         load_machine(tmp_path / "gone.json")
+
+
+@pytest.mark.parametrize("name", ["trunnion_ac", "head_a_table_c", "rotary_mandrel"])
+def test_runs_of_one_axis_are_solved_as_each_point(name):
+    """Solved once per run of equal axes, the candidates are those of each point, bit for
+    bit, whatever the machine (axes it reaches: its own, from random angles)."""
+    from freecad_conformal.post import kinematics
+
+    machine = load_machine(name)
+    rng = np.random.default_rng(3)
+    joints = np.zeros((6, 3 + len(machine.rotary)))
+    joints[:, 3:] = rng.uniform(-0.6, 0.6, size=(6, len(machine.rotary)))
+    _, base = forward(machine, joints)
+    axes = np.repeat(base, [1, 5, 2, 9, 1, 3], axis=0)
+    axes[-1] = axes[0]                  # a run that comes back
+    locate = lambda i: f"point {i}"     # noqa: E731
+    expected = kinematics._rotary_candidates(machine, axes, locate)
+    found = kinematics.rotary_candidates(machine, axes, locate)
+    assert found.shape == expected.shape == (len(axes), *expected.shape[1:])
+    assert np.array_equal(found, expected, equal_nan=True)
+
+
+def test_an_unreachable_axis_in_a_run_is_named_by_its_own_point():
+    machine = load_machine("three_axis")
+    axes = np.repeat(unit([[0, 0, 1], [0, 0, 1], [1, 0, 1]]), [4, 3, 2], axis=0)
+    with pytest.raises(KinematicsError, match="point 7"):
+        inverse(machine, np.zeros((len(axes), 3)), axes)
