@@ -210,11 +210,16 @@ def _modes(inverse: np.ndarray, feed_rows: np.ndarray, feed: np.ndarray):
     switched = mode != np.concatenate(([False], mode[:-1]))
     prefix[rows[switched & mode]] = "G93 G1"
     prefix[rows[switched & ~mode]] = "G94 G1"
-    text = np.array([feed_number(f) for f in feed[rows].tolist()], dtype=object)
+    # Feeds repeat (one per role and layer): each distinct value is written once, and
+    # blocks are compared by which text they write (two values may write the same).
+    values, where = np.unique(feed[rows], return_inverse=True)
+    words, word_of_value = np.unique(np.array([" F" + feed_number(f) for f in values.tolist()]),
+                                     return_inverse=True)
+    word = word_of_value.ravel()[where.ravel()]
     changed = np.ones(len(rows), dtype=bool)
-    changed[1:] = text[1:] != text[:-1]
+    changed[1:] = word[1:] != word[:-1]
     emit = mode | switched | changed
-    feed_words[rows[emit]] = " F" + text[emit]
+    feed_words[rows[emit]] = words.astype(object)[word[emit]]
     return prefix, feed_words
 
 
