@@ -80,7 +80,12 @@ def warm_workers(solid, thickness: float) -> None:
     worker_context()
     from multiprocessing import forkserver
 
-    forkserver.ensure_running()
+    try:
+        forkserver.ensure_running()
+    except (OSError, ValueError):
+        # Only a head start: where the server cannot start now, the first worker tries
+        # again and reports what stops it.
+        return
 
 
 def slicer_spec(slicer) -> tuple:

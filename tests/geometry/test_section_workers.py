@@ -57,6 +57,14 @@ def test_worker_slicer_keeps_the_parents_check_and_boxes(App, Part, monkeypatch,
     assert built.section(1.0).area == pytest.approx(parent.section(1.0).area, rel=1e-12)
 
 
+def _ribbed(App, Part):
+    """A 200 mm cylinder with a dozen ribs through it: enough faces for workers."""
+    ribbed = Part.makeCylinder(20, 200)
+    for k in range(12):
+        ribbed = ribbed.fuse(Part.makeBox(50, 2, 200, App.Vector(-25, -1 + 0.1 * k, 0)))
+    return ribbed
+
+
 @pytest.fixture
 def started(monkeypatch) -> list:
     """Calls to the fork server's start, recorded instead of made."""
@@ -73,9 +81,7 @@ def test_fork_server_starts_early_for_a_part_workers_will_cut(App, Part, monkeyp
     tall = Part.makeCylinder(20, 200)           # 3 faces x 1,000 layers of 0.2 mm
     section_pool.warm_workers(tall, 0.2)
     assert started == []
-    ribbed = tall
-    for k in range(12):
-        ribbed = ribbed.fuse(Part.makeBox(50, 2, 200, App.Vector(-25, -1 + 0.1 * k, 0)))
+    ribbed = _ribbed(App, Part)
     assert len(ribbed.Faces) * 1000 >= section_pool.MIN_PARALLEL_WORK
     section_pool.warm_workers(ribbed, 0.2)
     assert started == [True]
@@ -88,3 +94,15 @@ def test_fork_server_not_started_where_workers_are_forked(App, Part, monkeypatch
         many = many.fuse(Part.makeCylinder(0.5, 400, App.Vector(1 + 0.25 * k, 5, 0)))
     section_pool.warm_workers(many, 0.2)
     assert started == []
+
+
+def test_a_fork_server_that_cannot_start_early_does_not_stop_the_plan(App, Part, monkeypatch):
+    from multiprocessing import forkserver
+
+    def refuse():
+        raise OSError("no room for a socket")
+
+    monkeypatch.setattr(forkserver, "ensure_running", refuse)
+    monkeypatch.setattr(section_pool, "useful_workers", lambda requested, work: 2)
+    monkeypatch.setattr(section_pool, "start_method", lambda: "forkserver")
+    section_pool.warm_workers(_ribbed(App, Part), 0.2)        # no error
