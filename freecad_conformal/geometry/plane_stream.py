@@ -15,7 +15,6 @@ area and centroid, which the layers do not read, are integrated where read.
 """
 from __future__ import annotations
 
-
 import numpy as np
 
 from freecad_conformal.geometry import section_pool

@@ -74,7 +74,7 @@ def warm_workers(solid, thickness: float) -> None:
     if start_method() != "forkserver" or useful_workers(AUTO, MIN_PARALLEL_WORK) < 2:
         return
     box = solid.BoundBox
-    layers = max(box.XLength, box.YLength, box.ZLength) / max(thickness, 1e-3)
+    layers = max(box.XLength, box.YLength, box.ZLength) / thickness     # checked: > 0
     if layers * len(solid.Faces) < MIN_PARALLEL_WORK:
         return
     worker_context()
