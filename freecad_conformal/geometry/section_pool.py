@@ -71,11 +71,11 @@ def warm_workers(solid, thickness: float) -> None:
     `thickness` (mm) will want a worker (`useful_workers`): started by the first worker, it
     held this process 0.10 s, and the worker then loaded FreeCAD itself. Nothing to do
     where workers are forked (FreeCAD 0.20) or none would start."""
-    if start_method() != "forkserver" or useful_workers(AUTO, MIN_PARALLEL_WORK) < 2:
+    if start_method() != "forkserver":
         return
     box = solid.BoundBox
     layers = max(box.XLength, box.YLength, box.ZLength) / thickness     # checked: > 0
-    if layers * len(solid.Faces) < MIN_PARALLEL_WORK:
+    if useful_workers(AUTO, int(layers * faces_work(solid.Solids))) < 2:
         return
     worker_context()
     from multiprocessing import forkserver
@@ -157,10 +157,14 @@ def section_work(slicer) -> int:
     """What one section of `slicer`'s solids costs, in analytic faces' sections."""
     work = getattr(slicer, "_section_work", None)
     if work is None:
-        work = sum(1 if type(face.Surface).__name__ in ANALYTIC_SURFACES else FREEFORM_FACE_WORK
-                   for solid in slicer.solids for face in solid.Faces)
-        slicer._section_work = work
+        work = slicer._section_work = faces_work(slicer.solids)
     return work
+
+
+def faces_work(solids) -> int:
+    """What one plane through all of `solids` costs, in analytic faces' sections."""
+    return sum(1 if type(face.Surface).__name__ in ANALYTIC_SURFACES else FREEFORM_FACE_WORK
+               for solid in solids for face in solid.Faces)
 
 
 def job_as_binary(cut: list) -> tuple[bytes, list]:

@@ -72,7 +72,9 @@ def started(monkeypatch) -> list:
 
     calls: list = []
     monkeypatch.setattr(forkserver, "ensure_running", lambda: calls.append(True))
-    monkeypatch.setattr(section_pool, "useful_workers", lambda requested, work: 2)
+    # Workers allowed here whatever the process (pytest's), for enough work.
+    monkeypatch.setattr(section_pool, "useful_workers", lambda requested, work:
+                        2 if work >= section_pool.MIN_PARALLEL_WORK else 1)
     return calls
 
 
