@@ -7,6 +7,9 @@ material" and its interface) and estimated time from the G-code. Then plan the p
 this project (decomposition, layers, paths) at the same settings and print both with ratios.
 Last, PrusaSlicer slices each of our sub-parts stood on its base: the same support-free
 geometry under the same rules, which separates what the geometry costs from what our paths do.
+Then issue 16's goal for each part, and whether the plan meets it: a part PrusaSlicer prints
+without support in one of those orientations is held to that print, the others to its print
+with supports (`goal_verdict`).
 
 The same rules on both sides, passed to PrusaSlicer explicitly (`PRUSA_SETTINGS`) and to the
 planner (`plan_options`): layer 0.2 mm (the first one too), nozzle 0.4 mm, bead width 0.45 mm
@@ -134,21 +137,22 @@ def try_slice(stl: Path, orientation: str, supports: bool, work: Path) -> Slice 
         return None
 
 
-def planar_baselines(stl: Path, work: Path) -> tuple[Slice, Slice | None]:
-    """PrusaSlicer's best orientation with supports (least filament), and its best
-    support-free print: the least filament among orientations its supported slice needs no
-    support in, sliced with supports off; else the best orientation with supports off (a
-    print that sags, for reference); None if PrusaSlicer refuses that too."""
+def planar_baselines(stl: Path, work: Path) -> tuple[Slice, Slice | None, bool]:
+    """PrusaSlicer's best orientation with supports (least filament), its best support-free
+    print, and whether the part has one: the least filament among orientations its
+    supported slice needs no support in, sliced with supports off; else the best orientation
+    with supports off (a print that sags, for reference); None if PrusaSlicer refuses that
+    too."""
     with_support = [s for s in (try_slice(stl, o, True, work) for o in ORIENTATIONS) if s]
     if not with_support:
         raise SystemExit(f"PrusaSlicer sliced {stl.name} in no orientation")
     best = min(with_support, key=lambda s: s.volume_cm3)
     free = sorted((s for s in with_support if s.support_cm3 <= 0), key=lambda s: s.volume_cm3)
-    for candidate in [*free, best]:
+    for candidate, support_free in [*((s, True) for s in free), (best, False)]:
         bare = try_slice(stl, candidate.orientation, False, work)
         if bare is not None:
-            return best, bare
-    return best, None
+            return best, bare, support_free
+    return best, None, False
 
 
 def prusa_on_subparts(plan, work: Path) -> Slice:
@@ -293,6 +297,34 @@ def ours(shape, name: str):
     return result, seconds, time.perf_counter() - started
 
 
+#: Issue 16's goals: against PrusaSlicer's support-free print where the part has one (material
+#: and time), else against its print with supports in its best orientation.
+SUPPORT_FREE_GOAL = (1.00, 1.00)
+SUPPORTED_GOAL = (0.60, 0.70)
+
+
+def goal_verdict(best: Slice, bare: Slice | None, support_free: bool, ours_cm3: float,
+                 our_seconds: float) -> str:
+    """Which of issue 16's goals applies to the part, and whether our plan meets it. For a part
+    that needs support, also what taking PrusaSlicer's support away alone would give (its
+    own support-free print of the part against its supported one): the share of the goal
+    that lies in the support, against what a plan must save on the part itself."""
+    if support_free and bare is not None:
+        material, seconds = ours_cm3 / bare.volume_cm3, our_seconds / bare.seconds
+        goal, against = SUPPORT_FREE_GOAL, f"PS support-free ({bare.orientation})"
+    else:
+        material, seconds = ours_cm3 / best.volume_cm3, our_seconds / best.seconds
+        goal, against = SUPPORTED_GOAL, f"PS with supports ({best.orientation})"
+    met = material <= goal[0] and seconds <= goal[1]
+    text = (f"vs {against}: material {material:.3f} (goal {goal[0]:.2f}), time {seconds:.3f} "
+            f"(goal {goal[1]:.2f}): {'met' if met else 'missed'}")
+    if not support_free and bare is not None:
+        text += (f"; support is {best.support_cm3 / best.volume_cm3:.0%} of its material; "
+                 f"its print without the support: {bare.volume_cm3 / best.volume_cm3:.3f}, "
+                 f"{bare.seconds / best.seconds:.3f}")
+    return text
+
+
 def hms(seconds: float) -> str:
     whole = int(round(seconds))
     return f"{whole // 3600}h{whole // 60 % 60:02d}m"
@@ -310,7 +342,7 @@ def main(names: list[str], roles: bool = False) -> int:
             name = Path(given).stem       # a file's name; a sample's or shared part's as given
             stl = work / f"{name}.stl"
             shape.exportStl(str(stl))
-            best, bare = planar_baselines(stl, work)
+            best, bare, support_free = planar_baselines(stl, work)
             try:
                 result, our_time, wall = ours(shape, name)
             except ConformalError as exc:
@@ -319,7 +351,7 @@ def main(names: list[str], roles: bool = False) -> int:
             parts_dir = work / f"{name}_subparts"
             parts_dir.mkdir()
             pieces = prusa_on_subparts(result.plan, parts_dir)
-            rows.append((name, best, bare, result, our_time, pieces))
+            rows.append((name, best, bare, result, our_time, pieces, support_free))
             print(f"{name}: {len(result.subparts)} sub-parts, planned in {wall:.1f} s", flush=True)
             if roles and bare is not None:
                 print_roles(name, prusa_roles(bare.gcode), our_roles(result))
@@ -344,13 +376,18 @@ def main(names: list[str], roles: bool = False) -> int:
     print("\nPrusaSlicer without supports on each of our sub-parts, stood on its base (the same "
           "support-free geometry under the same rules; the difference is path planning):")
     print(f"{'part':<10} {'sub-parts':>9} {'PS cm3':>10} {'ours/PS':>8} | {'PS t':>7} {'t ours/PS':>9}")
-    for name, _, _, result, our_time, pieces in rows:
+    for name, _, _, result, our_time, pieces, _ in rows:
         if pieces.volume_cm3 <= 0 or pieces.seconds <= 0:
             print(f"{name:<10} {len(result.plan.subparts):>9}   (PrusaSlicer sliced none of them)")
             continue
         print(f"{name:<10} {len(result.plan.subparts):>9} {pieces.volume_cm3:>10.2f} "
               f"{result.material_volume / 1000.0 / pieces.volume_cm3:>8.3f} | {hms(pieces.seconds):>7} "
               f"{our_time / pieces.seconds:>9.3f}")
+    print("\nIssue 16's goals (a part PrusaSlicer prints support-free in some orientation "
+          "against that print, else against its print with supports):")
+    for name, best, bare, result, our_time, _, support_free in rows:
+        print(f"{name:<14} " + goal_verdict(best, bare, support_free,
+                                            result.material_volume / 1000.0, our_time))
     print("\nPS = PrusaSlicer (its estimate); ours = plan material (rounded bead x length) and the "
           "same time model (trapezoids, jerk 10 mm/s, acceleration 1500 mm/s2, 5 s layer cooling)")
     return 0

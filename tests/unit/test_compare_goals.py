@@ -1,0 +1,34 @@
+"""benchmarks/compare_planar.py's goal verdicts: which of issue 16's goals a part is held to,
+and whether a plan meets it."""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "benchmarks"))
+
+from compare_planar import Slice, goal_verdict  # noqa: E402
+
+SUPPORTED = Slice("as modelled", 17.0, 10.5, 5700.0, Path("a.gcode"))
+BARE = Slice("as modelled", 7.5, 0.0, 3840.0, Path("b.gcode"))
+
+
+def test_a_part_printed_support_free_by_the_planar_slicer_is_held_to_that_print():
+    free = Slice("rotate-x 180", 16.65, 0.0, 5280.0, Path("c.gcode"))
+    assert goal_verdict(free, free, True, 15.7, 4860.0).endswith("met")
+    # cheaper than the supported print, dearer than the support-free one: missed
+    verdict = goal_verdict(SUPPORTED, free, True, 16.8, 4860.0)
+    assert "PS support-free (rotate-x 180)" in verdict and verdict.endswith("missed")
+
+
+def test_a_part_that_needs_support_is_held_to_sixty_and_seventy_per_cent():
+    assert ": met" in goal_verdict(SUPPORTED, BARE, False, 0.59 * 17.0, 0.69 * 5700.0)
+    assert ": missed" in goal_verdict(SUPPORTED, BARE, False, 0.59 * 17.0, 0.71 * 5700.0)
+    assert ": missed" in goal_verdict(SUPPORTED, BARE, False, 0.61 * 17.0, 0.50 * 5700.0)
+
+
+def test_a_part_that_needs_support_names_what_the_support_alone_weighs():
+    verdict = goal_verdict(SUPPORTED, BARE, False, 11.4, 8100.0)
+    assert "support is 62% of its material" in verdict
+    assert "its print without the support: 0.441, 0.674" in verdict
