@@ -7,6 +7,8 @@
 #                                            whole suite on FreeCAD 1.0 against this checkout
 #   sudo ci/freecad1.sh setup                set up only (this checkout as committed, the parts)
 #   sudo ci/freecad1.sh run CMD...           run CMD in the chroot (project at /root/conformal)
+#   sudo ci/freecad1.sh mount                mount what the chroot needs and leave it mounted
+#                                            (benchmarks/plan_speed.py times runs in it)
 #   sudo ci/freecad1.sh umount               unmount what a killed run left mounted
 #
 # Environment: ROOT (default /srv/trixie), MIRROR (default: the host's first Debian mirror),
@@ -129,6 +131,7 @@ case "${1:-test}" in
     ;;
   setup) setup ;;
   run) shift; mount_all; in_root "$@" ;;
+  mount) mount_all; MOUNTED=() ;;
   umount) umount_list "${MOUNTS[@]}" ;;
-  *) echo "usage: $0 test [PYTEST ARGS] | setup | run CMD... | umount" >&2; exit 2 ;;
+  *) echo "usage: $0 test [PYTEST ARGS] | setup | run CMD... | mount | umount" >&2; exit 2 ;;
 esac
