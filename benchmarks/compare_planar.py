@@ -306,9 +306,9 @@ SUPPORTED_GOAL = (0.60, 0.70)
 def goal_verdict(best: Slice, bare: Slice | None, support_free: bool, ours_cm3: float,
                  our_seconds: float) -> str:
     """Which of issue 16's goals applies to the part, and whether our plan meets it. For a part
-    that needs support, also what taking PrusaSlicer's support away alone would give (its
-    own support-free print of the part against its supported one): the share of the goal
-    that lies in the support, against what a plan must save on the part itself."""
+    that needs support, also the support's share of PrusaSlicer's material and the ratios of
+    its own print with the support taken away: how far removing the support, and nothing
+    else, goes toward the goal."""
     if support_free and bare is not None:
         material, seconds = ours_cm3 / bare.volume_cm3, our_seconds / bare.seconds
         goal, against = SUPPORT_FREE_GOAL, f"PS support-free ({bare.orientation})"
