@@ -148,3 +148,31 @@ def test_the_voronoi_axis_takes_an_outline_in_parts():
     parts = shapely.MultiPolygon([box(0, 0, 10, 0.3), box(0, 2, 10, 2.3)])
     pieces = _voronoi_axis(parts, WIDTH)
     assert pieces and all(parts.contains(piece) for piece in pieces)
+
+
+def _clockwise(points: np.ndarray) -> bool:
+    x, y = points[:, 0], points[:, 1]
+    return float(np.dot(x[:-1], y[1:]) - np.dot(x[1:], y[:-1])) < 0.0
+
+
+@pytest.mark.parametrize("feature", [
+    box(0, 0, 20, 20).difference(box(0.3, 0.3, 19.7, 19.7)),                  # chordal axis
+    Point(0, 0).buffer(10, 64).difference(Point(0, 0).buffer(9.7, 64)),       # round
+    Point(3.3, -1.7).buffer(7, 90).difference(Point(3.3, -1.7).buffer(6.6, 90))])
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_a_closed_bead_runs_clockwise_as_the_outline_loops_do(feature, sign):
+    """A closed bead ran whichever way its medial line came out (the square wall's
+    counter-clockwise, the round ones' clockwise), and GEOS 3.13 and 3.14 gave a hollow
+    ball's gap loops opposite ways: the same part, other G-code on FreeCAD 1.0. It now runs
+    as the perimeter loops round an outline do (GEOS's buffers: clockwise), from the same
+    start."""
+    from shapely.geometry.polygon import orient
+
+    from freecad_conformal.paths.thin_walls import medial_beads
+
+    island = orient(feature, sign)
+    (points, _, closed), = medial_beads([island], WIDTH)
+    assert closed and _clockwise(points)
+    # the loops round an outline, which the bead runs with
+    outline = inset(orient(box(0, 0, 20, 20), sign), 0.5 * WIDTH)
+    assert _clockwise(np.asarray(outline.exterior.coords))
