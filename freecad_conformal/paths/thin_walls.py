@@ -22,6 +22,7 @@ import numpy as np
 import shapely
 from shapely.geometry import LineString, MultiLineString, MultiPoint, Polygon
 
+from freecad_conformal.geometry.loops import signed_area
 from freecad_conformal.tolerances import COINCIDENT_POINTS
 
 #: Narrower than this share of the bead, a feature is left out (PrusaSlicer's Arachne: its
@@ -259,16 +260,10 @@ def medial_beads(features: list[Polygon], width: float) -> list[tuple[np.ndarray
             along = shapely.get_coordinates(shapely.segmentize(line, 0.5 * width))
             wide = 2.0 * shapely.distance(boundary, shapely.points(along))
             points = np.asarray(line.simplify(0.25 * width / SAMPLES_PER_WIDTH).coords)
-            if line.is_ring and _turns_left(points):
-                points = points[::-1].copy()
+            if line.is_ring and signed_area(points) > 0.0:
+                points = points[::-1].copy()        # clockwise, as the outline's loops run
             beads.append((points, float(np.median(wide)), bool(line.is_ring)))
     return beads
-
-
-def _turns_left(ring: np.ndarray) -> bool:
-    """Whether a closed polyline runs counter-clockwise (positive shoelace area)."""
-    x, y = ring[:, 0], ring[:, 1]
-    return float(np.dot(x[:-1], y[1:]) - np.dot(x[1:], y[:-1])) > 0.0
 
 
 def thin_wall_beads(island: Polygon, width: float, eroded,
