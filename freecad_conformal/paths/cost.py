@@ -290,12 +290,17 @@ def layer_cost(layer: Layer, skin, settings: PathSettings, motion: Motion,
 
 
 def subpart_cost(index: int, layers: Sequence[Layer], settings: PathSettings, motion: Motion,
-                 rests_on_parent: bool) -> SubPartCost:
-    """Every layer's cost of one sub-part (skins as the fill sees them)."""
+                 rests_on_parent: bool, between: int = 1) -> SubPartCost:
+    """Every layer's cost of one sub-part (skins as the fill sees them). `between` > 1:
+    only every such layer of a run whose sections change evenly is filled and costed,
+    those between read off the line between their costs (`_read_off_places`)."""
     skins, bridges = solid_areas(layers, settings, rests_on_parent)
+    read_off = _read_off_places(layers, skins, bridges, between) if between > 1 else {}
     known: dict[tuple, LayerCost] = {}
-    costs = []
-    for layer, skin, bridge in zip(layers, skins, bridges):
+    costs: dict[int, LayerCost] = {}
+    for position, (layer, skin, bridge) in enumerate(zip(layers, skins, bridges)):
+        if position in read_off:
+            continue
         # A prism's layers repeat (the table's legs: one region for hundreds of layers):
         # a layer the same as one costed already, in everything the fill reads, costs the
         # same at its own level.
@@ -303,11 +308,62 @@ def subpart_cost(index: int, layers: Sequence[Layer], settings: PathSettings, mo
                layer.index % 2)
         same = known.get(key)
         if same is None:
-            same = known[key] = layer_cost(layer, skin, settings, motion, bridge)
-            costs.append(same)
+            costs[position] = known[key] = layer_cost(layer, skin, settings, motion, bridge)
         else:
-            costs.append(dataclasses.replace(same, level=_level(layer)))
-    return SubPartCost(index, costs)
+            costs[position] = dataclasses.replace(same, level=_level(layer))
+    for position, (before, after) in read_off.items():
+        costs[position] = _read_off(layers[position], costs[before], costs[after],
+                                    (position - before) / (after - before))
+    return SubPartCost(index, [costs[position] for position in range(len(layers))])
+
+
+#: A layer is read off the line between two filled ones when its area, skin area and bridge
+#: area lie within this share of its area from the line, and its outline length within
+#: this share of its length: the section changes evenly, and so do its loops, rows and
+#: their times (a wedge's, a cone's, a tilted cylinder's).
+EVEN_CHANGE = 0.01
+
+
+def _read_off_places(layers: Sequence[Layer], skins: list, bridges: list,
+                     between: int) -> dict[int, tuple[int, int]]:
+    """{position: (filled before, filled after)} of the layers read off instead of filled.
+    In each run of layers with one island count, and skin (or bridge) in all or none, every
+    `between`-th layer and the last are filled; a layer between is read off where it lies
+    on the line between them (EVEN_CHANGE)."""
+    measures = np.array([(layer.region.area, layer.region.length, _area_of(skin),
+                          _area_of(bridge)) for layer, skin, bridge in zip(layers, skins, bridges)])
+    kinds = [(len(polygons_of(layer.region)), skin > 0, bridge > 0)
+             for layer, (_, _, skin, bridge) in zip(layers, measures)]
+    found: dict[int, tuple[int, int]] = {}
+    start = 0
+    while start < len(layers):
+        end = start
+        while end + 1 < len(layers) and kinds[end + 1] == kinds[start]:
+            end += 1
+        filled = sorted(set(range(start, end + 1, between)) | {end})
+        for before, after in zip(filled, filled[1:]):
+            for position in range(before + 1, after):
+                share = (position - before) / (after - before)
+                line = (1 - share) * measures[before] + share * measures[after]
+                area, length = measures[position, :2]
+                room = EVEN_CHANGE * np.array([area, length, area, area])
+                if np.all(np.abs(measures[position] - line) <= room):
+                    found[position] = (before, after)
+        start = end + 1
+    return found
+
+
+def _area_of(region) -> float:
+    return 0.0 if region is None or region.is_empty else float(region.area)
+
+
+def _read_off(layer: Layer, before: LayerCost, after: LayerCost, share: float) -> LayerCost:
+    """`layer`'s cost on the line from `before` (share 0) to `after` (share 1)."""
+    def line(name: str) -> float:
+        return (1 - share) * getattr(before, name) + share * getattr(after, name)
+
+    return LayerCost(_level(layer), line("seconds"), line("nominal_seconds"),
+                     line("travel_nominal_seconds"), line("material"), line("length"))
 
 
 def _level(layer: Layer) -> float:
@@ -334,10 +390,11 @@ def _cooled(costs: list[LayerCost], settings: PathSettings) -> float:
 
 
 def plan_cost(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSettings,
-              motion: Motion) -> PlanCost:
-    """Time and material of building `plan` with `layers`, without planning paths."""
+              motion: Motion, between: int = 1) -> PlanCost:
+    """Time and material of building `plan` with `layers`, without planning paths
+    (`between`: see `subpart_cost`)."""
     subparts = {sub.index: subpart_cost(sub.index, layers[sub.index], settings, motion,
-                                        sub.parent is not None)
+                                        sub.parent is not None, between)
                 for sub in plan.ordered() if layers[sub.index]}
     seconds = 0.0
     moves = 0.0
