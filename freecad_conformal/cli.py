@@ -8,12 +8,14 @@ FreeCAD.
 from __future__ import annotations
 
 import argparse
+import atexit
 import importlib
 import logging
 import math
 import os
 import sys
-from typing import Sequence
+import threading
+from typing import NoReturn, Sequence
 
 from freecad_conformal import __version__
 from freecad_conformal.errors import ConformalError
@@ -104,6 +106,27 @@ def enable_reading_watchdog() -> None:
     except ValueError:
         limit = DEFAULT_READ_LIMIT_S
     solids.READ_TIME_LIMIT[0] = limit if limit > 0 and math.isfinite(limit) else None
+
+
+def leave(code: int) -> NoReturn:
+    """End `python -m freecad_conformal` with `code`, skipping the interpreter's teardown:
+    FreeCAD's and OCC's destructors and every module's took 35 ms of a 0.5 s plan of
+    wedge_ok on FreeCAD 0.20 and 45-55 ms of 0.65 s on 1.0, and nothing in them is ours.
+    What must happen at exit still does: the handlers registered with `atexit` (logging's
+    flush, multiprocessing's, a Dask client's) run, and the output streams are flushed.
+    Where a thread that is not a daemon still runs (the interpreter would wait for it) or
+    `atexit` cannot be run by hand, the ordinary exit is taken."""
+    run_handlers = getattr(atexit, "_run_exitfuncs", None)
+    if run_handlers is None or any(thread is not threading.main_thread() and not thread.daemon
+                                   and thread.is_alive() for thread in threading.enumerate()):
+        sys.exit(code)
+    run_handlers()
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):
+            pass    # a reader that went away (`plan ... | head`) or a closed stream
+    os._exit(code)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
