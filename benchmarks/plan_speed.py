@@ -103,6 +103,10 @@ def child(part: str, out: str) -> None:
     spent["layers"] += chosen_layers[0]
     peak_mb = _peak_mb()
     print(json.dumps({"code": code, "seconds": total, "stages": spent, "peak_mb": peak_mb}))
+    # Ended as `python -m freecad_conformal` ends (`cli.leave`): the wall time is a user's.
+    from freecad_conformal.cli import leave
+
+    leave(0)
 
 
 def _peak_mb() -> float:
