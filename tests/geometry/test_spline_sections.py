@@ -125,8 +125,9 @@ def test_real_faces_are_cut_as_occ_cuts_them(App, Part, parts_dir, name, directi
     assert faces
     found = [_assert_same_curves(App, Part, face, n, height)
              for face in faces for height in _heights(face, n, 4)]
-    # Some are left to OCC: a plane holding a ruling (the bottle's thread crest, whose
-    # rulings all lie across its axis, along Z), a near-tangent plane.
+    # Some may be left to OCC: a plane holding a ruling and crossing the others, a
+    # near-tangent plane. (The bottle's thread crest, whose rulings all lie across its
+    # axis, holds whole rulings along Z: cut in closed form.)
     assert sum(f is not None for f in found) >= 0.5 * len(found)
 
 
@@ -182,16 +183,43 @@ def test_surfaces_without_a_short_direction_or_periodic_are_left_to_occ(App, Par
     assert spline_plane_curves(periodic, n, 1.0, periodic.bounds()) is None
 
 
-def test_a_plane_holding_a_ruling_is_left_to_occ(App, Part):
-    """An extrusion's rulings lie in planes along it: the curve runs along t, which λ(s)
-    cannot follow (CrankArm's web along X)."""
+def test_a_plane_holding_one_ruling_is_left_to_occ(App, Part):
+    """A hyperbolic paraboloid's rulings turn: the plane x = 0 holds the one at s = 0.5 and
+    crosses the others, so the curve runs along t there, which λ(s) cannot follow."""
+    V = App.Vector
+    surface = Part.BSplineSurface()
+    surface.buildFromPolesMultsKnots([[V(-5, 0, 0), V(0, 0, 10)], [V(5, 0, 0), V(0, 10, 10)]],
+                                     [2, 2], [2, 2], [0.0, 1.0], [0.0, 1.0], False, False, 1, 1)
+    domain = surface.bounds()
+    assert spline_sections._Form.of(surface, domain).q == 1
+    assert spline_plane_curves(surface, np.array([1.0, 0.0, 0.0]), 0.0, domain) is None
+
+
+def test_a_plane_along_every_ruling_holds_them_whole(App, Part):
+    """An extrusion's rulings all run along it, so a plane along it holds whole rulings
+    (CrankArm's web along X), and so do the horizontal planes on a loft between horizontal
+    polygons (a twisted prism): each is one straight curve, the one OCC walks."""
     curve = Part.BSplineCurve()
     curve.interpolate([App.Vector(x, 3 * np.sin(x / 4), 0) for x in range(0, 21, 2)])
     extruded = curve.toShape().extrude(App.Vector(0, 0, 10)).Faces[0].toNurbs().Faces[0]
-    surface = extruded.Surface
-    assert spline_sections._Form.of(surface, extruded.ParameterRange).q == 1
     n = np.array([1.0, 0.0, 0.0])
-    assert spline_plane_curves(surface, n, 9.0, extruded.ParameterRange) is None
+    assert _assert_same_curves(App, Part, extruded, n, 9.0) == 1
+    [line] = spline_plane_curves(extruded.Surface, n, 9.0, extruded.ParameterRange)
+    assert line.Degree == 1 and line.NbPoles == 2
+    V = App.Vector
+    wires = []
+    for k in range(4):
+        turn = np.radians(25.0 * k)
+        corners = [V(10 * np.cos(turn + q), 10 * np.sin(turn + q), 8.0 * k)
+                   for q in np.radians([45.0, 135.0, 225.0, 315.0])]
+        wires.append(Part.makePolygon(corners + [corners[0]]))
+    twisted = Part.makeLoft(wires, True, False)
+    sides = [f for f in _spline_faces(twisted)
+             if spline_sections._Form.of(f.Surface, f.ParameterRange) is not None]
+    assert len(sides) == 4
+    up = np.array([0.0, 0.0, 1.0])
+    assert [_assert_same_curves(App, Part, face, up, h)
+            for face in sides for h in (1.0, 8.0, 12.5, 23.9)] == [1] * 16
 
 
 def test_the_basis_is_the_surfaces_own(App, Part):
