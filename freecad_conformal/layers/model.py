@@ -37,10 +37,11 @@ class LayerSettings:
         min_thickness, max_thickness: ΔL_min, ΔL_max (mm); default 0.5× and 1.5× `thickness`.
         max_volume_difference: adaptive limit per layer (mm³).
         max_cusp: cusp-height limit (mm).
-        tilt: let planes tilt where the centroidal axis bends ("3-D" layers): where the
-            sections move sideways keeping their shape and are narrow enough to turn
-            within the thickness bounds (`planning.tilted.axis_bends`); elsewhere the
-            layers stay planar.
+        tilt: let planes tilt where the centroidal axis bends ("3-D" layers): in a
+            sub-part that planar layers would leave overhanging, where the sections move
+            sideways keeping their shape and are narrow enough to turn within the
+            thickness bounds (`layers/plan.needs_tilt`, `layers/tilted.axis_bends`);
+            elsewhere the layers stay planar.
         workers: processes cutting the sections at once (0: `section_pool.useful_workers`
             decides); the layers are the same whatever the count.
     """

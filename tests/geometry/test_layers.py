@@ -8,6 +8,7 @@ import pytest
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry import samples
+from freecad_conformal.geometry.overhang import overhang_area
 from freecad_conformal.layers.model import LayerSettings, check_thickness, thickness_report
 from freecad_conformal.layers.plan import plan_layers
 from freecad_conformal.layers.planar import volume_difference
@@ -15,7 +16,10 @@ from freecad_conformal.decomposition.subparts import SubPart
 
 
 def _sub(shape, direction=(0, 0, 1)):
-    return SubPart(index=0, shape=shape, build_direction=np.array(direction, dtype=float))
+    # With the overhang planar layers leave, as a plan's sub-part has it: only then are its
+    # layers tilted (layers/plan.needs_tilt).
+    d = np.array(direction, dtype=float)
+    return SubPart(index=0, shape=shape, build_direction=d, overhang_area=overhang_area(shape, d))
 
 
 @pytest.fixture(scope="module")

@@ -19,8 +19,11 @@ from freecad_conformal.decomposition.subparts import SubPart
 Z = np.array([0.0, 0.0, 1.0])
 
 
-def _sub(shape, direction=(0, 0, 1)):
-    return SubPart(index=3, shape=shape, build_direction=np.array(direction, dtype=float))
+def _sub(shape, direction=(0, 0, 1), overhang=1.0):
+    # Overhanging by default, so that the bend rules decide: a sub-part planar layers print
+    # support-free is never tilted (test_a_support_free_sub_part_keeps_planar_layers).
+    return SubPart(index=3, shape=shape, build_direction=np.array(direction, dtype=float),
+                   overhang_area=overhang)
 
 
 def _layer(region, thickness=0.2) -> Layer:
@@ -52,6 +55,16 @@ def test_an_inclined_rod_tilts_and_its_planes_are_square_or_clearly_tilted(rod):
         angle = math.acos(min(1.0, float(layer.top_normal @ Z)))
         # a hair off the build direction meets faces square to it almost tangentially
         assert angle == 0.0 or angle >= tilted.PARALLEL_ANGLE
+
+
+@pytest.mark.slow
+def test_a_support_free_sub_part_keeps_planar_layers(rod):
+    """The inclined rod leans 30°: planar layers print it support-free, and its 3-D layers
+    only cost (0.6 % more time, 1.6x the planning). Left overhanging, its axis is followed."""
+    settings = LayerSettings(thickness=0.2, tilt=True)
+    assert not any(layer.tilted for layer in plan_layers(_sub(rod, overhang=0.0), settings))
+    assert not any(layer.tilted for layer in plan_layers(_sub(rod, overhang=1e-4), settings))
+    assert any(layer.tilted for layer in plan_layers(_sub(rod, overhang=0.5), settings))
 
 
 def test_a_wide_leaning_slab_is_not_tilted(App, Part):
