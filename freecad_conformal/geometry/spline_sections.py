@@ -556,6 +556,10 @@ def _fit(branch: _Branch, first: float, last: float, closed: bool, Part):
              else max(MIN_SAMPLES, int(FIRST_SAMPLES * length / (2 * math.pi))))
     tau = np.union1d(np.linspace(first, last, count + 1), branch.knot_tau(first, last))
     tau = tau[np.concatenate(([True], np.diff(tau) > SAME_SAMPLE * length))]
+    if len(tau) < 2:
+        # A stretch of one point (τ first = last): the plane touches the surface there, or
+        # the scan's bracket closed on a root. No curve to fit; OCC decides.
+        return None
     tau[-1] = last
     points = branch.points(tau)
     middle = 0.5 * (tau[1:] + tau[:-1])

@@ -222,6 +222,29 @@ def test_a_plane_along_every_ruling_holds_them_whole(App, Part):
             for face in sides for h in (1.0, 8.0, 12.5, 23.9)] == [1] * 16
 
 
+def test_a_stretch_of_one_point_is_left_to_occ(App, Part):
+    """The side of an oblique prism (a loft through squares, a planar B-spline) laid on
+    the bed, cut by a plane whose normal is +Z but for 1e-16 (the turn that laid it down):
+    the scan closed a stretch on one point, and the fit of no samples raised a numpy
+    ValueError out of the plan. It is OCC's to cut."""
+    V = App.Vector
+    surface = Part.BSplineSurface()
+    surface.buildFromPolesMultsKnots(
+        [[V(32.20823386678144, -4.579551485142844, 2.6645352591003757e-15),
+          V(9.349741149300968, -6.576877368641051, 3.552713678800501e-15),
+          V(-13.508751568179509, -8.57420325213926, 7.105427357601002e-15)],
+         [V(29.17980377661328, -5.968735324102854, 15.649242136619154),
+          V(6.321311059132803, -7.966061207601061, 15.649242136619154),
+          V(-16.537181658347674, -9.963387091099268, 15.64924213661916)]],
+        [2, 2], [3, 3], [0.0, 1.0], [0.0, 1.0], False, False, 1, 2)
+    n = np.array([1.0224286929969993e-16, -1.9929233681656438e-18, 1.0])
+    for height in (0.30000000000000004, 0.1, 7.0):
+        curves = spline_plane_curves(surface, n, height, surface.bounds())
+        assert curves is None or all(
+            abs(c.StartPoint.z - height) < 1e-9 and abs(c.EndPoint.z - height) < 1e-9
+            for c in curves)
+
+
 def test_the_basis_is_the_surfaces_own(App, Part):
     """The form's points are OCC's surface points, for a rational degree-2 span too."""
     blade = _blade(App, Part)
