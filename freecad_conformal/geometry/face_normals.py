@@ -23,13 +23,25 @@ MISSING_NORMAL = 1e-9
 _NORMALS: ShapeCache = ShapeCache(limit=16384, oriented=True)
 
 
+#: A free-form surface (B-spline, Bézier) lying within this (mm) of a plane is that plane:
+#: exporters and lofts write planes so (an oblique prism lofted through squares has four
+#: planar B-spline sides). Read as curved, the side a part stands on counted as overhang,
+#: so no orientation on it was ever offered. Far below any modelling tolerance (1e-4 mm
+#: is STEP's usual), far above a plane's own B-spline rounding.
+FREEFORM_PLANE = 1e-6
+#: Surfaces that may be planes without saying so.
+_FREEFORM = frozenset({"BSplineSurface", "BezierSurface"})
+
+
 def plane_normal(face) -> np.ndarray | None:
-    """The outward unit normal of a planar face (read-only), None for any other surface."""
+    """The outward unit normal of a planar face (read-only), None for any other surface.
+    A B-spline or Bézier surface that is a plane (`FREEFORM_PLANE`) counts as one."""
     return _NORMALS.get((face,), lambda: _plane_normal(face))
 
 
 def _plane_normal(face) -> np.ndarray | None:
-    if type(face.Surface).__name__ != "Plane":
+    kind = type(face.Surface).__name__
+    if kind != "Plane" and not (kind in _FREEFORM and face.Surface.isPlanar(FREEFORM_PLANE)):
         return None
     u0, u1, v0, v1 = face.ParameterRange
     n = face.normalAt(0.5 * (u0 + u1), 0.5 * (v0 + v1))

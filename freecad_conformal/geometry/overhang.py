@@ -192,11 +192,10 @@ def orientation_candidates(shape, largest: int = PLACE_ON_FACES) -> list[np.ndar
     `largest` planar faces, the direction that stands the part on that face (the face's
     outward normal pointing down), without repeats."""
     candidates = list(CUBE_DIRECTIONS)
-    planar = sorted((f for f in shape.Faces if type(f.Surface).__name__ == "Plane"),
+    planar = sorted((f for f in faces_of(shape) if plane_normal(f) is not None),
                     key=lambda f: f.Area, reverse=True)[:largest]
     for face in planar:
-        u0, u1, v0, v1 = face.ParameterRange
-        normal = np.array(tuple(face.normalAt(0.5 * (u0 + u1), 0.5 * (v0 + v1))), dtype=float)
+        normal = plane_normal(face)
         direction = -normal / np.linalg.norm(normal)
         if all(float(direction @ c) < 1.0 - PARALLEL_COS_SLACK for c in candidates):
             candidates.append(direction)

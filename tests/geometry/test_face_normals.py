@@ -4,6 +4,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
 
 def _bump(App, Part):
@@ -59,3 +60,51 @@ def test_a_planar_faces_normal_is_read_once_and_follows_its_orientation(App, Par
     moved = next(f for f in turned.Faces if abs(f.CenterOfMass.y) < 1e-9)
     np.testing.assert_allclose(plane_normal(moved), [0.0, 1.0, 0.0], atol=1e-12)
     assert plane_normal(Part.makeCylinder(2.0, 5.0).Faces[0]) is None
+
+
+def _oblique_prism(App, Part):
+    """Squares in planes tilted 20° about X, each 3 mm further along X, lofted: its four
+    sides are planar B-spline faces (as exporters and lofts write planes)."""
+    V = App.Vector
+    wires = []
+    for k in range(6):
+        corners = [V(x + 3.0 * k, y * math.cos(math.radians(20.0)),
+                     8.0 * k + y * math.sin(math.radians(20.0)))
+                   for x, y in ((-7.5, -7.5), (7.5, -7.5), (7.5, 7.5), (-7.5, 7.5))]
+        wires.append(Part.makePolygon(corners + [corners[0]]))
+    return Part.makeLoft(wires, True, False).Solids[0]
+
+
+def test_a_planar_b_spline_face_has_its_planes_normal_and_a_curved_one_none(App, Part):
+    from freecad_conformal.geometry.face_normals import plane_normal
+
+    prism = _oblique_prism(App, Part)
+    sides = [f for f in prism.Faces if type(f.Surface).__name__ == "BSplineSurface"]
+    assert len(sides) == 4
+    for face in sides:
+        normal = plane_normal(face)
+        assert normal is not None
+        # the normal is the face's own, outward, at every point of it
+        u0, u1, v0, v1 = face.ParameterRange
+        for u, v in ((u0, v0), (u1, v1), (0.3 * u0 + 0.7 * u1, 0.8 * v0 + 0.2 * v1)):
+            assert np.allclose(tuple(face.normalAt(u, v)), normal, atol=1e-9)
+        outward = np.array(tuple(face.CenterOfMass - prism.CenterOfMass))
+        assert float(outward @ normal) > 0
+    assert plane_normal(_bump(App, Part)) is None
+
+
+def test_a_part_is_offered_standing_on_its_planar_b_spline_sides(App, Part):
+    """Read as curved, the side a part stands on counted as overhang (720 mm², the face
+    itself), so the oblique prism was only offered on its ends: PrusaSlicer laid it on its
+    side and printed it in 22 min, ours stood up took 25."""
+    from freecad_conformal.geometry.face_normals import plane_normal
+    from freecad_conformal.geometry.overhang import (base_area, orientation_candidates,
+                                                     overhang_area)
+
+    prism = _oblique_prism(App, Part)
+    candidates = orientation_candidates(prism)
+    for face in (f for f in prism.Faces if type(f.Surface).__name__ == "BSplineSurface"):
+        down = -plane_normal(face)
+        assert any(float(down @ c) > 1.0 - 1e-9 for c in candidates)
+        assert base_area(prism, down) == pytest.approx(face.Area, rel=1e-9)
+        assert overhang_area(prism, down) < 1e-6
