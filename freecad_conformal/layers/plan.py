@@ -1,5 +1,5 @@
 """Layers of one sub-part in deposition order: planar, or 3-D where the axis bends and
-planar layers would leave overhang."""
+following it spares overhang planar layers would leave."""
 from __future__ import annotations
 
 from freecad_conformal.decomposition.planner import MIN_SAVING
@@ -7,6 +7,7 @@ from freecad_conformal.decomposition.subparts import SubPart
 from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry.frames import unit
 from freecad_conformal.geometry.sections import PlanarSlicer, extent_along
+from freecad_conformal.layers.following import following_spares
 from freecad_conformal.layers.model import Layer, LayerSettings
 from freecad_conformal.geometry.polyhedral import PolyhedronSlicer
 from freecad_conformal.layers.planar import planar_bounds, planar_layers, polyhedral_layers
@@ -38,7 +39,7 @@ def plan_layers(subpart: SubPart, settings: LayerSettings) -> list[Layer]:
                            planar_bounds(subpart.shape, slicer, low, high, settings),
                            settings.workers)
     if settings.tilt and len(layers) > 2 and needs_tilt(subpart):
-        if axis_bends(layers, settings.bounds):
+        if axis_bends(layers, settings.bounds) and following_spares(subpart, layers):
             layers = tilted_layers(subpart, slicer, low, high, settings)
     return layers
 
