@@ -8,7 +8,6 @@ every region cut exactly, as the search did before meshes.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Callable, Iterable, Iterator
 
@@ -20,7 +19,7 @@ from freecad_conformal.decomposition.cuts import (MAX_EXACT_CUTS, SAVING_TIE, La
                                              PlaneCandidates, axis_first)
 from freecad_conformal.decomposition.mesh_cut import mesh_overhang, mesh_trial
 from freecad_conformal.geometry.face_normals import plane_normal
-from freecad_conformal.geometry.overhang import lowest_level
+from freecad_conformal.geometry.overhang import lowest_level, overhang_threshold
 from freecad_conformal.geometry.shape_parts import faces as faces_of
 from freecad_conformal.tolerances import DIVISION_GUARD
 
@@ -95,7 +94,7 @@ INSIDE_REGION = 1e-6
 
 
 def _mesh_trial(piece, mesh, region, angle: float, search: CutSearch):
-    return mesh_trial(mesh, region, piece.direction, math.sin(angle),
+    return mesh_trial(mesh, region, piece.direction, overhang_threshold(angle),
                       _keeper_factor(piece, angle, search), lowest_level(piece.shape, piece.direction),
                       search.level_tolerance, search.same_direction, search.min_thickness,
                       on_bed=not piece.base_faces)
@@ -112,7 +111,7 @@ def _keeper_factor(piece, angle: float, search: CutSearch) -> np.ndarray:
 
 def _factor_of(piece, report, angle: float) -> np.ndarray:
     overhang = dict(report.faces)
-    threshold = math.sin(angle)
+    threshold = overhang_threshold(angle)
     faces = faces_of(piece.shape)
     factor = np.ones(len(faces))
     for index, face in enumerate(faces):
@@ -131,7 +130,7 @@ def _made_exactly(piece, mesh, ordered: list, angle: float, needed: float,
     valid = [item for item in ordered if item[2] is not None]
     if not valid:
         return []
-    uncut = mesh_overhang(mesh, piece.direction, math.sin(angle),
+    uncut = mesh_overhang(mesh, piece.direction, overhang_threshold(angle),
                           _keeper_factor(piece, angle, search))
     best = min(item[2][0] for item in valid)
     if best > uncut - needed:

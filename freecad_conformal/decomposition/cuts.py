@@ -76,9 +76,10 @@ class SavingEstimate:
 
     def __init__(self, shape, angle: float, report) -> None:
         from freecad_conformal.geometry.face_normals import plane_normal
+        from freecad_conformal.geometry.overhang import overhang_threshold
         from freecad_conformal.geometry.surface_mesh import face_part, mesh_deflection
 
-        self.threshold = math.sin(angle)
+        self.threshold = overhang_threshold(angle)
         faces = shape.Faces
         deflection = mesh_deflection(shape)
         self.faces = []

@@ -200,7 +200,7 @@ def mesh_trial(mesh: SurfaceMesh, region: MeshRegion, direction: np.ndarray, thr
             at its lowest level `low` (within `level_tolerance`) and, unless the piece
             stands on the bed, holding one of its planar faces there facing down, if it has
             any.
-        threshold: sin of the allowed overhang angle.
+        threshold: `geometry/overhang.overhang_threshold` of the allowed overhang angle.
         keeper_factor: per face of the piece, the share of its overhang the piece has in
             `direction` (below 1 where a planar face rests on the bed or the base).
         same_direction: children built within this angle (rad) of `direction` are no use.

@@ -20,7 +20,7 @@ from freecad_conformal.geometry.face_normals import plane_normal
 from freecad_conformal.geometry.shape_cache import ShapeCache
 from freecad_conformal.geometry.shape_parts import faces as faces_of, heights as vertex_heights, vertex_points
 from freecad_conformal.geometry.surface_mesh import face_part, mesh_deflection, mesh_faces
-from freecad_conformal.tolerances import PARALLEL_COS_SLACK, ZERO_LENGTH
+from freecad_conformal.tolerances import PARALLEL_COS_SLACK, ROUNDING_SLACK, ZERO_LENGTH
 
 #: Default allowed overhang from the build direction (the common 45° self-support rule of FDM).
 DEFAULT_OVERHANG_ANGLE = math.radians(45.0)
@@ -31,6 +31,14 @@ ON_PLANE_TOLERANCE = 1e-4
 
 #: Overhang areas below this (mm²) are rounding: slivers of tangent faces.
 NEGLIGIBLE_AREA = 1e-6
+
+
+def overhang_threshold(angle: float) -> float:
+    """The `t` of "a surface overhangs where n·d < −t" for an allowed overhang `angle`: a
+    face exactly at the limit prints without support (a 45° chamfer under a 45° rule),
+    which rounding decided before (branch45's 45° underside: n·d = −0.7071067811865476
+    against −sin 45° = −0.7071067811865475, 50 mm² of overhang)."""
+    return math.sin(angle) + ROUNDING_SLACK
 
 
 @dataclass
@@ -106,7 +114,7 @@ def overhang_report(shape, direction: Sequence[float], angle: float = DEFAULT_OV
         on_bed: also exclude faces lying on the lowest plane (the build plate).
     """
     d = _direction(direction)
-    threshold = math.sin(check_angle(angle))
+    threshold = overhang_threshold(check_angle(angle))
     low = lowest_level(shape, d) if on_bed else None
     deflection = mesh_deflection(shape)
     mesh_faces(shape, deflection)

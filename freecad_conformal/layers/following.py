@@ -23,7 +23,7 @@ import math
 import numpy as np
 
 from freecad_conformal.decomposition.subparts import SubPart
-from freecad_conformal.geometry.overhang import DEFAULT_OVERHANG_ANGLE
+from freecad_conformal.geometry.overhang import DEFAULT_OVERHANG_ANGLE, overhang_threshold
 from freecad_conformal.layers.model import Layer
 from freecad_conformal.layers.tilted import BEND_MAX_ANGLE
 
@@ -64,7 +64,7 @@ def spared_overhang(subpart: SubPart, layers: list[Layer],
     areas = 0.5 * doubled * mesh.scale
     build = layers[0].frame.n
     heights = corners.mean(axis=1) @ build
-    limit = -math.sin(angle)
+    limit = -overhang_threshold(angle)
     overhanging = normals @ build < limit
     local = _drift_normals(layers, build)[_layer_at(layers, build, heights)]
     turned_to = np.einsum("ij,ij->i", normals, local) >= limit

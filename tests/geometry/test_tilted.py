@@ -92,6 +92,19 @@ def test_a_rod_is_followed_only_where_planar_layers_overhang_and_following_spare
     assert not any(layer.tilted for layer in plan_layers(sub, settings))
 
 
+def test_a_face_exactly_at_the_overhang_limit_does_not_overhang():
+    """branch45's underside leans exactly 45°: whether it overhung was rounding's call
+    (n·d = −0.7071067811865476 against −sin 45° = −0.7071067811865475: 50 mm², and 26
+    of its layers tilted for nothing). At the limit it prints without support, whichever
+    way the rounding falls (mirrored, leaning the other way)."""
+    for lean in (45.0, -45.0):
+        branch = samples.branch45(lean_deg=lean)
+        assert overhang_area(branch, Z) < 1e-6
+        layers = plan_layers(_sub(branch, overhang=overhang_area(branch, Z)), LayerSettings())
+        assert not any(layer.tilted for layer in layers)
+    assert overhang_area(samples.branch45(lean_deg=46.0), Z) > 10.0
+
+
 def test_a_wide_leaning_slab_is_not_tilted(App, Part):
     """A 60 mm wide slab leaning 10°: its centroids drift like a bend, but a plane can turn
     only ~0.1° per 0.2 mm layer over it, so it stays planar (and fast)."""
