@@ -194,8 +194,21 @@ def capped_column():
     return column.fuse(cap).removeSplitter().Solids[0]
 
 
+def u_channel():
+    """Issue 16's U-channel with inward lips (no test of this file uses it; the one in
+    tests/geometry/test_decompose.py is its twin): 40 mm long, 30 x 20 mm across, walls
+    5 mm, lips 5 mm over a 10 mm gap. It needs no support standing on an end or a side."""
+    from freecad_conformal.freecad_env import import_freecad
+
+    App, Part = import_freecad()
+    V = App.Vector
+    channel = Part.makeBox(40, 30, 20)
+    channel = channel.cut(Part.makeBox(40, 20, 12, V(0, 5, 4)))
+    return channel.cut(Part.makeBox(40, 10, 4, V(0, 10, 16))).removeSplitter().Solids[0]
+
+
 #: Parts made here for the comparison, beside the samples and ../shared/parts.
-OWN_PARTS = {"capped_column": capped_column}
+OWN_PARTS = {"capped_column": capped_column, "u_channel": u_channel}
 
 
 def load(name: str):
