@@ -9,12 +9,13 @@ there) turns back within the limit. Overhang such a turn would create is not cou
 estimate only has to tell a bend that spares overhang from one beside it, and a drift
 read across a junction (a rod leaving its base plate) leans where no plane will.
 
-Shares of the sub-part's overhang estimated spared: the pipe elbow 1.00, a bent bar 1.00,
-branches leaning 45° and 55° 1.00, a rod leaning 55° 0.98 (each then spared it: the
-elbow's support, 12,669 mm³ planar, is none under its 3-D layers); the connecting rod 0.05
-(its overhang is the boss's underside, which its gently bent shank cannot turn to: its
-3-D layers took 5 s of planning to spare 1.4 % of the support) and a rod leaning 30° under
-a flat cap 0.00.
+Shares of the sub-part's overhang estimated spared: the pipe elbow 1.00, a bent bar 1.00
+and a branch leaning 55° 1.00, whose 3-D layers then spared it (the elbow's support,
+12,669 mm³ planar, is none under them); a straight rod leaning 55° off a plate 0.98 (the
+chain makes no 3-D layer there, and the plan turns that part whole instead); the
+connecting rod 0.05 (its overhang is the boss's underside, which its gently bent shank
+cannot turn to: its 3-D layers took 5 s of planning to spare 1.4 % of the support) and a
+rod leaning 30° under a flat cap 0.00.
 """
 from __future__ import annotations
 

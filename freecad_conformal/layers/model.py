@@ -38,10 +38,11 @@ class LayerSettings:
         max_volume_difference: adaptive limit per layer (mm³).
         max_cusp: cusp-height limit (mm).
         tilt: let planes tilt where the centroidal axis bends ("3-D" layers): in a
-            sub-part that planar layers would leave overhanging, where the sections move
+            sub-part that planar layers would leave overhanging, where following the bend
+            is estimated to spare a real share of that, and where the sections move
             sideways keeping their shape and are narrow enough to turn within the
-            thickness bounds (`layers/plan.needs_tilt`, `layers/tilted.axis_bends`);
-            elsewhere the layers stay planar.
+            thickness bounds (`layers/plan.needs_tilt`, `layers/following.py`,
+            `layers/tilted.axis_bends`); elsewhere the layers stay planar.
         workers: processes cutting the sections at once (0: `section_pool.useful_workers`
             decides); the layers are the same whatever the count.
     """

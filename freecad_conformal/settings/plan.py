@@ -89,8 +89,9 @@ PLAN_SETTINGS: tuple[Setting, ...] = (
     Setting("max_cusp", "length", 0.05, "maximum cusp height", "cusp height limit",
             group="layers", minimum=0.0, open_minimum=True, only_when=("layer_mode", ("cusp",))),
     Setting("tilt", "bool", True, "3-D layers",
-            "tilt the layer planes where a sub-part's centroidal axis bends and planar "
-            "layers would leave overhang (off: every layer planar)", group="layers", prop="TiltLayers"),
+            "tilt the layer planes where a sub-part's centroidal axis bends and following "
+            "it spares overhang planar layers would leave (off: every layer planar)",
+            group="layers", prop="TiltLayers"),
     Setting("bead_width", "length", None, "bead width", "deposited bead width", group="paths",
             minimum=0.0, open_minimum=True, derived="the material's width"),
     Setting("perimeters", "int", 2, "perimeters", "perimeter loops per layer", group="paths",
