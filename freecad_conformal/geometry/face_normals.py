@@ -30,7 +30,7 @@ _NORMALS: ShapeCache = ShapeCache(limit=16384, oriented=True)
 #: is STEP's usual), far above a plane's own B-spline rounding.
 FREEFORM_PLANE = 1e-6
 #: Surfaces that may be planes without saying so.
-_FREEFORM = frozenset({"BSplineSurface", "BezierSurface"})
+FREEFORM_SURFACES = frozenset({"BSplineSurface", "BezierSurface"})
 
 
 def plane_normal(face) -> np.ndarray | None:
@@ -41,7 +41,7 @@ def plane_normal(face) -> np.ndarray | None:
 
 def _plane_normal(face) -> np.ndarray | None:
     kind = type(face.Surface).__name__
-    if kind != "Plane" and not (kind in _FREEFORM and face.Surface.isPlanar(FREEFORM_PLANE)):
+    if kind != "Plane" and not (kind in FREEFORM_SURFACES and face.Surface.isPlanar(FREEFORM_PLANE)):
         return None
     u0, u1, v0, v1 = face.ParameterRange
     n = face.normalAt(0.5 * (u0 + u1), 0.5 * (v0 + v1))
