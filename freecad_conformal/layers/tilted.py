@@ -283,12 +283,14 @@ def tilted_layers(subpart: SubPart, slicer: PlanarSlicer, low: float, high: floa
 
 
 def _first_section(slicer: PlanarSlicer, low: float, high: float, step: float) -> PlanarSection:
-    """The lowest non-empty section (a part may touch its base plane only at a point or an
-    edge, where the section at the base is empty)."""
+    """The lowest section with a centroid to start the chain from: a part may touch its base
+    plane only at a point or an edge, where the section at the base is empty or a sliver
+    without a finite centroid (a rod leaning 55° whose rim pokes 0.7 mm below its plate:
+    the chain ended before its first layer, and the whole stack came out planar)."""
     height = low + BOUNDARY_INSET
     while height < high:
         section = slicer.section(height)
-        if not section.is_empty:
+        if section_centroid(section) is not None:
             return section
         height += step
     raise PlanError(f"no material found along {np.round(slicer.frame.n, 4).tolist()} "

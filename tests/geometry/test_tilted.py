@@ -92,6 +92,23 @@ def test_a_rod_is_followed_only_where_planar_layers_overhang_and_following_spare
     assert not any(layer.tilted for layer in plan_layers(sub, settings))
 
 
+@pytest.mark.slow
+def test_a_rod_whose_rim_pokes_below_its_plate_is_followed_from_its_first_centroid():
+    """Leaning 55°, the rod's rim pokes 0.7 mm below its plate: the lowest section is a
+    sliver without a finite centroid, where the chain ended before its first layer and
+    the whole stack came out planar. It starts from the first section with a centroid."""
+    rod = samples.inclined_rod(tilt_deg=55.0)
+    sub = _sub(rod, overhang=overhang_area(rod, Z))
+    assert sub.overhang_area > 100.0
+    layers = plan_layers(sub, LayerSettings(thickness=0.2, tilt=True))
+    check_thickness(layers, LayerSettings(thickness=0.2))
+    assert sum(layer.tilted for layer in layers) > 40
+    # the stack holds the part: only the rim's sliver under the first centroid is left out
+    volume = sum(layer.region.area * 0.5 * (layer.thickness_min + layer.thickness_max)
+                 for layer in layers)
+    assert volume == pytest.approx(rod.Volume, rel=0.01)
+
+
 def test_a_face_exactly_at_the_overhang_limit_does_not_overhang():
     """branch45's underside leans exactly 45°: whether it overhung was rounding's call
     (n·d = −0.7071067811865476 against −sin 45° = −0.7071067811865475: 50 mm², and 26
