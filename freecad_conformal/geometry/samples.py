@@ -151,8 +151,26 @@ def domed_cylinder(radius: float = 10.0, height: float = 10.0):
     return body.fuse(dome).common(above).removeSplitter().Solids[0]
 
 
+def oblique_prism(side: float = 15.0, tilt_deg: float = 20.0, shift: float = 3.0,
+                  rise: float = 8.0, sections: int = 6):
+    """Squares in planes tilted `tilt_deg` about X, each `shift` mm further along X and
+    `rise` higher, lofted: its four sides are planes written as B-spline surfaces, as lofts
+    and exporters write them. Support-free standing on an end or lying on a side."""
+    import math
+
+    App, Part = import_freecad()
+    V = App.Vector
+    tilt, half = math.radians(tilt_deg), side / 2
+    wires = []
+    for k in range(sections):
+        corners = [V(x + shift * k, y * math.cos(tilt), rise * k + y * math.sin(tilt))
+                   for x, y in ((-half, -half), (half, -half), (half, half), (-half, half))]
+        wires.append(Part.makePolygon(corners + [corners[0]]))
+    return Part.makeLoft(wires, True, False).Solids[0]
+
+
 SAMPLES.update({"cross_hole_block": cross_hole_block, "nozzle": nozzle, "branch45": branch45,
-                "domed_cylinder": domed_cylinder})
+                "domed_cylinder": domed_cylinder, "oblique_prism": oblique_prism})
 
 
 #: Names a built-in sample explicitly (`sample:jack`), even when a file of that name exists.

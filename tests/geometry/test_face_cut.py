@@ -6,6 +6,7 @@ import math
 import numpy as np
 import pytest
 
+from freecad_conformal.geometry import samples
 from freecad_conformal.geometry.face_sections import FaceCutter
 from freecad_conformal.geometry.loops import dense_area, dense_area_centroid
 from freecad_conformal.geometry.sections import PlanarSlicer, uniform_heights
@@ -433,18 +434,11 @@ def test_faces_covering_part_of_their_surface_are_cut_on_their_piece(App, Part, 
     _assert_match(_compare(blade, direction, spacing=0.3), least=1.0)
 
 
-def test_planar_b_spline_sides_are_cut_as_their_planes(App, Part):
+def test_planar_b_spline_sides_are_cut_as_their_planes():
     """A loft's flat sides are B-spline surfaces: OCC's surface intersection walked them
     (a coarse stack across an oblique prism's sides took 0.39 s, 0.09 s along its ends).
     Cut as the planes they are, every layer goes face by face and matches the Boolean."""
-    V = App.Vector
-    wires = []
-    for k in range(6):
-        corners = [V(x + 3.0 * k, y * math.cos(math.radians(20.0)),
-                     8.0 * k + y * math.sin(math.radians(20.0)))
-                   for x, y in ((-7.5, -7.5), (7.5, -7.5), (7.5, 7.5), (-7.5, 7.5))]
-        wires.append(Part.makePolygon(corners + [corners[0]]))
-    prism = Part.makeLoft(wires, True, False).Solids[0]
+    prism = samples.oblique_prism()
     assert sum(type(f.Surface).__name__ == "BSplineSurface" for f in prism.Faces) == 4
     cutter = FaceCutter(prism, np.array([0.0, 1.0, 0.0]))
     assert [type(data.cut_surface).__name__ for data in cutter.faces].count("Plane") == 6

@@ -6,6 +6,8 @@ import math
 import numpy as np
 import pytest
 
+from freecad_conformal.geometry import samples
+
 
 def _bump(App, Part):
     """A smooth B-spline patch (no seam, no crease) over 20 x 20 mm."""
@@ -62,23 +64,10 @@ def test_a_planar_faces_normal_is_read_once_and_follows_its_orientation(App, Par
     assert plane_normal(Part.makeCylinder(2.0, 5.0).Faces[0]) is None
 
 
-def _oblique_prism(App, Part):
-    """Squares in planes tilted 20° about X, each 3 mm further along X, lofted: its four
-    sides are planar B-spline faces (as exporters and lofts write planes)."""
-    V = App.Vector
-    wires = []
-    for k in range(6):
-        corners = [V(x + 3.0 * k, y * math.cos(math.radians(20.0)),
-                     8.0 * k + y * math.sin(math.radians(20.0)))
-                   for x, y in ((-7.5, -7.5), (7.5, -7.5), (7.5, 7.5), (-7.5, 7.5))]
-        wires.append(Part.makePolygon(corners + [corners[0]]))
-    return Part.makeLoft(wires, True, False).Solids[0]
-
-
 def test_a_planar_b_spline_face_has_its_planes_normal_and_a_curved_one_none(App, Part):
     from freecad_conformal.geometry.face_normals import plane_normal
 
-    prism = _oblique_prism(App, Part)
+    prism = samples.oblique_prism()
     sides = [f for f in prism.Faces if type(f.Surface).__name__ == "BSplineSurface"]
     assert len(sides) == 4
     for face in sides:
@@ -101,7 +90,7 @@ def test_a_part_is_offered_standing_on_its_planar_b_spline_sides(App, Part):
     from freecad_conformal.geometry.overhang import (base_area, orientation_candidates,
                                                      overhang_area)
 
-    prism = _oblique_prism(App, Part)
+    prism = samples.oblique_prism()
     candidates = orientation_candidates(prism)
     for face in (f for f in prism.Faces if type(f.Surface).__name__ == "BSplineSurface"):
         down = -plane_normal(face)
