@@ -146,12 +146,13 @@ def _cut_surface(face):
     kind = type(surface).__name__
     if kind == "SurfaceOfRevolution":
         return revolved_torus(surface) or surface
-    if kind in FREEFORM_SURFACES and plane_normal(face) is not None:
+    normal = plane_normal(face) if kind in FREEFORM_SURFACES else None
+    if normal is not None:
         # A plane written as a B-spline (a loft's flat side): cut as the plane it is, where
         # OCC's surface intersection walked it (0.39 s a coarse stack across an oblique
         # prism's sides against 0.09 s along its ends).
         App, Part = import_freecad()
-        return Part.Plane(face.Vertexes[0].Point, App.Vector(*plane_normal(face)))
+        return Part.Plane(face.Vertexes[0].Point, App.Vector(*normal))
     if kind != "BSplineSurface":
         return surface
     u0, u1, v0, v1 = face.ParameterRange

@@ -204,6 +204,7 @@ def orientation_candidates(shape, largest: int = PLACE_ON_FACES) -> list[np.ndar
                     key=lambda f: f.Area, reverse=True)[:largest]
     for face in planar:
         normal = plane_normal(face)
+        # normalised again, as when it was read here: the candidates keep their bits
         direction = -normal / np.linalg.norm(normal)
         if all(float(direction @ c) < 1.0 - PARALLEL_COS_SLACK for c in candidates):
             candidates.append(direction)

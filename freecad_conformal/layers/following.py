@@ -26,7 +26,7 @@ import numpy as np
 from freecad_conformal.decomposition.subparts import SubPart
 from freecad_conformal.geometry.overhang import DEFAULT_OVERHANG_ANGLE, overhang_threshold
 from freecad_conformal.layers.model import Layer
-from freecad_conformal.layers.tilted import BEND_MAX_ANGLE
+from freecad_conformal.layers.tilted import BEND_MAX_ANGLE, layer_centroids
 
 #: The drift over this far (mm) on each side of a layer stands for the normal a following
 #: plane takes there: the chain turns gradually (bisected within the thickness bounds), so
@@ -75,8 +75,7 @@ def spared_overhang(subpart: SubPart, layers: list[Layer],
 def _drift_normals(layers: list[Layer], build: np.ndarray) -> np.ndarray:
     """Per layer, the unit drift of the section centroids over ±FOLLOW_REACH; the build
     direction where there is none or it leans past BEND_MAX_ANGLE (a jump, not a bend)."""
-    centroids = np.array([layer.to_3d(np.array([layer.region.centroid.coords[0]]))[0]
-                          for layer in layers])
+    centroids = layer_centroids(layers)
     reach = max(1, int(round(FOLLOW_REACH / max(layers[0].thickness, 1e-9))))
     index = np.arange(len(layers))
     drift = (centroids[np.minimum(index + reach, len(layers) - 1)]

@@ -110,6 +110,12 @@ def turn_capacity(layer: Layer, d_min: float, d_max: float) -> float:
     return math.atan2(slack, reach)
 
 
+def layer_centroids(layers: list[Layer]) -> np.ndarray:
+    """(L, 3): each layer's region centroid, in 3-D."""
+    return np.array([layer.to_3d(np.array([layer.region.centroid.coords[0]]))[0]
+                     for layer in layers])
+
+
 def axis_bends(layers: list[Layer], bounds: tuple[float, float] | None = None) -> bool:
     """True when the sections of successive planar layers move as along a bent axis: their
     centroids drift sideways while the section keeps its area and shape, and moving it by
@@ -123,8 +129,7 @@ def axis_bends(layers: list[Layer], bounds: tuple[float, float] | None = None) -
     thickness = max(layers[0].thickness, 1e-9)
     window = max(1, int(round(BEND_WINDOW / thickness)))
     n = layers[0].frame.n
-    centroids = np.array([layer.to_3d(np.array([layer.region.centroid.coords[0]]))[0]
-                          for layer in layers])
+    centroids = layer_centroids(layers)
     areas = np.array([layer.area for layer in layers])
     islands = np.array([len(layer.region.geoms) for layer in layers])
     # per window from layer k: the centroids' drift, its lean from n, and whether both ends
