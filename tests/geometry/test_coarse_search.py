@@ -44,17 +44,23 @@ def test_sampling_refuses_a_step_below_one():
 MARGIN = search.COARSE_MARGIN
 
 
-def _choice(name: str, margin: float, monkeypatch):
+def _choice(name: str, margin: float, monkeypatch, mirrors: bool = True):
+    """The plan choice with this margin; `mirrors=False` slices both of each d, −d pair."""
     monkeypatch.setattr(search, "COARSE_MARGIN", margin)
+    if not mirrors:
+        monkeypatch.setattr(search, "_mirror_costed", lambda *args: False)
     shape = samples.SAMPLES[name]()
     options = PlanOptions()
-    return choose_plan(shape, options, check_options(shape, options))
+    try:
+        return choose_plan(shape, options, check_options(shape, options))
+    finally:
+        monkeypatch.undo()
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name", ["t_block", "l_block"])
 def test_the_coarse_ranking_chooses_what_exact_costing_chooses(name, monkeypatch):
-    exact = _choice(name, float("inf"), monkeypatch)      # every candidate costed exactly
+    exact = _choice(name, float("inf"), monkeypatch, mirrors=False)   # every one exactly
     coarse_only = _choice(name, 0.0, monkeypatch)         # only the coarse best
     quick = _choice(name, MARGIN, monkeypatch)
     assert all(c.exact for c in exact.candidates)
@@ -201,3 +207,59 @@ def test_a_coarse_candidate_reports_its_sub_parts(App, Part):
     assert coarse.sub_parts == 1 and coarse.row()["sub_parts"] == 1
     empty = search.Candidate("sliced", None, plan, {0: []}, PlanCost(5.0, 1.0, {}, 0.0))
     assert empty.sub_parts == 0     # sliced, and thinner than a layer: nothing built
+
+
+def test_of_two_mirrored_whole_builds_only_the_better_sampled_one_is_sliced(monkeypatch):
+    """Built along d and −d a solid is cut by the same planes: the better sampled of the
+    two is costed exactly and the other keeps its sampled cost, ranked behind (the gear's
+    ±Z took 0.7 s of its 1.2 s choice). Should the better one not slice, its mirror is
+    sliced instead; an orientation that is no mirror is sliced as before."""
+    from types import SimpleNamespace
+
+    from freecad_conformal.paths.cost import PlanCost
+
+    def candidate(direction, seconds: float, exact: bool = False) -> search.Candidate:
+        return search.Candidate(f"whole along {direction}", None,
+                                SimpleNamespace(support_area=0.0, subparts=[]), {},
+                                PlanCost(seconds, 10.0, {}, 0.0), exact=exact,
+                                direction=direction)
+
+    sliced: list[str] = []
+    unsliceable: set[str] = set()
+
+    def exact(label, *args):
+        sliced.append(label)
+        if label in unsliceable:
+            raise search.GeometryError(f"{label} cannot be cut")
+        return search.Candidate(label, None, SimpleNamespace(support_area=0.0, subparts=[]),
+                                {0: ["layer"]}, PlanCost(100.0, 10.0, {}, 0.0))
+
+    monkeypatch.setattr(search, "_exact", exact)
+    up, down, side = (0.0, 0.0, 1.0), (-0.0, -0.0, -1.0), (1.0, 0.0, 0.0)
+    candidates = [candidate(up, 100.2), candidate(down, 100.0), candidate(side, 100.5)]
+    result = search._refined(candidates, None, None, None, "balanced")
+    assert sliced == [f"whole along {down}", f"whole along {side}"]
+    by_direction = {c.direction: c for c in result}
+    assert not by_direction[up].exact and by_direction[down].exact and by_direction[side].exact
+    assert search.ranked(result, "balanced")[-1].direction == up
+
+    sliced.clear()
+    unsliceable.add(f"whole along {down}")
+    result = search._refined(candidates, None, None, None, "balanced")
+    assert sliced == [f"whole along {down}", f"whole along {up}", f"whole along {side}"]
+    assert [c.direction for c in result if c.exact] == [up, side]
+
+
+@pytest.mark.slow
+def test_a_nozzle_standing_on_either_end_is_sliced_once_and_chosen_as_before(monkeypatch):
+    """The nozzle stands on either end: one of ±Z is sliced, and it is the one exact
+    costing of both would choose."""
+    shape = samples.nozzle()
+    options = PlanOptions()
+    quick = choose_plan(shape, options, check_options(shape, options))
+    exact_flags = {c.direction: c.exact for c in quick.candidates if c.direction is not None}
+    assert exact_flags[(0.0, 0.0, 1.0)] != exact_flags[(0.0, 0.0, -1.0)]
+    monkeypatch.setattr(search, "_mirror_costed", lambda *args: False)
+    both = choose_plan(shape, options, check_options(shape, options))
+    assert all(both.candidates[k].exact for k in range(2))
+    assert quick.candidates[0].label == both.candidates[0].label
