@@ -33,7 +33,7 @@ from freecad_conformal.paths.approach import SAFE_MARGIN, bounding_sphere, trans
 from freecad_conformal.paths.assemble import (PERIMETER_ROLES, SMALL_PERIMETER_LENGTH,
                                               PathSettings, solid_areas, together)
 from freecad_conformal.paths.bead import bead_area, bead_spacing
-from freecad_conformal.paths.stack_fill import SIMPLIFY_FRACTION, wkb_key
+from freecad_conformal.paths.stack_fill import SIMPLIFY_FRACTION, fill_key
 from freecad_conformal.paths.fill2d import (Rows, Walls, fill_area, gap_fill, infill_areas,
                                             infill_rows, inset, perimeter_walls, polygons_of,
                                             scan_pieces, thin_wall_paths, valid_region)
@@ -304,8 +304,7 @@ def subpart_cost(index: int, layers: Sequence[Layer], settings: PathSettings, mo
         # A prism's layers repeat (the table's legs: one region for hundreds of layers):
         # a layer the same as one costed already, in everything the fill reads, costs the
         # same at its own level.
-        key = (wkb_key(layer.region), wkb_key(skin), wkb_key(bridge), layer.thickness,
-               layer.index % 2)
+        key = fill_key(layer.region, skin, bridge, layer)
         same = known.get(key)
         if same is None:
             costs[position] = known[key] = layer_cost(layer, skin, settings, motion, bridge)

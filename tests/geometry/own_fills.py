@@ -9,7 +9,9 @@ from freecad_conformal.paths.fill2d import fill_layer
 from freecad_conformal.paths.map3d import map_paths
 
 
-def assert_each_layers_own_fill(layers, skins, bridges, got, settings, position) -> None:
+def assert_each_layers_own_fill(layers, skins, bridges, got, settings, position,
+                                atol: float = 0.0) -> None:
+    """`atol` (mm): how far a point may lie from the layer's own (0: bit for bit)."""
     tolerance = settings.fill.bead_width * stack_fill.SIMPLIFY_FRACTION
     for layer, skin, bridge, paths in zip(layers, skins, bridges, got):
         here = layer.frame.to_2d(position[None])[0]
@@ -17,5 +19,7 @@ def assert_each_layers_own_fill(layers, skins, bridges, got, settings, position)
                                           layer.index, skin, here, height=layer.thickness,
                                           bridge=bridge))
         assert [p.role for p in paths] == [p.role for p in own]
-        assert all(np.array_equal(a.points, b.points) for a, b in zip(paths, own))
+        assert all(a.points.shape == b.points.shape and np.allclose(a.points, b.points, rtol=0.0,
+                                                                    atol=atol)
+                   for a, b in zip(paths, own))
         position = own[-1].points[-1] if own else position
