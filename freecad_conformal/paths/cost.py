@@ -35,7 +35,7 @@ from freecad_conformal.paths.assemble import (PERIMETER_ROLES, SMALL_PERIMETER_L
 from freecad_conformal.paths.bead import bead_area, bead_spacing
 from freecad_conformal.paths.stack_fill import SIMPLIFY_FRACTION, fill_key
 from freecad_conformal.paths.fill2d import (Rows, Walls, fill_area, gap_fill, infill_areas,
-                                            infill_rows, inset, perimeter_walls, polygons_of,
+                                            infill_rows, inset, island_walls, polygons_of,
                                             scan_pieces, thin_wall_paths, valid_region)
 from freecad_conformal.paths.timing import DEFAULT_JERK, junction_speeds, move_times
 
@@ -159,7 +159,7 @@ class _Tally:
 def _perimeters(island: Polygon, settings: PathSettings, spacing: float, motion: Motion,
                 tally: _Tally, external) -> Walls:
     width = settings.fill.bead_width
-    walls = perimeter_walls(island, width, settings.fill.perimeters, spacing, external)
+    walls = island_walls(island, width, settings.fill.perimeters, spacing, external)
     for depth, rings in enumerate(walls.depths):
         role = PERIMETER_ROLES[0] if depth == 0 else PERIMETER_ROLES[1]
         for ring in rings:
@@ -168,7 +168,7 @@ def _perimeters(island: Polygon, settings: PathSettings, spacing: float, motion:
             if length <= SMALL_PERIMETER_LENGTH:
                 feed = min(feed, settings.feeds.small_perimeter)
             speed = motion.work_speed(feed)
-            tally.work(length, _ring_time(ring, speed, motion), speed)
+            tally.work(length, _ring_time(ring, speed, motion), speed, walls.width - width)
             tally.travel(spacing)
     return walls
 
@@ -224,12 +224,13 @@ def _rows(area, laid: Rows, speed: float, motion: Motion, tally: _Tally) -> None
         tally.travel(math.sqrt(max(area.area, 0.0)) * 0.5)
 
 
-def _infill(island: Polygon, depth_count: int, filled: list[Polygon], solid,
+def _infill(island: Polygon, walls: Walls, filled: list[Polygon], solid,
             settings: PathSettings, spacing: float, layer_index: int, motion: Motion,
             tally: _Tally, bridge=None) -> None:
     fill = settings.fill
     width = fill.bead_width
-    inner = fill_area(island, depth_count, width, spacing, fill.infill_overlap, filled)
+    inner = fill_area(island, len(walls.depths), walls.width, walls.spacing,
+                      fill.infill_overlap, filled)
     if inner.is_empty:
         return
     for area, pitch, role, part in infill_areas(inner, solid, bridge, fill, spacing):
@@ -262,8 +263,8 @@ def layer_cost(layer: Layer, skin, settings: PathSettings, motion: Motion,
             walls = _perimeters(island, settings, spacing, motion, tally, external)
             _thin_walls(island, settings, motion, tally, external)
             filled = _gap_fill(walls, settings, spacing, layer.thickness, motion, tally)
-            _infill(island, len(walls.depths), filled, solid, settings, spacing, layer.index,
-                    motion, tally, bridge)
+            _infill(island, walls, filled, solid, settings, spacing, layer.index, motion,
+                    tally, bridge)
         except shapely.errors.GEOSException:
             continue   # the fill raises a named error for this island; the estimate skips it
     level = _level(layer)

@@ -12,7 +12,8 @@ from freecad_conformal.layers.model import Layer
 from freecad_conformal.paths.assemble import PathSettings
 from freecad_conformal.paths.bead import bead_area, bead_spacing
 from freecad_conformal.paths.cost import Motion, layer_cost
-from freecad_conformal.paths.fill2d import FillSettings, fill_layer, perimeter_walls
+from freecad_conformal.paths.fill2d import (MAX_WIDENING, FillSettings, fill_layer,
+                                            island_walls, perimeter_walls)
 
 WIDTH, HEIGHT = 0.4, 0.2
 SPACING = bead_spacing(WIDTH, HEIGHT)
@@ -83,9 +84,10 @@ def test_a_wall_without_room_for_a_second_loop_gets_gap_fill_instead():
                                       box(0.6, 0.6, 39.4, 29.4).exterior) < AXIS_SLACK
 
 
-@pytest.mark.parametrize("wall", [0.8, 0.9, 1.0, 1.2, 1.5, 2.0])
+@pytest.mark.parametrize("wall", [0.8, 0.9, 1.0, 1.2, 1.5, 1.6, 1.7, 1.8, 2.0])
 def test_walls_are_filled_neither_over_nor_under(wall):
-    """Walls of 0.8 to 2 mm: the beads cover the section but for the outline's corners, no
+    """Walls of 0.8 to 2 mm (1.6-1.8 mm: loops widened, `island_walls`): the beads cover the
+    section but for the outline's corners, no
     two beads lie closer than half a spacing, and they carry 89-100 % of the wall (the
     external loops' outer sides are round: 0.8 mm, two touching loops, is 89 %). A 0.9 mm
     wall left a 0.14 mm strip unfilled, a 1 mm wall got a solid line over its gap (110 %),
@@ -113,7 +115,7 @@ def test_a_thin_fin_on_a_block_gets_gap_fill_and_no_infill():
     assert _uncovered(fin, paths) < CORNER_SHARE * fin.area
 
 
-@pytest.mark.parametrize("wall", [0.9, 1.2, 2.0])
+@pytest.mark.parametrize("wall", [0.9, 1.2, 1.7, 2.0])
 def test_the_cost_estimate_lays_what_the_fill_lays(wall):
     """paths/cost.py measures the fill's own loops and gap-fill beads: a wall layer's
     material as estimated is the material the paths carry."""
@@ -128,3 +130,46 @@ def test_the_cost_estimate_lays_what_the_fill_lays(wall):
     assert cost.material == pytest.approx(_laid(paths), rel=1e-6)
     assert cost.length == pytest.approx(sum(p.length for p in paths), rel=1e-6)
     assert cost.material <= region.area * HEIGHT
+
+
+def test_a_wall_leaving_a_band_inside_its_loops_gets_them_widened_instead_of_gap_fill():
+    """A 1.7 mm tube wall holds two 0.4 mm loops a side and a 0.23 mm band between them,
+    which took one more loop of gap fill on every layer. The four loops are widened by a
+    quarter of the band each instead: the same four loops, evenly spaced across the wall,
+    and nothing else."""
+    wall = 1.7
+    band = wall - WIDTH - 3 * SPACING
+    walls = island_walls(_tube(wall), WIDTH, 2, SPACING)
+    assert walls.width == pytest.approx(WIDTH + band / 4, rel=1e-6)
+    assert walls.spacing == pytest.approx(SPACING + band / 4, rel=1e-6)
+    assert [len(rings) for rings in walls.depths] == [2, 2] and not walls.interior
+    paths = _fill(_tube(wall))
+    assert sorted(p.role for p in paths) == ["external_perimeter"] * 2 + ["perimeter"] * 2
+    assert all(p.width == pytest.approx(walls.width) for p in paths)
+    # Centres at w'/2 and w'/2 + s' from the outside: the last loop's half spacing meets
+    # the other side's.
+    outer = [p for p in paths if p.role == "external_perimeter"]
+    xs = sorted(float(p.points[:, 0].min()) for p in paths)
+    assert xs[0] == pytest.approx(walls.width / 2, abs=1e-6)
+    assert xs[1] == pytest.approx(walls.width / 2 + walls.spacing, abs=1e-6)
+    assert len(outer) == 2
+
+
+@pytest.mark.parametrize("region", [
+    box(0, 0, 10, 10).difference(box(1.7, 1.7, 8.3, 8.3)).union(box(0, 0, 4, 4)),
+    box(0, 0, 40, 30).difference(box(1.7, 1.7, 38.0, 28.3)),
+], ids=["infill in a corner", "one side thicker"])
+def test_loops_are_widened_only_where_they_leave_one_even_band(region):
+    """Loops that leave room for infill, or a band uneven enough that widened loops would
+    leave a gap, are laid at their own width with gap fill, as before."""
+    walls = island_walls(region, WIDTH, 2, SPACING)
+    assert walls.width == WIDTH and walls.spacing == SPACING
+
+
+def test_a_band_wider_than_the_loops_may_grow_keeps_its_gap_fill():
+    """Four loops may each grow by MAX_WIDENING of a bead: a 2 mm wall's 0.53 mm band would
+    take a third more each, and keeps its gap-fill bead."""
+    band = 2.0 - WIDTH - 3 * SPACING
+    assert band / 4 > MAX_WIDENING * WIDTH
+    walls = island_walls(_tube(2.0), WIDTH, 2, SPACING)
+    assert walls.width == WIDTH and walls.interior
