@@ -212,6 +212,7 @@ OWN_PARTS = {"capped_column": capped_column, "u_channel": u_channel}
 
 
 def load(name: str):
+    name = name.removeprefix("sample:")     # as `plan` names the samples
     if name in samples.SAMPLES:
         return samples.SAMPLES[name]()
     if name in OWN_PARTS:
@@ -348,11 +349,13 @@ def main(names: list[str], roles: bool = False) -> int:
         print("prusa-slicer is not installed: TMPDIR=/var/tmp apt-get install -y prusa-slicer")
         return 2
     rows = []
+    # Every name is read before any part is planned: a misspelt last one lost the whole run.
+    shapes = {given: load(given) for given in names}
     with tempfile.TemporaryDirectory(prefix="compare_planar_") as folder:
         work = Path(folder)
         for given in names:
-            shape = load(given)
-            name = Path(given).stem       # a file's name; a sample's or shared part's as given
+            shape = shapes[given]
+            name = Path(given.removeprefix("sample:")).stem   # a file's; else as given
             stl = work / f"{name}.stl"
             shape.exportStl(str(stl))
             best, bare, support_free = planar_baselines(stl, work)

@@ -176,3 +176,35 @@ def test_a_closed_bead_runs_clockwise_as_the_outline_loops_do(feature, sign):
     # the loops round an outline, which the bead runs with
     outline = inset(orient(box(0, 0, 20, 20), sign), 0.5 * WIDTH)
     assert _clockwise(np.asarray(outline.exterior.coords))
+
+
+def test_a_feature_met_again_moved_takes_the_beads_it_had_moved(monkeypatch):
+    """A heat sink's fins: the same gap twelve times a layer, moved. Its axis is found once;
+    the others take those beads moved (the first's own, bit for bit), another width or
+    outline its own."""
+    from freecad_conformal.paths import thin_walls
+
+    monkeypatch.setattr(thin_walls, "_AXES", {})
+    found: list[float] = []
+    original = thin_walls.medial_lines
+
+    def counted(feature, width):
+        found.append(feature.bounds[0])
+        return original(feature, width)
+
+    monkeypatch.setattr(thin_walls, "medial_lines", counted)
+    fin = box(0.0, 0.0, 0.3, 20.0)
+    fins = [shapely.affinity.translate(fin, 3.3 * k + 0.123456789, 7.777777) for k in range(12)]
+    beads = thin_walls.medial_beads(fins, WIDTH)
+    assert len(found) == 1 and len(beads) == 12
+    alone = thin_walls._feature_beads(fins[5], WIDTH)
+    assert len(alone) == 1
+    assert np.allclose(beads[5][0], alone[0][0], atol=1e-9) and beads[5][1:] == pytest.approx(
+        alone[0][1:])
+    first = thin_walls._feature_beads(fins[0], WIDTH)
+    assert np.array_equal(beads[0][0], first[0][0])
+    found.clear()
+    thin_walls.medial_beads([fins[3]], WIDTH)                      # met before
+    thin_walls.medial_beads([fins[3]], 0.5 * WIDTH)                # another width
+    thin_walls.medial_beads([box(0.0, 0.0, 0.31, 20.0)], WIDTH)   # another outline
+    assert len(found) == 2
