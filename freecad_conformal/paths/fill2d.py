@@ -244,17 +244,19 @@ def island_walls(island: Polygon, width: float, count: int, spacing: float,
     """`perimeter_walls`, or where the island is all wall and its loops leave one band
     inside the innermost ones (no loop between missing, nothing for infill), the loops
     each widened by a share of the band (at most `MAX_WIDENING`) when that fills it: the
-    same loops, no gap fill."""
+    same loops, no gap fill. The loops laid count, not `count`: a wall with room for two
+    loops a side is one whether three or more were asked for."""
     walls = perimeter_walls(island, width, count, spacing, external)
-    if not count or walls.gaps or not walls.interior or len(walls.depths) < count:
+    laid = len(walls.depths)
+    if not laid or walls.gaps or not walls.interior:
         return walls
-    rest = inset(island, 0.5 * width + (count - 0.5) * spacing)
+    rest = inset(island, 0.5 * width + (laid - 0.5) * spacing)
     band = sum(piece.area for piece in walls.interior)
     if rest.area - band > BAND_REST:
         return walls            # the loops leave more than the band: infill
     # A thin band's area over half its outline is its mean width; its loops and those of
-    # the other side (2 x count in all) share it.
-    grow = band / sum(piece.length for piece in walls.interior) / count
+    # the other side (2 x laid in all) share it.
+    grow = band / sum(piece.length for piece in walls.interior) / laid
     if grow > MAX_WIDENING * width:
         return walls
     wide = perimeter_walls(island, width + grow, count, spacing + grow)

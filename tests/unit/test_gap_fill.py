@@ -173,3 +173,18 @@ def test_a_band_wider_than_the_loops_may_grow_keeps_its_gap_fill():
     assert band / 4 > MAX_WIDENING * WIDTH
     walls = island_walls(_tube(2.0), WIDTH, 2, SPACING)
     assert walls.width == WIDTH and walls.interior
+
+
+@pytest.mark.parametrize("perimeters", [2, 3, 5])
+def test_walls_with_room_for_fewer_loops_than_asked_are_widened_the_same(perimeters):
+    """A 1.7 mm wall has room for two loops a side whatever the count asked: three or five
+    perimeters give the same widened loops as two. A 0.9 mm wall, room for the external
+    loops only and a 0.14 mm band (a gap bead 0.19 mm wide, thinner than the layer), gets
+    those two widened to 0.47 mm."""
+    two = island_walls(_tube(1.7), WIDTH, 2, SPACING)
+    more = island_walls(_tube(1.7), WIDTH, perimeters, SPACING)
+    assert more.width == pytest.approx(two.width) and more.width > WIDTH
+    assert [len(rings) for rings in more.depths] == [2, 2]
+    thin = island_walls(_tube(0.9), WIDTH, perimeters, SPACING)
+    assert thin.width == pytest.approx(WIDTH + 0.5 * (0.9 - WIDTH - SPACING), rel=1e-6)
+    assert [len(rings) for rings in thin.depths] == [2] and not thin.interior
