@@ -16,7 +16,9 @@ from __future__ import annotations
 import numpy as np
 
 from freecad_conformal.errors import GeometryError
+from freecad_conformal.geometry.face_normals import plane_normal
 from freecad_conformal.geometry.sections import PlanarSlicer, extent_along
+from freecad_conformal.geometry.shape_parts import vertex_points
 from freecad_conformal.geometry.splitting_faces import SplitCandidate, interior_regions
 from freecad_conformal.geometry.surface_mesh import (mesh_deflection, sorted_below_fraction,
                                                     surface_mesh)
@@ -143,11 +145,18 @@ def _face_levels(shape, axis: np.ndarray) -> np.ndarray:
     levels = []
     for face in shape.Faces:
         surface = face.Surface
-        if type(surface).__name__ != "Plane":
-            continue
-        normal = np.array(tuple(surface.Axis), dtype=float)
+        if type(surface).__name__ == "Plane":
+            normal = np.array(tuple(surface.Axis), dtype=float)
+            on_plane = np.array(tuple(surface.Position), dtype=float)
+        else:
+            # A plane written as a B-spline (lofts, exporters, `toNurbs`): its planes
+            # landed on the sampling grid, 0.25 mm into the column under a cap.
+            normal = plane_normal(face)
+            if normal is None:
+                continue
+            on_plane = vertex_points(face)[0]
         if abs(abs(float(normal @ axis)) - 1.0) < PARALLEL_COS_SLACK:
-            levels.append(float(np.array(tuple(surface.Position), dtype=float) @ axis))
+            levels.append(float(on_plane @ axis))
     return np.array(levels)
 
 

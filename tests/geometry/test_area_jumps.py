@@ -33,10 +33,13 @@ def test_mesh_and_exact_profiles_find_the_same_jumps_on_the_crank_arm(parts_dir)
     assert key(mesh) == key(exact)
 
 
-def test_planes_lie_inside_the_part_and_on_the_face_where_the_area_jumps(App, Part):
+@pytest.mark.parametrize("as_splines", [False, True], ids=["planes", "B-spline planes"])
+def test_planes_lie_inside_the_part_and_on_the_face_where_the_area_jumps(App, Part, as_splines):
     """Along −X/−Y/−Z the planes were mirrored through the origin (a part spanning x 3..33
     got a plane at x = −12.75), and every plane sat on the sampling grid's midpoint, which
-    can cut through the member the jump belongs to."""
+    can cut through the member the jump belongs to. Faces written as B-splines
+    (`toNurbs`, as lofts and exporters write planes) are levels too: their planes sat at
+    z = 29.75, 0.25 mm into the column under the cap."""
     import numpy as np
 
     from freecad_conformal.geometry.area_jumps import area_jump_planes
@@ -45,6 +48,9 @@ def test_planes_lie_inside_the_part_and_on_the_face_where_the_area_jumps(App, Pa
     column = Part.makeBox(10, 10, 30, V(13, 10, 0))
     cap = Part.makeBox(30, 30, 5, V(3, 0, 30))
     part = column.fuse(cap).removeSplitter()
+    if as_splines:
+        part = part.toNurbs()
+        assert {type(face.Surface).__name__ for face in part.Faces} == {"BSplineSurface"}
     box = part.BoundBox
     planes = area_jump_planes(part, np.array([1.0, 0.0, 0.0]))
     assert planes
