@@ -24,6 +24,7 @@ from typing import Sequence
 
 import numpy as np
 
+from freecad_conformal.geometry.face_normals import plane_normal
 from freecad_conformal.paths.milling import MillPass, MillTool
 
 #: Cusp height (mm) left between neighbouring passes on a flat: under the 0.05 mm
@@ -98,8 +99,8 @@ def finish_faces(part, directions: Sequence[np.ndarray], holes: Sequence = ()) -
     for index, face in enumerate(part.Faces):
         surface = face.Surface
         kind = type(surface).__name__
-        if kind == "Plane":
-            continue
+        if plane_normal(face) is not None:
+            continue                      # a plane, B-spline planes too: faced, not balled
         along = _generator(surface)
         if along is not None and any(abs(float(along @ d)) > PARALLEL
                                      for d in directions):

@@ -33,6 +33,7 @@ from shapely.geometry import MultiPolygon
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.face_normals import plane_normal
 from freecad_conformal.geometry.frames import LayerFrame
 from freecad_conformal.geometry.holes import Hole
 from freecad_conformal.geometry.sections import PlanarSlicer
@@ -361,10 +362,9 @@ def finishing_axes(shapes: Sequence, directions: Sequence[np.ndarray], root: np.
     up = np.asarray(root, dtype=float) / np.linalg.norm(root)
     for shape in shapes:
         for face in shape.Faces:
-            if type(face.Surface).__name__ != "Plane":
+            m = plane_normal(face)        # B-spline planes too (lofts, exporters)
+            if m is None:
                 continue
-            u0, u1, v0, v1 = face.ParameterRange
-            m = np.array(tuple(face.normalAt(0.5 * (u0 + u1), 0.5 * (v0 + v1))))
             if any(abs(float(m @ a)) < PARALLEL_FACE for a in axes):
                 continue
             along_face = up - float(up @ m) * m

@@ -7,6 +7,7 @@ import numpy as np
 
 from freecad_conformal.decomposition.subparts import BuildPlan
 from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.face_normals import plane_normal
 from freecad_conformal.geometry.holes import Hole
 from freecad_conformal.geometry.stock import surface_samples
 from freecad_conformal.layers.model import Layer
@@ -35,7 +36,7 @@ def _flat_walls(shape, layer: Layer, stack: Sequence[Layer], k: int) -> bool:
     point = stack[k + 1].frame.to_3d(uv, stack[k + 1].section_height)[0]
     vertex = Part.Vertex(App.Vector(*point))
     nearest = min(shape.Faces, key=lambda f: f.distToShape(vertex)[0])
-    return type(nearest.Surface).__name__ == "Plane"
+    return plane_normal(nearest) is not None      # B-spline planes too
 
 
 def _top_along(layer: Layer, normal: np.ndarray) -> float:
