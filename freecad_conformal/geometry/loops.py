@@ -24,6 +24,15 @@ Mapping = Callable[[np.ndarray], np.ndarray]
 RING_REPAIR = "structure"
 
 
+def grid_key(geometry, step: float, origin: np.ndarray | None = None) -> bytes:
+    """The 2D geometry's coordinates (less `origin`) in whole steps of `step`, as WKB: a
+    dictionary key under which geometries the same but for rounding meet (+0.0: −0.0 has
+    other bytes). A tenth of the time GEOS's set_precision takes."""
+    shift = np.zeros(2) if origin is None else np.asarray(origin, dtype=float)
+    return shapely.to_wkb(shapely.transform(
+        geometry, lambda points: np.rint((points - shift) / step) + 0.0))
+
+
 def following(values: np.ndarray) -> np.ndarray:
     """Each row's successor round a closed polygon: np.roll(values, -1, axis=0), which costs
     ten times as much for the short arrays of section loops."""

@@ -22,7 +22,7 @@ import numpy as np
 import shapely
 from shapely.geometry import LineString, MultiLineString, MultiPoint, Polygon
 
-from freecad_conformal.geometry.loops import signed_area
+from freecad_conformal.geometry.loops import grid_key, signed_area
 from freecad_conformal.tolerances import COINCIDENT_POINTS
 
 #: Narrower than this share of the bead, a feature is left out (PrusaSlicer's Arachne: its
@@ -255,7 +255,7 @@ def medial_beads(features: list[Polygon], width: float) -> list[tuple[np.ndarray
     beads = []
     for feature in features:
         corner = np.asarray(feature.bounds[:2])
-        key = (_moved_key(feature, corner), width)
+        key = (grid_key(feature, SAME_OUTLINE, corner), width)
         found = _AXES.get(key)
         if found is None:
             made = _feature_beads(feature, width)
@@ -275,11 +275,6 @@ _AXES: dict[tuple, list] = {}
 MAX_AXES = 4096
 #: Outline coordinates (mm) this close are the same in the key.
 SAME_OUTLINE = 1e-9
-
-
-def _moved_key(feature: Polygon, corner: np.ndarray) -> bytes:
-    return shapely.to_wkb(shapely.transform(
-        feature, lambda points: np.rint((points - corner) / SAME_OUTLINE) + 0.0))
 
 
 def _feature_beads(feature: Polygon, width: float) -> list[tuple[np.ndarray, float, bool]]:
