@@ -32,9 +32,9 @@ PathSettings = Any
 #: points only cost time downstream.
 SIMPLIFY_FRACTION = 1.0 / 40.0
 
-#: Distinct layer regions from which a child pays: it starts in ~0.3 s (interpreter, numpy,
-#: shapely) and a layer's fill takes 3-13 ms, once per distinct layer. Measured (alone ->
-#: shared): Pump_Nut's 75 layers 0.98-1.11 -> 0.64-0.70 s, the screw's 211 (110 distinct)
+#: Distinct fills (`_distinct`) from which a child pays: it starts in ~0.3 s (interpreter,
+#: numpy, shapely) and a layer's fill takes 3-13 ms, once per distinct fill. Measured (alone
+#: -> shared): Pump_Nut's 75 layers 0.98-1.11 -> 0.64-0.70 s, the screw's 211 (110 distinct)
 #: 0.92-1.08 -> 0.61-0.64 s, the hinge's 200 0.62-0.70 -> 0.44-0.46 s; wedge_ok's 38 0.10 ->
 #: 0.13-0.26 s, the jack's 850 layers of 7 regions 0.19 -> 0.21-0.24 s.
 MIN_CHILD_LAYERS = 60
@@ -157,8 +157,12 @@ def stack_fills(stacks: Sequence[tuple[Sequence[Layer], bool]], settings: PathSe
 
 
 def _distinct(stacks: Sequence[tuple[Sequence[Layer], bool]]) -> int:
-    """How many distinct regions the stacks' layers have (a prism's repeat: filled once)."""
-    return len({_grid_key(layer.region) for layers, _ in stacks for layer in layers})
+    """How many distinct fills the stacks' layers take, about: their regions, each at the
+    layer parities it meets (a prism's repeat: filled once a parity). Regions alone, read
+    to rounding, counted a pipe tee's 409 layers as 42, and its 103 fills, 2 s of them,
+    were made without a child."""
+    return len({(_grid_key(layer.region), layer.index % 2)
+                for layers, _ in stacks for layer in layers})
 
 
 def _from_the_end(request: dict, send: Callable[[object], None]) -> None:

@@ -95,3 +95,14 @@ def test_a_stack_of_one_region_but_for_rounding_is_costed_once_per_kind(monkeypa
     middle = [c for c in found.layers[3:-3]]
     assert all(dataclasses.astuple(c)[1:] == dataclasses.astuple(middle[i % 2])[1:]
                for i, c in enumerate(middle))
+
+
+def test_distinct_fills_count_each_region_at_each_parity_to_rounding():
+    """Whether a child fills layers meanwhile depends on how many distinct fills there are:
+    a region at both parities is two (the infill turns), and the same region but for
+    rounding is one. Regions alone counted a pipe tee's 103 fills as 42, and no child
+    helped with them."""
+    stack = _noisy_stack(24)
+    assert stack_fill._distinct([(stack, False)]) == 2
+    moved = [_layer(i, _tube(1e-3 * (i // 2)), 0.2) for i in range(24)]    # 12 regions
+    assert stack_fill._distinct([(moved, False)]) == 24
