@@ -15,11 +15,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable, Sequence
 
-
 from freecad_conformal.child_python import ChildPython, can_start_child, can_stream, serve_items
 from freecad_conformal.geometry.loops import grid_key
 from freecad_conformal.paths.fill2d import IslandFill, layer_fill
 from freecad_conformal.paths.map3d import bridge_at, skin_at
+from freecad_conformal.tolerances import COINCIDENT_POINTS
 
 if TYPE_CHECKING:
     from freecad_conformal.layers.model import Layer
@@ -107,8 +107,8 @@ class _Maker:
 #: part's sections carry their turn's: a square tube's 0.2 mm layers came as
 #: 0.19999999999999996 and 0.20000000000000018 mm thick, and built upside down its corners
 #: at 0 and 1.5e-17 mm, so its 150 layers of one region were filled and costed as if they
-#: differed.
-SAME_FILL = 1e-9
+#: differed. Points equal to rounding are one everywhere (`COINCIDENT_POINTS`).
+SAME_FILL = COINCIDENT_POINTS
 
 
 def fill_key(region, skin, bridge, layer: Layer) -> tuple:

@@ -255,7 +255,7 @@ def medial_beads(features: list[Polygon], width: float) -> list[tuple[np.ndarray
     beads = []
     for feature in features:
         corner = np.asarray(feature.bounds[:2])
-        key = (grid_key(feature, SAME_OUTLINE, corner), width)
+        key = (grid_key(feature, COINCIDENT_POINTS, corner), width)
         found = _AXES.get(key)
         if found is None:
             made = _feature_beads(feature, width)
@@ -268,13 +268,11 @@ def medial_beads(features: list[Polygon], width: float) -> list[tuple[np.ndarray
     return beads
 
 
-#: Beads of features met before, by outline (moved to its box's corner, to `SAME_OUTLINE`)
-#: and bead width, oldest first: the 12 fins of a heat sink gave 156 gap axes a plan (0.7 s
-#: of its 2.2 s), 13 of them different. At most MAX_AXES are kept.
+#: Beads of features met before, by outline (moved to its box's corner, to
+#: `COINCIDENT_POINTS`) and bead width, oldest first: the 12 fins of a heat sink gave 156
+#: gap axes a plan (0.7 s of its 2.2 s), 13 of them different. At most MAX_AXES are kept.
 _AXES: dict[tuple, list] = {}
 MAX_AXES = 4096
-#: Outline coordinates (mm) this close are the same in the key.
-SAME_OUTLINE = 1e-9
 
 
 def _feature_beads(feature: Polygon, width: float) -> list[tuple[np.ndarray, float, bool]]:
