@@ -185,7 +185,7 @@ def _objective(candidates: list[Candidate], objective: str) -> Callable[[Candida
 def _whole_directions(solid, angle: float) -> list[np.ndarray]:
     """Directions that leave the whole solid support-free on a flat face, lowest first."""
     found = [d for d in orientation_candidates(solid)
-             if overhang_area(solid, d, angle) <= MIN_SAVING and base_area(solid, d) >= MIN_BASE_AREA]
+             if base_area(solid, d) >= MIN_BASE_AREA and overhang_area(solid, d, angle) <= MIN_SAVING]
 
     def height(d: np.ndarray) -> float:
         low, high = extent_along(solid, d)
