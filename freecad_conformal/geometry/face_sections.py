@@ -25,7 +25,7 @@ from freecad_conformal.geometry.face_normals import FREEFORM_SURFACES, plane_nor
 from freecad_conformal.geometry.frames import cross, points_array
 from freecad_conformal.geometry.plane_curves import (ON_CURVE, VERTEX_CLEARANCE, closed_piece, curve_name,
                                                      curve_end, curve_spans, edge_crosser, finite,
-                                                     surface_curves)
+                                                     span_middle, surface_curves)
 from freecad_conformal.geometry.planar_faces import (Piece, PlaneFrame, SectionFace,
                                                      faces_from_pieces)
 from freecad_conformal.geometry.revolved_torus import revolved_torus
@@ -403,7 +403,7 @@ class FaceCutter:
                     # side blends along X), or one piece of a walked curve (below).
                     if self._misses_face(data, curve, start, end):
                         continue
-                elif not data.domain.contains(curve.value(0.5 * (start + end))):
+                elif not data.domain.contains(span_middle(curve, start, end)):
                     continue
                 spans.append([curve, start, end, first, last])
         seam_ids = [pid for pid in point_ids if owners[pid].seam]

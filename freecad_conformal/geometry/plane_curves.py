@@ -213,6 +213,20 @@ def closed_piece(curve, start: float, end: float) -> bool:
     return finite(start) and finite(end) and point_gap(curve, start, end) < ON_CURVE
 
 
+def span_middle(curve, start: float, end: float):
+    """The curve's point halfway through the span (start, end) in parameter. `curve_spans`
+    runs a closed curve's last span past LastParameter; a non-periodic parametrisation
+    (a B-spline fitted through a closed section) is not read there but extrapolated, so the
+    middle is taken back by one turn. Read at the extrapolated point, the fan hub's span
+    across its section's start, outside the face, was kept as inside: 22 of its layers went
+    to the Boolean (1.1 s)."""
+    middle = 0.5 * (start + end)
+    lo, hi = curve.FirstParameter, curve.LastParameter
+    if middle > hi and not curve.isPeriodic():
+        middle -= hi - lo
+    return curve.value(middle)
+
+
 def curve_spans(curve, stops: list[tuple[float, int]]) -> Iterator[Span]:
     """Pieces of `curve` between its stops (parameter, crossing id), sorted by parameter.
 

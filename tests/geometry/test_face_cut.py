@@ -444,3 +444,55 @@ def test_planar_b_spline_sides_are_cut_as_their_planes():
     assert [type(data.cut_surface).__name__ for data in cutter.faces].count("Plane") == 6
     for direction in ((0.0, 1.0, 0.0), (-0.978, -0.0714, 0.196), (0.3, -0.5, 0.8)):
         _assert_match(_compare(prism, direction, spacing=0.9), least=1.0)
+
+
+def _notched_loft(App, Part):
+    """An elliptic loft of closed, non-periodic B-spline profiles with a notch cut along
+    +X: its side's section is one closed curve, part of it (the notch) outside the face."""
+    def profile(z: float, a: float, b: float):
+        points = [App.Vector(a * math.cos(t), b * math.sin(t), z)
+                  for t in np.linspace(0.0, 2.0 * math.pi, 12, endpoint=False)]
+        curve = Part.BSplineCurve()
+        curve.interpolate(points + [points[0]], PeriodicFlag=False)
+        return Part.Wire(curve.toShape())
+
+    loft = Part.makeLoft([profile(0.0, 10.0, 6.0), profile(10.0, 8.0, 5.0)], True, False)
+    return loft.cut(Part.makeBox(4, 2, 10, App.Vector(7, -1, 0))).Solids[0]
+
+
+@pytest.mark.parametrize("shift", [4, 8, 12])
+def test_a_piece_across_a_closed_curves_start_is_told_inside_or_out_on_the_curve(
+        App, Part, monkeypatch, shift):
+    """A closed curve's last piece runs past the end of a non-periodic parametrisation
+    (`plane_curves.curve_spans`): whether it lies in the face is read at its middle taken
+    back one turn (`span_middle`), not at a point OCC extrapolates off the curve. Read
+    there, the fan hub's piece in its blade's notch was kept: 22 of its layers went to the
+    Boolean. Here the section curves start beside the notch, as the hub's did."""
+    import freecad_conformal.geometry.face_sections as face_sections
+
+    solid = _notched_loft(App, Part)
+    fitted = face_sections.surface_curves
+
+    def started_beside_the_notch(surface, parameter_range, plane, n, height):
+        curves = fitted(surface, parameter_range, plane, n, height)
+        moved = []
+        for curve in curves or []:
+            if not isinstance(curve, Part.BSplineCurve) or curve.isPeriodic():
+                moved.append(curve)
+                continue
+            points = curve.discretize(200)[:-1]
+            start = (int(np.argmax([p.x for p in points])) + shift) % len(points)
+            points = points[start:] + points[:start]
+            refit = Part.BSplineCurve()
+            refit.interpolate(points + [points[0]], PeriodicFlag=False)
+            moved.append(refit)
+        return moved if curves is not None else curves
+
+    monkeypatch.setattr(face_sections, "surface_curves", started_beside_the_notch)
+    cutter = FaceCutter(solid, (0, 0, 1))
+    for height in (2.5, 5.0, 7.5):
+        faces = cutter.section_faces(height)
+        assert faces is not None, height
+        plane = Part.makePlane(40, 40, App.Vector(-20, -20, height))
+        exact = sum(f.Area for f in solid.common(plane).Faces)
+        assert sum(f.face.Area for f in faces) == pytest.approx(exact, rel=AREA_REL)
