@@ -218,7 +218,7 @@ def span_middle(curve, start: float, end: float):
     runs a closed curve's last span past LastParameter; a non-periodic parametrisation
     (a B-spline fitted through a closed section) is not read there but extrapolated, so the
     middle is taken back by one turn. Read at the extrapolated point, the fan hub's span
-    across its section's start, outside the face, was kept as inside: 22 of its layers went
+    across its section's start, outside the face, was kept as inside: 21 of its layers went
     to the Boolean (1.1 s)."""
     middle = 0.5 * (start + end)
     lo, hi = curve.FirstParameter, curve.LastParameter
