@@ -260,8 +260,8 @@ def _support_free_whole(solid, root: np.ndarray, angle: float) -> np.ndarray | N
     if overhang_area(solid, root, angle) <= MIN_SAVING:
         return None
     for direction in orientation_candidates(solid):
-        if (base_area(solid, direction) >= MIN_BASE_AREA
-                and overhang_area(solid, direction, angle) <= MIN_SAVING):
+        if (overhang_area(solid, direction, angle) <= MIN_SAVING
+                and base_area(solid, direction) >= MIN_BASE_AREA):
             return direction
     return None
 

@@ -184,11 +184,8 @@ def _objective(candidates: list[Candidate], objective: str) -> Callable[[Candida
 
 def _whole_directions(solid, angle: float) -> list[np.ndarray]:
     """Directions that leave the whole solid support-free on a flat face, lowest first."""
-    # The base first: it is read from the planar faces alone, where the overhang integrates
-    # every curved face's mesh, and no one else asks the overhang of a direction the part
-    # cannot stand in.
     found = [d for d in orientation_candidates(solid)
-             if base_area(solid, d) >= MIN_BASE_AREA and overhang_area(solid, d, angle) <= MIN_SAVING]
+             if overhang_area(solid, d, angle) <= MIN_SAVING and base_area(solid, d) >= MIN_BASE_AREA]
 
     def height(d: np.ndarray) -> float:
         low, high = extent_along(solid, d)
