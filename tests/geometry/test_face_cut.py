@@ -496,3 +496,34 @@ def test_a_piece_across_a_closed_curves_start_is_told_inside_or_out_on_the_curve
         plane = Part.makePlane(40, 40, App.Vector(-20, -20, height))
         exact = sum(f.Area for f in solid.common(plane).Faces)
         assert sum(f.face.Area for f in faces) == pytest.approx(exact, rel=AREA_REL)
+
+
+def test_a_curvy_boundary_is_read_in_uv_as_closely_as_its_stencil_needs(App, Part):
+    """Whether a point lies in a face is read from a polygon of its (u, v) boundary, and a
+    point the polygon may place wrongly must have a neighbour in the stencil that disagrees
+    (then OCC decides). A plate's wavy hole is one long B-spline edge: evenly spaced points
+    cut across its crests, and the middles of short chords across them (a section's piece
+    between two crossings, as on the coil spring's cut face) were read on the wrong side."""
+    from freecad_conformal.geometry.uv_domain import FaceDomain
+
+    def radius(t: float) -> float:
+        return 5.0 + 1.5 * math.cos(8.0 * t)
+
+    points = [App.Vector(radius(t) * math.cos(t), radius(t) * math.sin(t), 0.0)
+              for t in np.linspace(0.0, 2.0 * math.pi, 240, endpoint=False)]
+    curve = Part.BSplineCurve()
+    curve.interpolate(points, PeriodicFlag=True)
+    hole = Part.Face(Part.Wire(curve.toShape()))
+    plate = Part.Face(Part.makePolygon([App.Vector(x, y, 0.0) for x, y in
+                                        ((-15, -15), (15, -15), (15, 15), (-15, 15), (-15, -15))]))
+    face = plate.cut(hole).Faces[0]
+    assert len(face.Wires) == 2
+    domain = FaceDomain(face)
+    wrong = []
+    step = curve.period() / 2000.0
+    for t in np.linspace(curve.FirstParameter, curve.LastParameter, 400, endpoint=False):
+        a, b = curve.value(float(t)), curve.value(float(t) + 4.0 * step)
+        middle = App.Vector(0.5 * (a.x + b.x), 0.5 * (a.y + b.y), 0.0)
+        if domain.contains(middle) != face.isInside(middle, 1e-7, True):
+            wrong.append(float(t))
+    assert not wrong
