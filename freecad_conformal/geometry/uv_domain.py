@@ -28,9 +28,10 @@ CLASSIFY_TOLERANCE = 1e-7
 
 #: Most a boundary curve's polygon strays from it in (u, v), as a share of the face's
 #: parameter range: a quarter of the UV_AMBIGUOUS stencil, so that a point the polygon
-#: places wrongly always has neighbours that disagree, and goes to OCC. Evenly spaced
-#: points alone strayed 0.05 on a coil spring's 38 mm cut edge (range 28): a chord across
-#: it, 0.019 inside, was read as in the face and the layer went to the Boolean.
+#: places wrongly always has neighbours that disagree, and goes to OCC. With the evenly
+#: spaced points alone, the middle of a 0.39 mm chord across a coil spring's 38 mm cut
+#: edge was read as in the face where OCC has it outside (the layer went to the Boolean),
+#: and so were most such chords across a plate's wavy hole (tests/geometry/test_face_cut).
 UV_DEFLECTION = UV_AMBIGUOUS / 4.0
 
 
