@@ -122,11 +122,10 @@ def _domain_polygon(face):
             if found is None:
                 raise ValueError("edge without a curve on the face")
             curve2d, a, b = found
-            points = [curve2d.value(t) for t in np.linspace(a, b, UV_POINTS_PER_EDGE)]
-            if deflection > 0.0:
-                close = curve2d.discretize(Deflection=deflection, First=a, Last=b)
-                if len(close) > len(points):
-                    points = close
+            close = (curve2d.discretize(Deflection=deflection, First=a, Last=b)
+                     if deflection > 0.0 else [])
+            points = (close if len(close) > UV_POINTS_PER_EDGE
+                      else [curve2d.value(t) for t in np.linspace(a, b, UV_POINTS_PER_EDGE)])
             uv = [(p.x, p.y) for p in points]
             if edge.Orientation == "Reversed":
                 uv.reverse()
