@@ -570,7 +570,7 @@ def single_plan(shape, direction=(0.0, 0.0, 1.0)) -> BuildPlan:
         raise PlanError(f"build direction must be a non-zero 3-vector, got {list(direction)!r}")
     d = d / length
     subparts = [SubPart(index=k, shape=solid, build_direction=d, volume=float(solid.Volume),
-                        name=f"solid {k}", solid_index=k, overhang_area=overhang_area(solid, d))
+                        name=f"solid {k + 1}", solid_index=k, overhang_area=overhang_area(solid, d))
                 for k, solid in enumerate(solids_of(shape))]
     return BuildPlan(subparts=subparts, order=list(range(len(subparts))),
                      support_area_single_direction=float(sum(s.overhang_area for s in subparts)),

@@ -115,6 +115,15 @@ def test_single_plan_reports_the_overhang_it_leaves():
     assert up.support_area_single_direction == up.support_area
 
 
+def test_a_plan_built_whole_names_its_solids_as_the_notes_count_them(Part, App):
+    # The notes say "solid 1" of a part's first solid (layout, roots): the summary's
+    # sub-part named "solid 0" beside them read as another solid.
+    first, second = Part.makeBox(10, 10, 10), Part.makeBox(10, 10, 10, App.Vector(20, 0, 0))
+    plan = single_plan(Part.makeCompound([first, second]))
+    assert [sub.name for sub in plan.subparts] == ["solid 1", "solid 2"]
+    assert [sub.solid_index for sub in plan.subparts] == [0, 1]
+
+
 def test_a_direction_of_the_part_as_given_turns_with_the_placement():
     _, placement = turn_up(samples.jack(), (1.0, 0.0, 0.0))
     np.testing.assert_allclose(placement.rotate((1.0, 0.0, 0.0)), (0.0, 0.0, 1.0), atol=1e-12)
