@@ -259,7 +259,7 @@ def test_a_box_with_walls_thinner_than_a_bead_gets_them_and_its_cost_counts_them
 
 
 @pytest.mark.slow
-def test_a_decomposition_that_cannot_be_built_gives_way_to_the_whole_part():
+def test_a_decomposition_that_cannot_be_built_gives_way_to_the_whole_part(monkeypatch):
     """No support-free orientation, and the decomposition fails (as with no collision-free
     order): the part built whole along its best single direction is still a plan, and its
     notes say why, instead of no plan at all."""
@@ -276,9 +276,17 @@ def test_a_decomposition_that_cannot_be_built_gives_way_to_the_whole_part():
             raise PlanError("no collision-free build order for 6 sub-parts: P2 would hit P1")
         return machine_plan(jack, PlanOptions(root=root, decompose=False))
 
+    from freecad_conformal.jobs import search
+
+    sampled: list[str] = []
+    costed = search.coarse_candidate
+    monkeypatch.setattr(search, "coarse_candidate",
+                        lambda label, *args: sampled.append(label) or costed(label, *args))
     found = plan_candidates(jack, make_plan, options.layers, checked[3],
                             Motion.of(checked[4], options.jerk), DEFAULT_OVERHANG_ANGLE)
     assert [c.label.split(" (")[0] for c in found] == ["whole along"]
+    # The only candidate left is sliced once, on its layers, not first on a sample.
+    assert found[0].exact and sampled == []
     assert found[0].overhang > 100.0 and found[0].sub_parts == 1
     assert any("no decomposition could be built (no collision-free build order" in note
                for note in found[0].plan.notes)
