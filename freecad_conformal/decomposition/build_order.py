@@ -5,6 +5,15 @@ from __future__ import annotations
 from freecad_conformal.errors import PlanError
 from freecad_conformal.decomposition.subparts import SubPart
 
+class BlockedOrder(PlanError):
+    """No collision-free order: `blocked` maps each sub-part that could not be placed (its
+    index) to the indices of those it would hit."""
+
+    def __init__(self, message: str, blocked: dict[int, list[int]]) -> None:
+        super().__init__(message)
+        self.blocked = blocked
+
+
 #: Orders explored before giving up on finding a collision-free one (the search backtracks;
 #: a plan of a few dozen sub-parts stays far below this).
 MAX_ORDERS_TRIED = 20000
@@ -36,8 +45,8 @@ def build_order(subparts: list[SubPart], tool=None, notes: list[str] | None = No
             (decomposition/layout.py), so what is built of the others is in the way too; by
             default each solid is its own tree on its own bed, as decompose plans them.
     Raises:
-        PlanError: no order builds every sub-part without a collision; the message names
-            the sub-parts that could not be placed and what they hit.
+        BlockedOrder: no order builds every sub-part without a collision; the message
+            names the sub-parts that could not be placed and what they hit.
     """
     preferred = _volume_order(subparts)
     if tool is None and checker is None:
@@ -52,7 +61,8 @@ def build_order(subparts: list[SubPart], tool=None, notes: list[str] | None = No
         detail = "; ".join(f"{subparts[i].name} (along {_dir(subparts[i])}) would hit "
                            + ", ".join(subparts[j].name for j in hits)
                            for i, hits in sorted(blocked.items()))
-        raise PlanError(f"no collision-free build order for {len(subparts)} sub-parts: {detail}")
+        raise BlockedOrder(f"no collision-free build order for {len(subparts)} sub-parts: "
+                           f"{detail}", blocked)
     if notes is not None and order != preferred:
         notes.append("build order changed from largest-first to avoid tool collisions: "
                      + " ".join(subparts[i].name for i in order))

@@ -203,14 +203,75 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
         first = len(pieces)
         pieces.extend(refined)
         parents.extend(_parents_of(refined, first))
-    subparts = [_subpart(i, p, parents[i], overhang_angle) for i, p in enumerate(pieces)]
-    from freecad_conformal.decomposition.build_order import build_order
-
-    order = build_order(subparts, tool=tool if check_collisions else None, notes=notes)
+    subparts, order = _buildable(pieces, parents, overhang_angle,
+                                 tool if check_collisions else None, notes)
     single = _best_single(solids, overhang_angle)
     return BuildPlan(subparts=subparts, order=order, support_area_single_direction=single[1],
                      notes=notes, overhang_angle=overhang_angle, method=method,
                      single_direction=single[0], axes=axes)
+
+
+def _buildable(pieces: list[Piece], parents: list[int | None], angle: float, tool,
+               notes: list[str]) -> tuple[list[SubPart], list[int]]:
+    """The sub-parts of `pieces` and a collision-free build order. Where none exists, the
+    smallest sub-part that could not be placed is built with its parent (the two fused
+    back), and the order is sought again: one sliver cut the tool cannot reach past the
+    part (a knob's collar, built sideways over its base) cost every other cut of the
+    plan, which was then built whole. Raises the order's error when merging leaves no
+    cut in any solid (the part built whole is then the plan's to choose) or cannot be
+    made."""
+    from freecad_conformal.decomposition.build_order import BlockedOrder, build_order
+
+    first_error = None
+    while True:
+        subparts = [_subpart(i, p, parents[i], angle) for i, p in enumerate(pieces)]
+        try:
+            return subparts, build_order(subparts, tool=tool, notes=notes)
+        except BlockedOrder as exc:
+            # Given up, the plan's own collision is reported, not a merged one's.
+            first_error = first_error or exc
+            blocked = [i for i in exc.blocked if parents[i] is not None]
+            if not blocked:
+                raise first_error from None
+            merged = min(blocked, key=lambda i: (subparts[i].volume, i))
+            into = parents[merged]
+            fused = _fused(pieces[into], pieces[merged])
+            if fused is None:
+                raise first_error from None
+            rest = [p for i, p in enumerate(pieces) if i != merged]
+            rest[into if into < merged else into - 1] = fused
+            if all(p.rule == "root" for p in rest):
+                # No cut left: the part built whole is a candidate of its own.
+                raise first_error from None
+            notes.append(f"{subparts[merged].name} (along {_text(pieces[merged].direction)}) "
+                         f"would hit {', '.join(subparts[j].name for j in exc.blocked[merged])}"
+                         f": built with {subparts[into].name} instead")
+            pieces, parents = rest, _regrouped_parents(rest)
+
+
+def _fused(parent: Piece, child: Piece) -> Piece | None:
+    """`child` fused back into `parent` (the cut between them undone), built as the parent
+    is; None when OCC's fuse gives no single valid solid."""
+    shape = parent.shape.fuse(child.shape).removeSplitter()
+    solids = shape.Solids
+    if len(solids) != 1 or not solids[0].isValid():
+        return None
+    return Piece(solids[0], parent.direction, parent.base_faces, parent.solid_index,
+                 parent.rule, deflection=parent.deflection)
+
+
+def _regrouped_parents(pieces: list[Piece]) -> list[int | None]:
+    """Each piece's parent (`_parents_of`), solid by solid (a solid's pieces are
+    consecutive)."""
+    parents: list[int | None] = []
+    first = 0
+    while first < len(pieces):
+        last = first
+        while last < len(pieces) and pieces[last].solid_index == pieces[first].solid_index:
+            last += 1
+        parents.extend(_parents_of(pieces[first:last], first))
+        first = last
+    return parents
 
 
 def _turned_further(plan: Planner, root: np.ndarray, best_axis: tuple[np.ndarray, float],

@@ -340,3 +340,58 @@ def overhang_of(shape) -> float:
     from freecad_conformal.geometry.overhang import overhang_area
 
     return overhang_area(shape, np.array([0.0, 0.0, 1.0]), math.radians(45.0))
+
+
+def _post_with_arms(App, Part, low_arm: bool):
+    """A column on a wide foot with a collar and an arm high up; with `low_arm`, a second
+    arm just above the foot, which a tool building it sideways would drive into the foot."""
+    V = App.Vector
+    post = Part.makeCylinder(5, 40).fuse([
+        Part.makeCylinder(15, 3), Part.makeTorus(5, 2.5, V(0, 0, 36)),
+        Part.makeCylinder(2.5, 20, V(0, 0, 25), V(0, 1, 0))])
+    if low_arm:
+        post = post.fuse(Part.makeCylinder(2, 16, V(0, 0, 7), V(0, -1, 0)))
+    return post.removeSplitter().Solids[0]
+
+
+@pytest.mark.slow
+def test_a_cut_the_tool_cannot_build_is_undone_and_the_others_are_kept(App, Part):
+    """The low arm's cut would build it sideways into the foot: that sub-part is fused back
+    into the column and the other cuts stay. Before, that one collision left no plan at all
+    (`plan` then built the part whole: 167.3 mm² of overhang against 87.6)."""
+    part = _post_with_arms(App, Part, low_arm=True)
+    free = decompose(part, root_direction=(0, 0, 1), check_collisions=False)
+    plan = decompose(part, root_direction=(0, 0, 1))
+    assert len(plan.subparts) == len(free.subparts) - 1
+    assert any("would hit P1: built with P1 instead" in note for note in plan.notes)
+    assert sum(s.volume for s in plan.subparts) == pytest.approx(part.Volume, rel=1e-6)
+    column = plan.subparts[plan.order[0]]
+    assert column.parent is None and column.shape.isValid()
+    # the low arm is in the column again: its section 7 mm up reaches 16 mm out along -Y
+    assert column.shape.BoundBox.YMin == pytest.approx(-16.0, abs=1e-6)
+    # the kept cuts still save most of the overhang
+    assert free.support_area < plan.support_area < 0.6 * plan.support_area_single_direction
+    high_arm = max(plan.subparts, key=lambda s: s.volume if s.parent is not None else 0.0)
+    np.testing.assert_allclose(high_arm.build_direction, [0, 1, 0], atol=1e-9)
+
+
+def test_a_plan_whose_only_cut_cannot_be_built_still_says_so(App, Part, monkeypatch):
+    """Undoing the one cut leaves the solid whole, which is not a decomposition: the error
+    names the collision of the plan as made (the caller then builds the part whole)."""
+    from freecad_conformal.decomposition import decompose as module
+    from freecad_conformal.errors import PlanError
+
+    fused: list[str] = []
+    real = module._fused
+    monkeypatch.setattr(module, "_fused", lambda parent, child: fused.append(child.rule)
+                        or real(parent, child))
+    V = App.Vector
+    # a pawn: a turned body under a collar and a ball; the one cut takes the collar's side
+    outline = Part.makePolygon([V(0, 0, 0), V(12, 0, 0), V(12, 0, 4), V(6, 0, 8), V(5, 0, 22),
+                                V(0, 0, 22), V(0, 0, 0)])
+    body = Part.Solid(Part.Shell(Part.Face(outline).revolve(V(), V(0, 0, 1), 360).Faces))
+    pawn = body.fuse([Part.makeTorus(5, 2.5, V(0, 0, 20)), Part.makeSphere(6, V(0, 0, 26))])
+    pawn = pawn.removeSplitter().Solids[0]
+    with pytest.raises(PlanError, match=r"for 2 sub-parts: P2 \(along .*\) would hit P1"):
+        decompose(pawn, root_direction=(0, 0, 1))
+    assert len(fused) == 1
