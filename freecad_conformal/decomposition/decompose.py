@@ -203,17 +203,21 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
         first = len(pieces)
         pieces.extend(refined)
         parents.extend(_parents_of(refined, first))
-    subparts, order = _buildable(pieces, parents, overhang_angle,
-                                 tool if check_collisions else None, notes)
+    subparts, order, undone = _buildable(pieces, parents, overhang_angle,
+                                         tool if check_collisions else None, notes)
     single = _best_single(solids, overhang_angle)
+    reason = None if not undone else (
+        f"the cut{'s' if len(undone) > 1 else ''} of {', '.join(undone)} undone, as the tool "
+        f"would hit the part building {'them' if len(undone) > 1 else 'it'}")
     return BuildPlan(subparts=subparts, order=order, support_area_single_direction=single[1],
                      notes=notes, overhang_angle=overhang_angle, method=method,
-                     single_direction=single[0], axes=axes)
+                     single_direction=single[0], axes=axes, support_reason=reason)
 
 
 def _buildable(pieces: list[Piece], parents: list[int | None], angle: float, tool,
-               notes: list[str]) -> tuple[list[SubPart], list[int]]:
-    """The sub-parts of `pieces` and a collision-free build order. Where none exists, the
+               notes: list[str]) -> tuple[list[SubPart], list[int], list[str]]:
+    """The sub-parts of `pieces`, a collision-free build order and the names (as first
+    planned) of the sub-parts whose cuts were undone for it. Where no order exists, the
     smallest sub-part that could not be placed is built with its parent (the two fused
     back), and the order is sought again: one sliver cut the tool cannot reach past the
     part (a knob's collar, built sideways over its base) cost every other cut of the
@@ -223,13 +227,16 @@ def _buildable(pieces: list[Piece], parents: list[int | None], angle: float, too
     from freecad_conformal.decomposition.build_order import BlockedOrder, build_order
 
     first_error = None
+    undone: list[str] = []
     while True:
         subparts = [_subpart(i, p, parents[i], angle) for i, p in enumerate(pieces)]
         try:
-            return subparts, build_order(subparts, tool=tool, notes=notes)
+            return subparts, build_order(subparts, tool=tool, notes=notes), undone
         except BlockedOrder as exc:
             # Given up, the plan's own collision is reported, not a merged one's.
-            first_error = first_error or exc
+            if first_error is None:
+                first_error = exc
+                first_names = {id(p): s.name for p, s in zip(pieces, subparts)}
             blocked = [i for i in exc.blocked if parents[i] is not None]
             if not blocked:
                 raise first_error from None
@@ -243,9 +250,13 @@ def _buildable(pieces: list[Piece], parents: list[int | None], angle: float, too
             if all(p.rule == "root" for p in rest):
                 # No cut left: the part built whole is a candidate of its own.
                 raise first_error from None
-            notes.append(f"{subparts[merged].name} (along {_text(pieces[merged].direction)}) "
-                         f"would hit {', '.join(subparts[j].name for j in exc.blocked[merged])}"
-                         f": built with {subparts[into].name} instead")
+            # Named as first planned: later sub-parts are numbered again after each merge.
+            name = first_names[id(pieces[merged])]
+            undone.append(name)
+            notes.append(f"{name} (along {_text(pieces[merged].direction)}) would hit "
+                         f"{', '.join(first_names[id(pieces[j])] for j in exc.blocked[merged])}"
+                         f": built with {first_names[id(pieces[into])]} instead")
+            first_names[id(fused)] = first_names[id(pieces[into])]
             pieces, parents = rest, _regrouped_parents(rest)
 
 

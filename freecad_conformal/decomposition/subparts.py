@@ -63,6 +63,10 @@ class SubPart:
                 "base_face": base, "rule": self.rule, "solid": self.solid_index}
 
 
+#: `BuildPlan.support_reason` of a part built whole because no decomposition could be made.
+WHOLE_AFTER_FAILURE = "built whole, as no decomposition could be made (see the notes)"
+
+
 @dataclass
 class BuildPlan:
     """Sub-parts and the order to build them in (indices into `subparts`)."""
@@ -77,6 +81,9 @@ class BuildPlan:
     single_direction: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, 1.0]))
     #: the centroidal axis of each solid (AxisGraph), for preview and the slicer
     axes: list = field(default_factory=list, repr=False)
+    #: why overhang is left, where it is not that no cut saves enough (cuts undone because
+    #: the tool would hit the part building them; a decomposition that could not be built)
+    support_reason: str | None = None
 
     @property
     def support_area(self) -> float:

@@ -355,6 +355,9 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
                                         machine=machine)
             plan.notes.insert(0, f"no decomposition could be built ({exc}); each solid is "
                                  "built whole")
+            from freecad_conformal.decomposition.subparts import WHOLE_AFTER_FAILURE
+
+            plan.support_reason = WHOLE_AFTER_FAILURE
         if centred:
             plan.notes.insert(0, centred)
         return Choice(placed, plan)

@@ -31,15 +31,8 @@ def summary_text(result) -> str:
                      f"{sub.layers:>6} {sub.thickness_min:>6.3f}-{sub.thickness_max:<6.3f} "
                      f"{sub.tilted_layers:>6} {sub.deposit_length / 1000:>8.2f} {sub.material / 1000:>8.3f}")
     plan = result.plan
-    support = ("none" if plan.support_area <= 0 else f"{plan.support_area:.1f} mm2 of overhang "
-               "beyond the allowed angle left (no cut found saves "
-               f"{MIN_SAVING_FRACTION:.0%} of a sub-part's overhang or more: it needs support)")
-    if plan.support_area > 0 and any(sub.tilted_layers for sub in result.subparts):
-        # the decomposition measures its sub-parts as built in planar layers
-        where = ("; the hybrid support line below has what the deposited layers need"
-                 if result.hybrid is not None else "")
-        support = (f"{plan.support_area:.1f} mm2 of overhang beyond the allowed angle as if "
-                   f"built in planar layers (the 3-D layers print some of it unsupported{where})")
+    support = support_text(plan, any(sub.tilted_layers for sub in result.subparts),
+                           result.hybrid is not None)
     lines += [
         "",
         f"build order: {' -> '.join(str(i) for i in plan.order)}",
@@ -58,6 +51,23 @@ def summary_text(result) -> str:
     lines += _hybrid_lines(result.hybrid)
     lines += [f"note: {note}" for note in plan.notes]
     return "\n".join(lines) + "\n"
+
+
+def support_text(plan, tilted: bool, hybrid: bool) -> str:
+    """What the summary says of the overhang `plan` leaves: how much, and why it is left.
+    `tilted`: some layers are 3-D; `hybrid`: the plan mills too."""
+    if plan.support_area <= 0:
+        return "none"
+    if tilted:
+        # the decomposition measures its sub-parts as built in planar layers
+        where = ("; the hybrid support line below has what the deposited layers need"
+                 if hybrid else "")
+        return (f"{plan.support_area:.1f} mm2 of overhang beyond the allowed angle as if "
+                f"built in planar layers (the 3-D layers print some of it unsupported{where})")
+    why = plan.support_reason or (f"no cut found saves {MIN_SAVING_FRACTION:.0%} of a "
+                                  "sub-part's overhang or more")
+    return (f"{plan.support_area:.1f} mm2 of overhang beyond the allowed angle left ({why}; it "
+            "needs support)")
 
 
 def _hybrid_lines(hybrid) -> list[str]:

@@ -32,7 +32,7 @@ from typing import Callable
 import numpy as np
 
 from freecad_conformal.decomposition.planner import MIN_SAVING
-from freecad_conformal.decomposition.subparts import BuildPlan
+from freecad_conformal.decomposition.subparts import WHOLE_AFTER_FAILURE, BuildPlan
 from freecad_conformal.errors import GeometryError, PlanError
 from freecad_conformal.geometry.overhang import (MIN_BASE_AREA, base_area, best_single_direction,
                                                  orientation_candidates, overhang_area)
@@ -313,6 +313,9 @@ def _made(solid, makers: list, make_plan, layer_settings, path_settings: PathSet
             failures.append((label, PlanError("the part is thinner than one layer")))
             continue
         plan.notes.extend(notes)
+        if notes and not split:
+            # Built whole because the decomposition failed: a cut may well save overhang.
+            plan.support_reason = WHOLE_AFTER_FAILURE
         candidates.append(made)
         numbers.append(number)
         if split and plan.support_area > MIN_SAVING:

@@ -363,7 +363,13 @@ def test_a_cut_the_tool_cannot_build_is_undone_and_the_others_are_kept(App, Part
     free = decompose(part, root_direction=(0, 0, 1), check_collisions=False)
     plan = decompose(part, root_direction=(0, 0, 1))
     assert len(plan.subparts) == len(free.subparts) - 1
-    assert any("would hit P1: built with P1 instead" in note for note in plan.notes)
+    # named as first planned: the low arm, built along -Y
+    low_arm = max((s for s in free.subparts if s.build_direction[1] < -0.5),
+                  key=lambda s: s.volume)
+    assert any(note.startswith(f"{low_arm.name} (along") and "built with P1 instead" in note
+               for note in plan.notes)
+    assert plan.support_reason == (f"the cut of {low_arm.name} undone, as the tool would hit "
+                                   "the part building it")
     assert sum(s.volume for s in plan.subparts) == pytest.approx(part.Volume, rel=1e-6)
     column = plan.subparts[plan.order[0]]
     assert column.parent is None and column.shape.isValid()
