@@ -5,6 +5,7 @@ from __future__ import annotations
 from freecad_conformal.errors import PlanError
 from freecad_conformal.decomposition.subparts import SubPart
 
+
 class BlockedOrder(PlanError):
     """No collision-free order: `blocked` maps each sub-part that could not be placed (its
     index) to the indices of those it would hit."""

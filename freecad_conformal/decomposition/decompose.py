@@ -219,10 +219,10 @@ def _buildable(pieces: list[Piece], parents: list[int | None], angle: float, too
     """The sub-parts of `pieces`, a collision-free build order and the names (as first
     planned) of the sub-parts whose cuts were undone for it. Where no order exists, the
     smallest sub-part that could not be placed is built with its parent (the two fused
-    back), and the order is sought again: one sliver cut the tool cannot reach past the
-    part (a knob's collar, built sideways over its base) cost every other cut of the
+    back), and the order is sought again: one cut the tool cannot build past the part (a
+    side arm just above a wide foot, built sideways into it) cost every other cut of the
     plan, which was then built whole. Raises the order's error when merging leaves no
-    cut in any solid (the part built whole is then the plan's to choose) or cannot be
+    cut in any solid (the part built whole is then the caller's to choose) or cannot be
     made."""
     from freecad_conformal.decomposition.build_order import BlockedOrder, build_order
 
@@ -263,8 +263,13 @@ def _buildable(pieces: list[Piece], parents: list[int | None], angle: float, too
 def _fused(parent: Piece, child: Piece) -> Piece | None:
     """`child` fused back into `parent` (the cut between them undone), built as the parent
     is; None when OCC's fuse gives no single valid solid."""
-    shape = parent.shape.fuse(child.shape).removeSplitter()
-    solids = shape.Solids
+    from freecad_conformal.freecad_env import import_freecad
+
+    _, Part = import_freecad()
+    try:
+        solids = parent.shape.fuse(child.shape).removeSplitter().Solids
+    except Part.OCCError:
+        return None
     if len(solids) != 1 or not solids[0].isValid():
         return None
     return Piece(solids[0], parent.direction, parent.base_faces, parent.solid_index,
