@@ -64,10 +64,17 @@ def support_text(plan, tilted: bool, hybrid: bool) -> str:
                  if hybrid else "")
         return (f"{plan.support_area:.1f} mm2 of overhang beyond the allowed angle as if "
                 f"built in planar layers (the 3-D layers print some of it unsupported{where})")
-    why = plan.support_reason or (f"no cut found saves {MIN_SAVING_FRACTION:.0%} of a "
-                                  "sub-part's overhang or more")
-    return (f"{plan.support_area:.1f} mm2 of overhang beyond the allowed angle left ({why}; it "
-            "needs support)")
+    return (f"{plan.support_area:.1f} mm2 of overhang beyond the allowed angle left "
+            f"({overhang_reason(plan)}; it needs support)")
+
+
+def overhang_reason(plan) -> str | None:
+    """Why `plan` leaves overhang (None when it leaves none): its own reason where it has
+    one (`BuildPlan.support_reason`), else that no cut saves enough."""
+    if plan.support_area <= 0:
+        return None
+    return plan.support_reason or (f"no cut found saves {MIN_SAVING_FRACTION:.0%} of a "
+                                   "sub-part's overhang or more")
 
 
 def _hybrid_lines(hybrid) -> list[str]:
@@ -155,6 +162,7 @@ def report_data(result) -> dict:
         "material_mm3": result.material_volume,
         "time_s": result.time_s,
         "residual_overhang_mm2": plan.support_area,
+        "residual_overhang_reason": overhang_reason(plan),
         "single_direction_overhang_mm2": plan.support_area_single_direction,
         "build_order": list(plan.order),
         "sub_parts": sub_parts,

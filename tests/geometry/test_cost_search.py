@@ -289,9 +289,10 @@ def test_a_decomposition_that_cannot_be_built_gives_way_to_the_whole_part(monkey
     assert found[0].exact and sampled == []
     # and the summary does not say that no cut was found
     from freecad_conformal.decomposition.subparts import WHOLE_AFTER_FAILURE
-    from freecad_conformal.jobs.report import support_text
+    from freecad_conformal.jobs.report import overhang_reason, support_text
 
     assert found[0].plan.support_reason == WHOLE_AFTER_FAILURE
+    assert overhang_reason(found[0].plan) == WHOLE_AFTER_FAILURE     # the report's too
     said = support_text(found[0].plan, tilted=False, hybrid=False)
     assert WHOLE_AFTER_FAILURE in said and "no cut found" not in said
     assert found[0].overhang > 100.0 and found[0].sub_parts == 1

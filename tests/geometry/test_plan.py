@@ -167,5 +167,6 @@ def test_plan_report_json_names_every_setting_it_used(tmp_path):
     assert data["settings"]["layer_height"] == {"value": 0.3, "unit": "mm"}
     assert data["settings"]["infill"]["value"] == 15.0
     assert data["residual_overhang_mm2"] == 0.0 and len(data["sub_parts"]) == 1
+    assert data["residual_overhang_reason"] is None
     assert data["material_mm3"] == pytest.approx(sum(s["material_mm3"] for s in data["sub_parts"]))
     assert sum(s["volume_mm3"] for s in data["sub_parts"]) == pytest.approx(samples.t_block().Volume)
