@@ -22,7 +22,7 @@ from freecad_conformal.paths.assemble import Assembly, PathSettings, assemble
 from freecad_conformal.paths.timing import DEFAULT_JERK, estimate_time, jerk_record
 from freecad_conformal.layers.model import Layer, LayerSettings, check_thickness
 from freecad_conformal.layers.plan import plan_layers
-from freecad_conformal.decomposition.subparts import BuildPlan
+from freecad_conformal.decomposition.subparts import WHOLE_AFTER_FAILURE, BuildPlan
 from freecad_conformal.post.branches import choose_rotary
 from freecad_conformal.post.kinematics import rotary_candidates
 from freecad_conformal.settings.plan import SPEED_ROLES
@@ -355,8 +355,6 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
                                         machine=machine)
             plan.notes.insert(0, f"no decomposition could be built ({exc}); each solid is "
                                  "built whole")
-            from freecad_conformal.decomposition.subparts import WHOLE_AFTER_FAILURE
-
             plan.support_reason = WHOLE_AFTER_FAILURE
         if centred:
             plan.notes.insert(0, centred)
