@@ -65,6 +65,8 @@ class SubPart:
 
 #: `BuildPlan.support_reason` of a part built whole because no decomposition could be made.
 WHOLE_AFTER_FAILURE = "built whole, as no decomposition could be made (see the notes)"
+#: `BuildPlan.support_reason` of a part built whole because the machine builds along +Z only.
+WHOLE_ON_MACHINE = "built whole, as the machine cannot tilt the tool"
 
 
 @dataclass

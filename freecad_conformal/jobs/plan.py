@@ -22,7 +22,8 @@ from freecad_conformal.paths.assemble import Assembly, PathSettings, assemble
 from freecad_conformal.paths.timing import DEFAULT_JERK, estimate_time, jerk_record
 from freecad_conformal.layers.model import Layer, LayerSettings, check_thickness
 from freecad_conformal.layers.plan import plan_layers
-from freecad_conformal.decomposition.subparts import WHOLE_AFTER_FAILURE, BuildPlan
+from freecad_conformal.decomposition.subparts import (WHOLE_AFTER_FAILURE, WHOLE_ON_MACHINE,
+                                                     BuildPlan)
 from freecad_conformal.post.branches import choose_rotary
 from freecad_conformal.post.kinematics import rotary_candidates
 from freecad_conformal.settings.plan import SPEED_ROLES
@@ -191,13 +192,33 @@ def check_reach(machine: Machine, plan: BuildPlan) -> None:
     for sub in plan.ordered():
         axis = np.asarray(sub.build_direction, dtype=float).reshape(1, 3)
         axis = axis / np.linalg.norm(axis)
-        try:
-            locate = lambda _i: f"sub-part {sub.index}"  # noqa: E731
-            choose_rotary(machine, rotary_candidates(machine, axis, locate),
-                          machine.home_joints()[3:], locate)
-        except KinematicsError as exc:
+        exc = _unreachable(machine, axis, f"sub-part {sub.index}")
+        if exc is not None:
             raise PlanError(f"machine {machine.name!r} cannot point the tool along sub-part "
                             f"{sub.index}'s build direction {np.round(axis[0], 4).tolist()}: {exc}") from exc
+
+
+def _unreachable(machine: Machine, axis: np.ndarray, where: str) -> KinematicsError | None:
+    """Why the machine cannot take the unit tool `axis` (1, 3) of the part on its table
+    (None: it can), from its home joints."""
+    locate = lambda _i: where  # noqa: E731
+    try:
+        choose_rotary(machine, rotary_candidates(machine, axis, locate),
+                      machine.home_joints()[3:], locate)
+    except KinematicsError as exc:
+        return exc
+    return None
+
+
+def machine_tilts(machine: Machine) -> bool:
+    """Whether the machine can point the tool along some direction of the part on its table
+    other than +Z (one of the cube's 26). A plain 3-axis printer cannot: each sub-part of a
+    decomposition would need a direction of its own, so none can be built, and trying the
+    part's six placements for one cost CrankArm 18 s before it was built whole anyway."""
+    from freecad_conformal.geometry.overhang import CUBE_DIRECTIONS
+
+    return any(_unreachable(machine, d.reshape(1, 3), "a direction") is None
+               for d in CUBE_DIRECTIONS if d[2] < 1.0)
 
 
 def check_fits(shape, machine: Machine) -> None:
@@ -343,11 +364,14 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
     shape, centred = centred_if_off_platform(shape, machine)
     solids = solids_of(shape)
     warm_workers(shape, options.layers.thickness)
+    flat = options.decompose and not machine_tilts(machine)
     if not (options.decompose and isinstance(options.root, str) and len(solids) == 1):
+        split = options.decompose and not flat
         try:
-            placed, plan = machine_plan(shape, options, decompose, tool=tool, machine=machine)
+            placed, plan = machine_plan(shape, options, decompose, split=split, tool=tool,
+                                        machine=machine, whole_best=flat)
         except PlanError as exc:
-            if not options.decompose:
+            if not split:
                 raise
             # No decomposition can be built (no collision-free order): each solid whole is
             # what a user can still print.
@@ -356,6 +380,8 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
             plan.notes.insert(0, f"no decomposition could be built ({exc}); each solid is "
                                  "built whole")
             plan.support_reason = WHOLE_AFTER_FAILURE
+        if flat:
+            _built_whole_on(machine, plan)
         if centred:
             plan.notes.insert(0, centred)
         return Choice(placed, plan)
@@ -363,7 +389,7 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
     from freecad_conformal.jobs.search import plan_candidates, ranked
     from freecad_conformal.paths.cost import Motion
 
-    early = _early_trial(solids[0])
+    early = None if flat else _early_trial(solids[0])
 
     def make_plan(root, split: bool):
         return machine_plan(shape, dataclasses.replace(options, root=root, decompose=split),
@@ -381,18 +407,28 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
                                             Motion.of(machine, options.jerk),
                                             DEFAULT_OVERHANG_ANGLE, progress, options.objective,
                                             child_request if decompose is None else None,
-                                            early),
+                                            early, split=not flat),
                             options.objective)
     finally:
         if early is not None:
             early.stop()
     best = candidates[0]
+    if flat:
+        _built_whole_on(machine, best.plan)
     if centred:
         best.plan.notes.insert(0, centred)
     if len(candidates) > 1:
         best.plan.notes.append(f"{best.label}: chosen among {len(candidates)} candidate plans "
                                f"(least residual overhang, then cheapest: {options.objective})")
     return Choice(best.placed, best.plan, best.layers, candidates)
+
+
+def _built_whole_on(machine: Machine, plan: BuildPlan) -> None:
+    """Say that `plan` builds each solid whole because `machine` cannot tilt the tool."""
+    plan.notes.insert(0, f"machine {machine.name!r} cannot tilt the tool off +Z: no "
+                         "decomposition (each sub-part is built along a direction of its "
+                         "own); each solid is built whole")
+    plan.support_reason = WHOLE_ON_MACHINE
 
 
 def _early_trial(solid):
@@ -488,7 +524,8 @@ MIN_LAYOUT_GAP = 5.0
 
 
 def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None = None, *,
-                 tool=None, machine: Machine | None = None, early=None):
+                 tool=None, machine: Machine | None = None, early=None,
+                 whole_best: bool = False):
     """(placed shape, BuildPlan) as the machine builds the part: decomposed with each
     solid's root along `options.root` ("auto": as placed unless turning the solid leaves
     less overhang), each solid standing on the platform (`decomposition/layout.py`), and the
@@ -499,7 +536,9 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
     are those `check_options` resolved (default: read again from the options; the search
     plans each candidate with the ones it checked: reading the tool library took 13 ms of
     the wedge's 0.14 s choice). `early`: a solid's trial the search began
-    (`decomposition/trial.EarlyTrial`), passed on to the decomposition."""
+    (`decomposition/trial.EarlyTrial`), passed on to the decomposition. `whole_best`: built
+    whole with the root left to "auto", each solid stands along its own direction of least
+    overhang (a machine that cannot tilt the tool: a planar slicer's best orientation)."""
     from freecad_conformal.decomposition.build_order import build_order
     from freecad_conformal.decomposition.layout import lay_out
     from freecad_conformal.jobs.placement import reachable_plan
@@ -527,7 +566,8 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
             plan = decompose(placed, tool=tool, root_direction=root,
                              check_collisions=not several, with_axes=False, **begun)
         else:
-            plan = single_plan(placed, (0.0, 0.0, 1.0) if isinstance(root, str) else root)
+            plan = single_plan(placed, BEST_DIRECTION if isinstance(root, str) and whole_best
+                               else (0.0, 0.0, 1.0) if isinstance(root, str) else root)
         laid = lay_out(plan, gap)
         if several:
             laid.order = build_order(laid.subparts, tool=tool, notes=laid.notes,
@@ -558,21 +598,31 @@ def _within_travel(plan: BuildPlan, machine: Machine) -> BuildPlan:
     return shifted(plan, _platform_centre(machine) - 0.5 * (low + high))
 
 
+#: `single_plan`'s direction for each solid built along its own direction of least overhang.
+BEST_DIRECTION = "best"
+
+
 def single_plan(shape, direction=(0.0, 0.0, 1.0)) -> BuildPlan:
-    """A plan without splits: each solid of `shape` one sub-part built along `direction`,
-    with the overhang it leaves (what supports would hold) measured."""
-    from freecad_conformal.geometry.overhang import overhang_area
+    """A plan without splits: each solid of `shape` one sub-part built along `direction`
+    (BEST_DIRECTION: each along its own direction of least overhang,
+    `geometry/overhang.best_single_direction`), with the overhang it leaves (what supports
+    would hold) measured."""
+    from freecad_conformal.geometry.overhang import best_single_direction, overhang_area
     from freecad_conformal.geometry.solids import solids_of
     from freecad_conformal.decomposition.subparts import SubPart
 
-    d = np.asarray(direction, dtype=float)
-    length = float(np.linalg.norm(d)) if d.shape == (3,) else 0.0
-    if not np.isfinite(length) or length < ZERO_LENGTH:
-        raise PlanError(f"build direction must be a non-zero 3-vector, got {list(direction)!r}")
-    d = d / length
+    solids = solids_of(shape)
+    if isinstance(direction, str) and direction == BEST_DIRECTION:
+        directions = [best_single_direction(solid)[0] for solid in solids]
+    else:
+        d = np.asarray(direction, dtype=float)
+        length = float(np.linalg.norm(d)) if d.shape == (3,) else 0.0
+        if not np.isfinite(length) or length < ZERO_LENGTH:
+            raise PlanError(f"build direction must be a non-zero 3-vector, got {list(direction)!r}")
+        directions = [d / length] * len(solids)
     subparts = [SubPart(index=k, shape=solid, build_direction=d, volume=float(solid.Volume),
                         name=f"solid {k + 1}", solid_index=k, overhang_area=overhang_area(solid, d))
-                for k, solid in enumerate(solids_of(shape))]
+                for k, (solid, d) in enumerate(zip(solids, directions))]
     return BuildPlan(subparts=subparts, order=list(range(len(subparts))),
                      support_area_single_direction=float(sum(s.overhang_area for s in subparts)),
-                     single_direction=d)
+                     single_direction=directions[0])

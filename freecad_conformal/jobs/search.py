@@ -203,7 +203,7 @@ def plan_candidates(solid, make_plan: Callable[[object, bool], tuple], layer_set
                     progress: Callable[[str], None] | None = None,
                     objective: str = "balanced",
                     child_request: Callable[[], dict] | None = None,
-                    early_trial=None) -> list[Candidate]:
+                    early_trial=None, split: bool = True) -> list[Candidate]:
     """Every candidate for one solid (see the module docstring). `make_plan(root, split)`
     returns (placed shape, plan) as `jobs/plan.machine_plan` lays it out with that root
     ("auto" or a direction of the part as given) and split (decompose, or build whole).
@@ -212,14 +212,19 @@ def plan_candidates(solid, make_plan: Callable[[object, bool], tuple], layer_set
     orientations as `make_plan` does (`jobs/coarse_child.py`); None: all are costed here.
     `early_trial`: the decomposition's trial child begun for the solid
     (`decomposition/trial.EarlyTrial`), stopped when whole orientations leave nothing to
-    decompose (its core is then the coarse child's)."""
+    decompose (its core is then the coarse child's). `split=False` (a machine that cannot
+    tilt the tool): no decomposition; without a support-free direction the solid is built
+    whole along its best single direction, with support, as a planar slicer would."""
     directions = _whole_directions(solid, angle)
     if directions and early_trial is not None:
         early_trial.stop()
     makers: list[tuple[str, object, bool]] = [
         (f"whole along {_text(d)}", tuple(float(c) for c in d), False) for d in directions]
-    if not makers:
+    if not makers and split:
         makers = [("decomposed", "auto", True)]
+    elif not makers:
+        best, _ = best_single_direction(solid, angle)
+        makers = [(f"whole along {_text(best)}", tuple(float(c) for c in best), False)]
     child = None
     if child_request is not None and len(makers) > 1:
         from freecad_conformal.jobs.coarse_child import start_child

@@ -160,3 +160,58 @@ def test_a_job_starts_with_the_shape_caches_empty():
     assert turn_up(part, (1.0, 0.0, 0.0))[0] is first
     plan_job(samples.t_block(), PlanOptions(decompose=False, root=(0.0, 0.0, 1.0)))
     assert turn_up(part, (1.0, 0.0, 0.0))[0] is not first
+
+
+def test_only_a_machine_without_tilt_builds_along_z_alone():
+    from freecad_conformal.jobs.plan import machine_tilts
+
+    assert not machine_tilts(load_machine("three_axis"))
+    for name in ("trunnion_ac", "head_a_table_c", "rotary_mandrel"):
+        assert machine_tilts(load_machine(name)), name
+
+
+def test_a_machine_without_tilt_builds_the_part_whole_in_its_best_orientation(App):
+    """A plain 3-axis printer cannot build a sub-part along any direction but +Z: the part
+    is not decomposed (trying the six placements for one cost CrankArm 18 s before it was
+    built whole anyway) but built whole, with support, along its direction of least
+    overhang, and the summary says why the support is left."""
+    from freecad_conformal.decomposition.subparts import WHOLE_ON_MACHINE
+    from freecad_conformal.geometry.overhang import best_single_direction, overhang_area
+    from freecad_conformal.jobs.plan import check_options, choose_plan
+    from freecad_conformal.jobs.report import support_text
+
+    def no_decomposition(*_args, **_kwargs):
+        raise AssertionError("a machine without tilt decomposed the part")
+
+    jack = samples.jack()
+    jack.rotate(App.Vector(0, 0, 0), App.Vector(1, 0, 0), 30)
+    options = PlanOptions(machine="three_axis")
+    choice = choose_plan(jack, options, check_options(jack, options), decompose=no_decomposition)
+    plan = choice.plan
+    _, least = best_single_direction(jack)
+    assert least < overhang_area(jack, (0.0, 0.0, 1.0)) - 1.0     # as modelled is not the best
+    assert len(plan.subparts) == 1 and plan.support_reason == WHOLE_ON_MACHINE
+    assert plan.support_area == pytest.approx(least, rel=1e-6)
+    np.testing.assert_allclose(plan.subparts[0].build_direction, (0.0, 0.0, 1.0), atol=1e-9)
+    assert "the machine cannot tilt the tool" in support_text(plan, False, False)
+    assert any("cannot tilt the tool off +Z" in note for note in plan.notes)
+
+
+def test_each_solid_stands_in_its_own_best_orientation_on_a_machine_without_tilt(App, Part):
+    """Two T-blocks, one as modelled (its flange overhangs) and one turned over (support-free
+    as it is): on a 3-axis printer each is built whole along its own direction of least
+    overhang, so neither needs support; as placed the first would."""
+    from freecad_conformal.jobs.plan import check_options, choose_plan
+
+    upright = samples.t_block()
+    over = samples.t_block()
+    over.rotate(App.Vector(0, 0, 0), App.Vector(1, 0, 0), 180)
+    over.translate(App.Vector(upright.BoundBox.XLength + 20.0, 0, 0))
+    part = Part.makeCompound([upright, over])
+    options = PlanOptions(machine="three_axis")
+    plan = choose_plan(part, options, check_options(part, options)).plan
+    assert len(plan.subparts) == 2 and plan.support_area == pytest.approx(0.0, abs=1e-6)
+    assert sorted(s.volume for s in plan.subparts) == pytest.approx(
+        sorted([upright.Volume, over.Volume]), rel=1e-9)
+    for sub in plan.subparts:
+        np.testing.assert_allclose(sub.build_direction, (0.0, 0.0, 1.0), atol=1e-9)
