@@ -45,3 +45,35 @@ def test_a_shape_meshed_for_the_3d_view_plans_as_the_bare_shape():
     job = compute_job({"brep": shape_to_bytes(viewed), "part": "domed", "values": values},
                       lambda *_: None)
     assert job["gcode"] == plan_job(bare, plan_options(values), part="domed").post.text
+
+
+def test_a_job_on_a_machine_without_tilt_maps_each_solid_back_onto_the_part(App, Part):
+    """On a 3-axis printer each solid stands along its own best direction (the T-block with
+    its flange up turned over, the other left as it is): the GUI's job writes the command
+    line's G-code and gives each sub-part the motion from the machine back onto the part as
+    modelled."""
+    import numpy as np
+
+    from freecad_conformal.geometry import samples
+
+    flange_up = samples.t_block()
+    flange_down = samples.t_block()
+    flange_down.rotate(App.Vector(0, 0, 0), App.Vector(1, 0, 0), 180)
+    flange_down.translate(App.Vector(80.0, 0, 0))
+    part = Part.makeCompound([flange_up, flange_down])
+    values = {**defaults(PLAN_SETTINGS), "machine": "three_axis"}
+    job = compute_job({"brep": shape_to_bytes(part), "part": "two_t", "values": values},
+                      lambda *_: None)
+    command_line = plan_job(part, plan_options(values), part="two_t")
+    assert job["gcode"] == command_line.post.text
+    assert command_line.plan.support_area == 0.0
+    assert sorted(job["frame_subparts"]) == [0, 1]
+    ups = {}
+    for index, sub in zip(job["frame_subparts"], np.reshape(job["frames"], (-1, 3, 4))):
+        laid = command_line.plan.subparts[index]
+        back = sub[:, :3] @ np.array(tuple(laid.shape.CenterOfMass)) + sub[:, 3]
+        solid = next(k for k, s in enumerate(part.Solids)
+                     if np.linalg.norm(back - np.array(tuple(s.CenterOfMass))) < 1e-6)
+        ups[solid] = sub[:, :3] @ np.array([0.0, 0.0, 1.0])
+    np.testing.assert_allclose(ups[0], (0.0, 0.0, -1.0), atol=1e-9)    # built turned over
+    np.testing.assert_allclose(ups[1], (0.0, 0.0, 1.0), atol=1e-9)     # built as modelled
