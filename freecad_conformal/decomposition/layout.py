@@ -153,12 +153,16 @@ def lay_out(plan: BuildPlan, gap: float) -> BuildPlan:
     return laid
 
 
-def shifted(plan: BuildPlan, offset) -> BuildPlan:
-    """A copy of the plan with every solid moved by `offset` (x, y) mm, noted."""
+def shifted(plan: BuildPlan, offset, why: str) -> BuildPlan:
+    """A copy of the plan with every solid moved by `offset` (x, y) mm, in one note that
+    says `why`."""
     shift = np.array([float(offset[0]), float(offset[1]), 0.0])
     moves = {k: SolidMove(k, UP.copy(), 0.0, np.zeros(3), shift.copy())
              for k in sorted({sub.solid_index for sub in plan.subparts})}
-    return _moved(plan, moves)
+    text = ", ".join(f"{c:+.3f}" for c in shift)
+    return dataclasses.replace(_moved(plan, moves), notes=list(plan.notes) + [
+        f"the plan moved by ({text}) mm over the platform's centre: {why}; its G-code is in "
+        "that frame"])
 
 
 #: Sides a solid may be set beside the others: +X, −X, +Y, −Y (the first wins a tie).

@@ -584,7 +584,9 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
 
 def _within_travel(plan: BuildPlan, machine: Machine) -> BuildPlan:
     """The laid-out plan moved over the platform's centre when its solids, set side by side,
-    reach outside the machine's X/Y travel (CrankArm's arm went to x = 355, past 300)."""
+    reach outside the machine's X/Y travel (CrankArm's arm went to x = 355, past 300), or
+    when building a sub-part along its direction would drive an axis past its travel
+    (`_travel_reached`)."""
     from freecad_conformal.decomposition.layout import shifted
 
     limits = {axis.name: axis.limits for axis in machine.linear}
@@ -593,9 +595,40 @@ def _within_travel(plan: BuildPlan, machine: Machine) -> BuildPlan:
     high = np.array([max(b.XMax for b in boxes), max(b.YMax for b in boxes)])
     inside = all(name not in limits or (limits[name][0] <= low[k] and high[k] <= limits[name][1])
                  for k, name in enumerate(("X", "Y")))
-    if inside:
+    if inside and _travel_reached(plan, machine):
         return plan
-    return shifted(plan, _platform_centre(machine) - 0.5 * (low + high))
+    why = ("its solids, set side by side, reached outside the machine's X/Y travel" if not inside
+           else "building it where it was laid out drove an axis past the machine's travel")
+    return shifted(plan, _platform_centre(machine) - 0.5 * (low + high), why)
+
+
+def _travel_reached(plan: BuildPlan, machine: Machine) -> bool:
+    """Whether the machine reaches, inside its linear travel, every vertex of every
+    sub-part with the tool along the sub-part's build direction, and the point the tool
+    retracts to from there (onto the safe sphere of `paths/approach.py`). A tilted head
+    swings the axes by its own length and a turned table swings the part about its pivot:
+    CrankArm's arrangement, set beside its pin at x 50..76 within the head machine's
+    +-150 mm, had a retract from its sideways ribs need Y = 150.6 mm, and the post refused
+    it after 23 s of layers and paths; moved over the table's pivot it is built."""
+    from freecad_conformal.geometry.shape_parts import vertex_points
+    from freecad_conformal.paths.approach import SAFE_MARGIN, bounding_sphere, exit_distance
+    from freecad_conformal.post.kinematics import inverse
+
+    centre, radius = bounding_sphere([sub.shape for sub in plan.subparts])
+    for sub in plan.subparts:
+        points = np.array(vertex_points(sub.shape))
+        if not len(points):
+            continue
+        axis = np.asarray(sub.build_direction, dtype=float)
+        axis = axis / np.linalg.norm(axis)
+        lifted = np.array([p + exit_distance(p, axis, centre, radius + SAFE_MARGIN) * axis
+                           for p in points])
+        both = np.vstack((points, lifted))
+        try:
+            inverse(machine, both, np.repeat(axis.reshape(1, 3), len(both), axis=0))
+        except KinematicsError:
+            return False
+    return True
 
 
 #: `single_plan`'s direction for each solid built along its own direction of least overhang.

@@ -152,7 +152,9 @@ def test_solids_set_side_by_side_past_the_travel_are_moved_back_over_the_platfor
     low, high = min(b.XMin for b in boxes), max(b.XMax for b in boxes)
     assert -300.0 <= low and high <= 300.0
     assert abs(0.5 * (low + high)) < 1e-6               # over the trunnion's pivot
-    assert sum("laid out on the platform" in note for note in plan.notes) >= 3
+    assert any("laid out on the platform" in note for note in plan.notes)
+    assert any("moved by" in note and "reached outside the machine's X/Y travel" in note
+               for note in plan.notes)
 
 
 def test_a_solid_lands_in_one_place_whether_or_not_it_was_meshed(App, Part):
@@ -174,3 +176,30 @@ def test_a_solid_lands_in_one_place_whether_or_not_it_was_meshed(App, Part):
               for shape in (solid, meshed)]
     centres = [np.array(tuple(shape.CenterOfMass)) for shape in placed]
     assert np.allclose(centres[0], centres[1], atol=1e-6)
+
+
+def test_a_plan_whose_tool_would_swing_past_the_travel_is_moved_over_the_pivot(App, Part):
+    """A post and a tall rib built sideways (+X) beside it, off the table's pivot, inside
+    the head machine's +-150 mm as laid out: the tilted head's retracts from the rib need
+    Y = -170 mm, which the post refused after the layers and paths were made (CrankArm:
+    23 s). The plan is moved over the pivot first, and then it is posted."""
+    from freecad_conformal.decomposition.subparts import BuildPlan, SubPart
+    from freecad_conformal.errors import KinematicsError
+    from freecad_conformal.jobs.plan import PlanOptions, _within_travel, run_job
+    from freecad_conformal.post.machine import load_machine
+
+    machine = load_machine("head_a_table_c")
+    post = Part.makeBox(26, 20, 72, App.Vector(50, -10, 0))
+    rib = Part.makeBox(11, 41, 154, App.Vector(64, -77, 0))
+    laid = BuildPlan([SubPart(0, post, np.array([0.0, 0.0, 1.0])),
+                      SubPart(1, rib, np.array([1.0, 0.0, 0.0]), parent=0)], order=[0, 1])
+    boxes = [sub.shape.BoundBox for sub in laid.subparts]
+    assert all(-150 < v < 150 for b in boxes for v in (b.XMin, b.XMax, b.YMin, b.YMax))
+    options = PlanOptions(machine="head_a_table_c")
+    with pytest.raises(KinematicsError, match="outside the limits"):
+        run_job(Part.makeCompound([post, rib]), laid, options, part="rib")
+    moved = _within_travel(laid, machine)
+    assert any("drove an axis past the machine's travel" in note for note in moved.notes)
+    result = run_job(Part.makeCompound([s.shape for s in moved.subparts]), moved, options,
+                     part="rib")
+    assert sorted(s.index for s in result.subparts if s.layers > 0) == [0, 1]
