@@ -565,9 +565,10 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
             begun = {} if early is None else {"early": early}
             plan = decompose(placed, tool=tool, root_direction=root,
                              check_collisions=not several, with_axes=False, **begun)
+        elif not isinstance(root, str):
+            plan = single_plan(placed, root)
         else:
-            plan = single_plan(placed, BEST_DIRECTION if isinstance(root, str) and whole_best
-                               else (0.0, 0.0, 1.0) if isinstance(root, str) else root)
+            plan = single_plan(placed, BEST_DIRECTION if whole_best else (0.0, 0.0, 1.0))
         laid = lay_out(plan, gap)
         if several:
             laid.order = build_order(laid.subparts, tool=tool, notes=laid.notes,
