@@ -88,12 +88,17 @@ def turn_up(shape, up) -> tuple[object, Placement]:
 
 
 def reachable_plan(shape, decompose: Callable[[object, Placement], BuildPlan],
-                   check: Callable[[BuildPlan], None]) -> tuple[object, BuildPlan, Placement]:
+                   check: Callable[[BuildPlan], None],
+                   turning_helps: Callable[[], bool] = lambda: True
+                   ) -> tuple[object, BuildPlan, Placement]:
     """(placed shape, plan, placement) of the first placement whose plan passes `check`
     (the machine's reach); the part as placed is kept whenever it passes, so the costly
     decomposition runs again only for a plan the machine cannot build. `decompose(placed,
     placement)` gets the placement to turn any direction it was given for the part as
-    modelled (`Placement.rotate`). PlanError with every placement's reason when none passes."""
+    modelled (`Placement.rotate`). `turning_helps()`, asked when the part as placed fails:
+    False when every placement is bound to give the same plan, which fails the same way
+    (its PlanError is raised then, as the part as placed failed). PlanError with every
+    placement's reason when none passes."""
     reasons: list[str] = []
     for up in UP_CANDIDATES:
         placed, placement = turn_up(shape, up)
@@ -101,6 +106,9 @@ def reachable_plan(shape, decompose: Callable[[object, Placement], BuildPlan],
         try:
             check(plan)
         except PlanError as exc:
+            if not reasons and not turning_helps():
+                raise PlanError(f"{exc} (turning the part on the table would give the same "
+                                "plan)") from exc
             reasons.append(f"{_text(up)} up: {exc}")
             continue
         if placement.turned:

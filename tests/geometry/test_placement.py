@@ -106,13 +106,31 @@ def test_the_hinge_is_turned_until_the_trunnion_reaches_every_sub_part():
     assert 0.3 * hinge.Volume < result.material_volume < 0.9 * hinge.Volume
 
 
-@pytest.mark.slow
-def test_a_root_given_stays_the_users_when_the_part_is_turned():
+def test_a_root_given_stays_the_users_when_the_part_is_turned(monkeypatch):
     """`--root 0,0,1` is +Z of the part as given: turning the part does not turn the root
     with it behind the user's back, so the hinge's lugs (−Z from that root) stay out of the
-    trunnion's reach in every placement, and the error says so."""
-    with pytest.raises(PlanError, match=r"no placement .* A = 180\.000°"):
+    trunnion's reach in every placement, and the error says so. Laid out root up, every
+    placement gives that same plan, and the trunnion reaches by tilt alone: the part is
+    decomposed once, not six times (CrankArm with --root 0,0,-1: 25 s)."""
+    from freecad_conformal.decomposition import decompose as decomposition
+
+    made = []
+    real = decomposition.decompose
+    monkeypatch.setattr(decomposition, "decompose",
+                        lambda *args, **kwargs: made.append(1) or real(*args, **kwargs))
+    with pytest.raises(PlanError, match=r"A = 180\.000°.*turning the part on the table would "
+                                        r"give the same plan"):
         machine_plan(samples.hinge(), PlanOptions(machine="trunnion_ac", root=(0.0, 0.0, 1.0)))
+    assert len(made) == 1
+
+
+def test_a_machine_that_reaches_by_tilt_alone():
+    from freecad_conformal.jobs.plan import reach_by_tilt
+
+    for name in ("trunnion_ac", "head_a_table_c", "three_axis"):
+        assert reach_by_tilt(load_machine(name)), name
+    # A only, about X: the tool leans in the YZ plane and nowhere else.
+    assert not reach_by_tilt(load_machine("rotary_mandrel"))
 
 
 def test_no_reachable_placement_names_every_one_tried():
