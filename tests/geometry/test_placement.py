@@ -233,3 +233,26 @@ def test_each_solid_stands_in_its_own_best_orientation_on_a_machine_without_tilt
         sorted([upright.Volume, over.Volume]), rel=1e-9)
     for sub in plan.subparts:
         np.testing.assert_allclose(sub.build_direction, (0.0, 0.0, 1.0), atol=1e-9)
+
+
+def test_a_machine_without_tilt_gets_planar_layers_where_a_bend_would_tilt_them(App, Part):
+    """A square bar bent through 90°: along +Z its 3-D layers follow the bend, tilting the
+    tool, which the trunnion takes and a 3-axis printer cannot (the pipe elbow's post was
+    refused at its first tilted layer after 19 s of planning). On the printer its layers
+    are planar and it is posted."""
+    from freecad_conformal.jobs.plan import buildable_layers
+
+    V = App.Vector
+    face = Part.Face(Part.makePolygon([V(20, -5, 0), V(30, -5, 0), V(30, 5, 0), V(20, 5, 0),
+                                       V(20, -5, 0)]))
+    bar = face.revolve(V(0, 0, 0), V(0, -1, 0), 90)
+    tilted = {}
+    for name in ("trunnion_ac", "three_axis"):
+        options = PlanOptions(machine=name, decompose=False)
+        placed, plan = machine_plan(bar, options)
+        result = run_job(placed, plan, options, part="bent bar")
+        tilted[name] = sum(layer.tilted for layer in result.layers[0])
+        assert result.post.text
+    assert tilted["trunnion_ac"] > 10 and tilted["three_axis"] == 0
+    settings = PlanOptions().layers
+    assert buildable_layers(settings, load_machine("trunnion_ac")) is settings
