@@ -40,7 +40,8 @@ PLAN_SETTINGS: tuple[Setting, ...] = (
             derived="the machine's dialect"),
     ROOT,
     Setting("decompose", "bool", True, "decompose",
-            "split each solid into support-free sub-parts (off: one sub-part per solid)",
+            "split each solid into support-free sub-parts (off, or on a machine that cannot "
+            "tilt the tool: one sub-part per solid)",
             group="machine"),
     Setting("objective", "choice", "balanced", "objective",
             "what the choice among candidate plans (orientations, decompositions) minimises "
