@@ -160,9 +160,8 @@ def shifted(plan: BuildPlan, offset, why: str) -> BuildPlan:
     moves = {k: SolidMove(k, UP.copy(), 0.0, np.zeros(3), shift.copy())
              for k in sorted({sub.solid_index for sub in plan.subparts})}
     text = ", ".join(f"{c:+.3f}" for c in shift)
-    return dataclasses.replace(_moved(plan, moves), notes=list(plan.notes) + [
-        f"the plan moved by ({text}) mm over the platform's centre: {why}; its G-code is in "
-        "that frame"])
+    return _moved(plan, moves, [f"the plan moved by ({text}) mm over the platform's centre: "
+                                f"{why}; its G-code is in that frame"])
 
 
 #: Sides a solid may be set beside the others: +X, −X, +Y, −Y (the first wins a tie).
@@ -195,8 +194,10 @@ def _upright(root) -> bool:
     return bool(np.allclose(root.build_direction, UP, atol=ZERO_LENGTH))
 
 
-def _moved(plan: BuildPlan, moves: dict[int, SolidMove]) -> BuildPlan:
-    """A copy of the plan with the moved solids' sub-parts, bases, directions and axes."""
+def _moved(plan: BuildPlan, moves: dict[int, SolidMove],
+           said: list[str] | None = None) -> BuildPlan:
+    """A copy of the plan with the moved solids' sub-parts, bases, directions and axes, and
+    `said` added to its notes (default: each move described)."""
     subparts = []
     for sub in plan.subparts:
         move = moves.get(sub.solid_index)
@@ -211,7 +212,8 @@ def _moved(plan: BuildPlan, moves: dict[int, SolidMove]) -> BuildPlan:
             rotation_axis=axis, rotation_angle=float(angle)))
     return dataclasses.replace(plan, subparts=subparts,
                                axes=[_moved_axis(axis, moves.get(k)) for k, axis in enumerate(plan.axes)],
-                               notes=list(plan.notes) + [moves[k].describe() for k in sorted(moves)])
+                               notes=list(plan.notes) + (said if said is not None else
+                                                         [moves[k].describe() for k in sorted(moves)]))
 
 
 def _moved_axis(axis, move: SolidMove | None):
