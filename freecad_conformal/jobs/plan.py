@@ -250,6 +250,16 @@ def buildable_layers(settings: LayerSettings, machine: Machine) -> LayerSettings
     return settings
 
 
+def check_platform(machine: Machine) -> None:
+    """Refuse a machine with nothing to build a part on at Z = 0 (a rotary mandrel): set down
+    over the mandrel's axis, the part would be laid out, sliced and posted before its first
+    move left the travel."""
+    if not machine.platform:
+        raise PlanError(f"machine {machine.name!r} ({machine.source}) has no build platform: "
+                        "its parts grow on the mandrel. Plan them with `plan --mandrel` or the "
+                        "`mandrel` command, or choose a machine with a platform")
+
+
 def check_fits(shape, machine: Machine) -> None:
     """Refuse, before any geometry work, a part that fits the machine's travel in no
     orientation: turned any way, its extent along some axis is at least its largest box
@@ -353,6 +363,7 @@ def check_options(shape, options: PlanOptions, library=None, part: str | None = 
     solids_of(shape, f"the part {part!r}" if part else "the part")
     size = _part_size(shape)
     machine = load_machine(options.machine)
+    check_platform(machine)
     check_fits(shape, machine)
     options.layers.validate(part_size=size)
     tool, material_name, material = resolve_tool(options.tool, options.material, library)

@@ -42,10 +42,10 @@ _TOP_KEYS = {"name": str, "dialect": str, "linear_axes": dict, "rotary_axes": li
              "filament_diameter": (int, float), "description": str, "start_gcode": list,
              "end_gcode": list, "temperatures": dict, "home_on_start": bool,
              "tool_change_z": (int, float), "tool_lengths": dict,
-             "process_switch_s": (int, float)}
+             "process_switch_s": (int, float), "platform": bool}
 _OPTIONAL_TOP = {"description", "light_control", "spindle_max", "filament_diameter",
                  "start_gcode", "end_gcode", "temperatures", "home_on_start", "tool_change_z",
-                 "tool_lengths", "process_switch_s"}
+                 "tool_lengths", "process_switch_s", "platform"}
 _HEATERS = ("hotend", "bed")
 _ROTARY_KEYS = {"name": str, "on": str, "direction": list, "pivot": list, "limits": list,
                 "continuous": bool, "wrap": bool}
@@ -97,6 +97,9 @@ class Machine:
     tool_lengths: tuple[tuple[int, float], ...] = ()
     #: seconds a switch between deposition and milling takes (hybrid plans)
     process_switch_s: float = DEFAULT_PROCESS_SWITCH_S
+    #: False: nothing flat to build on at Z = 0 (a rotary mandrel, whose part grows on a
+    #: spinning cylinder); platform plans are refused, mandrel builds are what it makes
+    platform: bool = True
 
     def for_tool(self, tool: int) -> "Machine":
         """This machine with its head pivots measured from the tip of `tool`.
@@ -207,6 +210,7 @@ def machine_from_dict(data: dict, source: str = "<dict>") -> Machine:
         home_on_start=data.get("home_on_start", False),
         tool_lengths=_tool_lengths(data.get("tool_lengths", {}), f"{where}: tool_lengths"),
         process_switch_s=float(data.get("process_switch_s", DEFAULT_PROCESS_SWITCH_S)),
+        platform=data.get("platform", True),
         tool_change_z=(float(data["tool_change_z"]) if _is_number(data.get("tool_change_z"))
                        else _no_tool_change_z(data, where)))
 

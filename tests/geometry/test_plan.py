@@ -1,6 +1,8 @@
 """The plan command end to end, and bad input that must leave no output."""
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -143,6 +145,23 @@ def test_a_part_that_fits_no_orientation_is_refused_before_any_geometry_work(Par
     monkeypatch.setattr(jobs_plan, "machine_plan", must_not_run)
     with pytest.raises(PlanError, match=r"cannot fit Table-table A/C trunnion in any orientation"):
         jobs_plan.plan_additive(Part.makeBox(1e6, 1e6, 1e6), PlanOptions())
+
+
+def test_a_machine_without_a_platform_is_refused_before_any_geometry_work(tmp_path, capsys,
+                                                                          monkeypatch):
+    """The mandrel's pivot is its axis: a part set down there left the X travel only when
+    posted (X = -24.4 mm on the bracket)."""
+    from freecad_conformal.jobs import plan as jobs_plan
+
+    def must_not_run(*_args, **_kwargs):
+        raise AssertionError("geometry work started on a machine without a platform")
+
+    monkeypatch.setattr(jobs_plan, "machine_plan", must_not_run)
+    out = tmp_path / "b.ngc"
+    assert main(["plan", "bracket", "--machine", "rotary_mandrel", "-o", str(out)]) == 1
+    assert re.search(r"error: machine '4-axis rotary mandrel \(A about X\)' .* has no build "
+                     r"platform.*`plan --mandrel`", capsys.readouterr().err)
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_plan_report_json_names_every_setting_it_used(tmp_path):

@@ -31,6 +31,17 @@ def test_tool_axis_far_from_unit_is_refused():
         inverse(machine, np.array([[1.0, 2.0, 3.0]]), np.array([[0.0, 0.0, 0.99]]))
 
 
+def test_only_the_mandrel_has_no_platform_and_the_key_must_be_true_or_false():
+    assert {name: load_machine(name).platform for name in ("rotary_mandrel", "trunnion_ac",
+                                                            "three_axis", "head_a_table_c")} \
+        == {"rotary_mandrel": False, "trunnion_ac": True, "three_axis": True,
+            "head_a_table_c": True}
+    data = shipped("rotary_mandrel")
+    data["platform"] = 0
+    with pytest.raises(KinematicsError, match="platform"):
+        machine_from_dict(data)
+
+
 @pytest.mark.parametrize("value", [0, -1.75])
 def test_filament_diameter_must_be_positive(value):
     data = shipped("rotary_mandrel")
