@@ -581,7 +581,7 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
     (`decomposition/trial.EarlyTrial`), passed on to the decomposition. `whole_best`: built
     whole with the root left to "auto", each solid stands along its own direction of least
     overhang (a machine that cannot tilt the tool: a planar slicer's best orientation)."""
-    from freecad_conformal.decomposition.build_order import build_order
+    from freecad_conformal.decomposition.build_order import BlockedOrder, build_order
     from freecad_conformal.decomposition.layout import lay_out
     from freecad_conformal.jobs.placement import reachable_plan
 
@@ -602,20 +602,32 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
         root = options.root
         if not isinstance(root, str):
             root = tuple(float(c) for c in placement.rotate(root))
-        if split:
-            # The job builds the plan; it shows no centroidal axis (the Analysis does).
-            begun = {} if early is None else {"early": early}
-            plan = decompose(placed, tool=tool, root_direction=root,
-                             check_collisions=not several, with_axes=False, **begun)
-        elif not isinstance(root, str):
-            plan = single_plan(placed, root)
-        else:
-            plan = single_plan(placed, BEST_DIRECTION if whole_best else (0.0, 0.0, 1.0))
-        laid = lay_out(plan, gap)
-        if several:
-            laid.order = build_order(laid.subparts, tool=tool, notes=laid.notes,
-                                     one_platform=True)
-        return laid
+        begun = {} if early is None else {"early": early}
+
+        def made(check_collisions: bool):
+            if split:
+                # The job builds the plan; it shows no centroidal axis (the Analysis does).
+                plan = decompose(placed, tool=tool, root_direction=root,
+                                 check_collisions=check_collisions, with_axes=False, **begun)
+            elif not isinstance(root, str):
+                plan = single_plan(placed, root)
+            else:
+                plan = single_plan(placed, BEST_DIRECTION if whole_best else (0.0, 0.0, 1.0))
+            laid = lay_out(plan, gap)
+            if several:
+                laid.order = build_order(laid.subparts, tool=tool, notes=laid.notes,
+                                         one_platform=True)
+            return laid
+
+        try:
+            return made(check_collisions=not several)
+        except BlockedOrder:
+            if not (split and several):
+                raise
+            # Each solid's own order was left to the search over all of them; blocked within
+            # one, that solid's own check mends it (fusing a blocked sub-part back into its
+            # parent), and the others keep their decomposition.
+            return made(check_collisions=True)
 
     def turning_helps() -> bool:
         # A root given is turned with the part and every plan is laid out root up, so the

@@ -203,3 +203,26 @@ def test_a_plan_whose_tool_would_swing_past_the_travel_is_moved_over_the_pivot(A
     result = run_job(Part.makeCompound([s.shape for s in moved.subparts]), moved, options,
                      part="rib")
     assert sorted(s.index for s in result.subparts if s.layers > 0) == [0, 1]
+
+
+@pytest.mark.slow
+def test_a_solid_blocked_within_itself_keeps_the_cuts_it_can_build_beside_another(App, Part):
+    """Beside a box, the post's low arm, built sideways into its foot, blocked the order of
+    all the sub-parts: both solids were built whole (167.3 mm² of overhang). The post's own
+    check undoes that one cut, and its other cuts stay (87.6 mm², as alone)."""
+    from freecad_conformal.jobs.plan import PlanOptions, choose_plan, check_options
+    from tests.geometry.test_decompose import _post_with_arms
+
+    post = _post_with_arms(App, Part, low_arm=True)
+    box = Part.makeBox(10, 10, 10, App.Vector(40, 0, 0))
+    options = PlanOptions()
+    both = Part.makeCompound([post, box])
+    plan = choose_plan(both, options, check_options(both, options)).plan
+    alone = decompose(post, root_direction=(0, 0, 1))
+    assert not any(note.startswith("no decomposition could be built") for note in plan.notes)
+    assert any("built with P1 instead" in note for note in plan.notes)
+    assert len(plan.subparts) == len(alone.subparts) + 1
+    assert plan.support_area == pytest.approx(alone.support_area, rel=1e-6)
+    assert plan.support_area < 0.6 * plan.support_area_single_direction
+    whole_box = [s for s in plan.subparts if s.solid_index == 1]
+    assert len(whole_box) == 1 and whole_box[0].volume == pytest.approx(1000.0, rel=1e-9)
