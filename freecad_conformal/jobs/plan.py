@@ -426,7 +426,7 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
             plan.notes.insert(0, centred)
         return Choice(placed, plan)
     from freecad_conformal.geometry.overhang import DEFAULT_OVERHANG_ANGLE
-    from freecad_conformal.jobs.search import plan_candidates, ranked
+    from freecad_conformal.jobs.search import builds, plan_candidates, ranked
     from freecad_conformal.paths.cost import Motion
 
     early = None if flat else _early_trial(solids[0])
@@ -458,9 +458,10 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
         _built_whole_on(machine, best.plan)
     if centred:
         best.plan.notes.insert(0, centred)
-    if len(candidates) > 1:
-        best.plan.notes.append(f"{best.label}: chosen among {len(candidates)} candidate plans "
-                               f"(least residual overhang, then cheapest: {options.objective})")
+    if builds(candidates) > 1:
+        best.plan.notes.append(f"{best.label}: chosen among {builds(candidates)} candidate "
+                               f"plans (least residual overhang, then cheapest: "
+                               f"{options.objective})")
     return Choice(best.placed, best.plan, best.layers, candidates)
 
 
@@ -501,6 +502,8 @@ def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
     Raises ConformalError subclasses (PlanError, ProcessError, KinematicsError, PostError)
     with messages that name the parameter or sub-part at fault.
     """
+    from freecad_conformal.jobs.search import twin_labels
+
     if checked is None:
         checked = check_options(shape, options, library)
     tool, material_name, width, path_settings, machine = checked
@@ -534,8 +537,9 @@ def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
     chosen_cost = next((c.cost for c in candidates if c.plan is plan), None)
     figures = (seconds, float(sum(s.material for s in summaries)))
     rows = [c.row(chosen=c.plan is plan,
-                  figures=figures if c.cost is chosen_cost and not c.costed else None)
-            for c in candidates]
+                  figures=figures if c.cost is chosen_cost and not c.costed else None,
+                  same_build_as=twin)
+            for c, twin in zip(candidates, twin_labels(candidates))]
     return JobResult(part=part, plan=plan, layers=layers, assembly=assembly, post=post,
                      machine=machine, tool_id=tool.id, material_name=material_name,
                      bead_width=width, time_s=seconds, subparts=summaries,

@@ -112,16 +112,19 @@ OTHERS_SHOWN = 2
 
 
 def _candidate_lines(result) -> list[str]:
-    """The chosen plan and the best others, as estimated before paths (paths/cost.py)."""
-    if len(result.candidates) < 2:
+    """The chosen plan and the best others, as estimated before paths (paths/cost.py); a
+    candidate that builds the same as one before it (a decomposition that made no cut, and
+    the whole build along its root) is that one, and not shown twice."""
+    builds = [row for row in result.candidates if row.get("same_build_as") is None]
+    if len(builds) < 2:
         return []
-    chosen = [row for row in result.candidates if row["chosen"]]
-    others = [row for row in result.candidates if not row["chosen"]][:OTHERS_SHOWN]
+    chosen = [row for row in builds if row["chosen"]]
+    others = [row for row in builds if not row["chosen"]][:OTHERS_SHOWN]
     # The chosen plan's row carries its own figures when the choice did not need its
     # estimate (jobs/search.CostWhenRead).
     basis = ("the chosen plan's as planned, the others' estimated before paths"
              if any(row["estimate"] == "plan" for row in chosen) else "estimated before paths")
-    lines = ["", f"plans compared: {len(result.candidates)}, least residual overhang first, then "
+    lines = ["", f"plans compared: {len(builds)}, least residual overhang first, then "
              f"the {result.objective} objective (time and material {basis})",
              f"   {'plan':<34} {'sub-parts':>9} {'overhang mm2':>12} {'cm3':>8} {'time':>8}"]
     for mark, row in [("*", r) for r in chosen] + [(" ", r) for r in others]:

@@ -126,9 +126,11 @@ class Candidate:
             return len(self.plan.subparts)
         return sum(1 for sub in self.plan.subparts if self.layers.get(sub.index))
 
-    def row(self, chosen: bool = False, figures: tuple[float, float] | None = None) -> dict:
+    def row(self, chosen: bool = False, figures: tuple[float, float] | None = None,
+            same_build_as: str | None = None) -> dict:
         """The candidate as report data; `figures` (time s, material mm³) are the built
-        plan's own, given for a candidate that was compared with none (estimate "plan")."""
+        plan's own, given for a candidate that was compared with none (estimate "plan");
+        `same_build_as`, the label of a candidate ranked before it that builds the same."""
         if figures is not None:
             (seconds, material), estimate = figures, "plan"
         else:
@@ -136,13 +138,30 @@ class Candidate:
             estimate = "layers" if self.exact else f"every {COARSE_EVERY}th layer"
         return {"label": self.label, "sub_parts": self.sub_parts,
                 "residual_overhang_mm2": self.overhang, "material_mm3": material,
-                "time_s": seconds, "estimate": estimate, "chosen": chosen}
+                "time_s": seconds, "estimate": estimate, "chosen": chosen,
+                "same_build_as": same_build_as}
+
+
+def builds(candidates: list[Candidate]) -> int:
+    """How many different builds the candidates are: twins (`_as_twin`, the same build)
+    share one cost, and Pump_Nut's and the sphere's two candidates are one build."""
+    return len({id(c.cost) for c in candidates})
 
 
 def compared(candidates: list[Candidate]) -> bool:
-    """Whether the candidates hold two costs to compare: twins (`_as_twin`, the same build)
-    share one, and Pump_Nut's and the sphere's two candidates are one build."""
-    return len({id(c.cost) for c in candidates}) > 1
+    """Whether the candidates hold two costs to compare (two builds)."""
+    return builds(candidates) > 1
+
+
+def twin_labels(candidates: list[Candidate]) -> list[str | None]:
+    """For each candidate, the label of the first one before it that is the same build
+    (shares its cost), None for the first of each build."""
+    first: dict[int, str] = {}
+    labels = []
+    for c in candidates:
+        labels.append(first.get(id(c.cost)))
+        first.setdefault(id(c.cost), c.label)
+    return labels
 
 
 def ranked(candidates: list[Candidate], objective: str) -> list[Candidate]:

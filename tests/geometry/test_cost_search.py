@@ -151,7 +151,22 @@ def test_the_t_is_built_whole_in_its_cheapest_support_free_orientation(objective
     report = json.loads(json.dumps(result.report()))
     assert report["objective"] == objective and report["candidates"] == rows
     summary = result.summary()
-    assert f"plans compared: {len(rows)}" in summary and chosen["label"] in summary
+    builds = [r for r in rows if r["same_build_as"] is None]
+    assert f"plans compared: {len(builds)}" in summary and chosen["label"] in summary
+
+
+def test_a_decomposition_without_a_cut_and_its_whole_twin_are_one_plan_in_the_summary(Part):
+    """A sphere's decomposition makes no cut: it is the whole build along its best
+    direction, the other candidate. The summary listed both, alike, as two plans compared,
+    the first called decomposed; the report marks the twin, the summary shows no choice."""
+    result = plan_job(Part.makeSphere(10.0), plan_options({}), part="ball")
+    first, second = result.candidates
+    assert first["chosen"] and first["same_build_as"] is None
+    assert second["label"].startswith("whole along") and second["same_build_as"] == first["label"]
+    assert (second["time_s"], second["material_mm3"]) == (first["time_s"], first["material_mm3"])
+    summary = result.summary()
+    assert "plans compared" not in summary and "chosen among" not in summary
+    assert json.loads(json.dumps(result.report()))["candidates"][1]["same_build_as"] == "decomposed"
 
 
 def test_a_lone_candidate_is_not_costed_and_reports_the_plans_own_figures(monkeypatch):
