@@ -98,11 +98,47 @@ def skin_at(layers: Sequence[Layer], i: int, top_layers: int, bottom_layers: int
         other = region_in(layer, layers[j])
         if covered is layer.region and shapely.equals_exact(other, covered, SAME_REGION):
             continue
-        covered = _boolean(covered, other, "intersection")
+        covered = _islandwise(covered, other, "intersection")
         if covered.is_empty:
             break
     return (MultiPolygon() if covered is layer.region
-            else as_multipolygon(_boolean(layer.region, covered, "difference")))
+            else _islandwise(layer.region, covered, "difference"))
+
+
+def _islandwise(a: MultiPolygon, b: MultiPolygon, operation: str) -> MultiPolygon:
+    """a ∩ b or a − b, where the islands of `a` that `b` holds too (`SAME_REGION`) are kept
+    (∩) or dropped (−) as they are, and only the others go through GEOS, against the islands
+    of `b` left: the islands of one region do not overlap, so a matched pair meets no other
+    island. GEOS is slowest on the edges that nearly coincide there: a mug's wall, the same
+    ring on every layer beside its changing handle, took 3 ms a Boolean, 3.5 s of its 9 s
+    plan."""
+    if a.is_empty or b.is_empty:
+        return a if operation == "difference" else MultiPolygon()
+    if len(a.geoms) == 1 and len(b.geoms) == 1:
+        if shapely.equals_exact(a, b, SAME_REGION):
+            return a if operation == "intersection" else MultiPolygon()
+        return as_multipolygon(_boolean(a, b, operation))
+    mine, theirs = shapely.get_parts(a), shapely.get_parts(b)
+    # Islands equal within SAME_REGION have boxes within it: those pairs are compared.
+    near = np.abs(shapely.bounds(mine)[:, None, :] - shapely.bounds(theirs)[None, :, :])
+    pairs = np.argwhere((near <= SAME_REGION).all(axis=2))
+    same = np.zeros(len(mine), dtype=bool)
+    taken = np.zeros(len(theirs), dtype=bool)
+    for i, j in pairs:
+        if not same[i] and not taken[j] and shapely.equals_exact(mine[i], theirs[j], SAME_REGION):
+            same[i] = taken[j] = True
+    if not same.any():
+        return as_multipolygon(_boolean(a, b, operation))
+    left, others = mine[~same], theirs[~taken]
+    if not len(left):
+        found = []
+    elif not len(others):
+        found = list(left) if operation == "difference" else []
+    else:
+        found = polygons_of(_boolean(MultiPolygon(list(left)), MultiPolygon(list(others)),
+                                     operation))
+    kept = list(mine[same]) if operation == "intersection" else []
+    return MultiPolygon([*kept, *found])
 
 
 def bridge_regions(layers: Sequence[Layer], skins: Sequence[MultiPolygon],
