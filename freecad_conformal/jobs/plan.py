@@ -599,39 +599,38 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
     if machine is None:
         machine = load_machine(options.machine)
 
-    def planned(placed, placement):
+    def laid_out(placed, placement, check_collisions: bool):
         # Side by side on one platform, each solid's tool meets what is built of the others:
         # the order of several solids is searched once, after they are laid out.
-        several = len(placed.Solids) > 1
         root = options.root
         if not isinstance(root, str):
             root = tuple(float(c) for c in placement.rotate(root))
-        begun = {} if early is None else {"early": early}
+        if split:
+            # The job builds the plan; it shows no centroidal axis (the Analysis does).
+            begun = {} if early is None else {"early": early}
+            plan = decompose(placed, tool=tool, root_direction=root,
+                             check_collisions=check_collisions, with_axes=False, **begun)
+        elif not isinstance(root, str):
+            plan = single_plan(placed, root)
+        else:
+            plan = single_plan(placed, BEST_DIRECTION if whole_best else (0.0, 0.0, 1.0))
+        laid = lay_out(plan, gap)
+        if len(placed.Solids) > 1:
+            laid.order = build_order(laid.subparts, tool=tool, notes=laid.notes,
+                                     one_platform=True)
+        return laid
 
-        def made(check_collisions: bool):
-            if split:
-                # The job builds the plan; it shows no centroidal axis (the Analysis does).
-                plan = decompose(placed, tool=tool, root_direction=root,
-                                 check_collisions=check_collisions, with_axes=False, **begun)
-            elif not isinstance(root, str):
-                plan = single_plan(placed, root)
-            else:
-                plan = single_plan(placed, BEST_DIRECTION if whole_best else (0.0, 0.0, 1.0))
-            laid = lay_out(plan, gap)
-            if several:
-                laid.order = build_order(laid.subparts, tool=tool, notes=laid.notes,
-                                         one_platform=True)
-            return laid
-
+    def planned(placed, placement):
+        several = len(placed.Solids) > 1
         try:
-            return made(check_collisions=not several)
+            return laid_out(placed, placement, check_collisions=not several)
         except BlockedOrder:
             if not (split and several):
                 raise
             # Each solid's own order was left to the search over all of them; blocked within
             # one, that solid's own check mends it (fusing a blocked sub-part back into its
             # parent), and the others keep their decomposition.
-            return made(check_collisions=True)
+            return laid_out(placed, placement, check_collisions=True)
 
     def turning_helps() -> bool:
         # A root given is turned with the part and every plan is laid out root up, so the
