@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from freecad_conformal.decomposition.planner import MIN_SAVING_FRACTION
+from freecad_conformal.jobs.search import COARSE_EVERY, ordinal
 
 
 def format_duration(seconds: float) -> str:
@@ -112,26 +113,47 @@ OTHERS_SHOWN = 2
 
 
 def _candidate_lines(result) -> list[str]:
-    """The chosen plan and the best others, as estimated before paths (paths/cost.py); a
-    candidate that builds the same as one before it (a decomposition that made no cut, and
-    the whole build along its root) is that one, and not shown twice."""
+    """The chosen plan and the best others, each with what its figures come from (the
+    chosen plan's paths, all its layers, or sampled layers: paths/cost.py), so a sampled
+    estimate is not read as the chosen plan's own; a candidate that builds the same as one
+    before it (a decomposition that made no cut, and the whole build along its root) is
+    that one, and not shown twice."""
     builds = [row for row in result.candidates if row.get("same_build_as") is None]
     if len(builds) < 2:
         return []
     chosen = [row for row in builds if row["chosen"]]
     others = [row for row in builds if not row["chosen"]][:OTHERS_SHOWN]
-    # The chosen plan's row carries its own figures when the choice did not need its
-    # estimate (jobs/search.CostWhenRead).
-    basis = ("the chosen plan's as planned, the others' estimated before paths"
-             if any(row["estimate"] == "plan" for row in chosen) else "estimated before paths")
+    shown = chosen + others
     lines = ["", f"plans compared: {len(builds)}, least residual overhang first, then "
-             f"the {result.objective} objective (time and material {basis})",
-             f"   {'plan':<34} {'sub-parts':>9} {'overhang mm2':>12} {'cm3':>8} {'time':>8}"]
+             f"the {result.objective} objective",
+             f"   {'plan':<34} {'sub-parts':>9} {'overhang mm2':>12} {'cm3':>8} {'time':>8}"
+             "  figures"]
     for mark, row in [("*", r) for r in chosen] + [(" ", r) for r in others]:
         lines.append(f" {mark} {row['label'][:34]:<34} {row['sub_parts']:>9} "
                      f"{row['residual_overhang_mm2']:>12.1f} {row['material_mm3'] / 1000:>8.3f} "
-                     f"{format_duration(row['time_s']):>8}")
+                     f"{format_duration(row['time_s']):>8}  {_figures_kind(row)}")
+    kinds = {_figures_kind(row) for row in shown}
+    lines.append("   figures: " + "; ".join(f"{kind} = {meaning}" for kind, meaning
+                                            in FIGURES_MEANING.items() if kind in kinds))
+    lines += [f"   {row['label']} is {row['mirror_of']} built from the other end (the same "
+              "sections in reverse order): of the two, the one with the better sampled "
+              "estimate was sliced, and this one keeps that estimate"
+              for row in shown if row.get("mirror_of")]
     return lines
+
+
+#: What a candidate row's time and material come from, as the summary names it.
+FIGURES_MEANING = {"planned": "from the chosen plan's paths",
+                   "sliced": "from all its layers, before paths",
+                   "sampled": f"from every {ordinal(COARSE_EVERY)} layer, before paths",
+                   "mirrored": "sampled, see below"}
+
+
+def _figures_kind(row: dict) -> str:
+    """Which of FIGURES_MEANING a report row's figures are."""
+    if row.get("mirror_of"):
+        return "mirrored"
+    return {"plan": "planned", "layers": "sliced"}.get(row["estimate"], "sampled")
 
 
 #: Version of the `plan --report` JSON (fields are only added, never renamed).

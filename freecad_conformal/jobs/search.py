@@ -70,6 +70,12 @@ COARSE_MARGIN = 0.03
 EXACT_LEAD = 0.06
 
 
+def ordinal(n: int) -> str:
+    """1st, 2nd, 3rd, 4th, … 11th, 12th, 13th, … 21st."""
+    suffix = "th" if n % 100 in (11, 12, 13) else {1: "st", 2: "nd", 3: "rd"}.get(n % 10, "th")
+    return f"{n}{suffix}"
+
+
 class CostWhenRead:
     """A plan's cost (`paths/cost.plan_cost`), computed when first read: a search left with
     one candidate compares nothing (the bottle's decomposition: 1.0 s of its 2.8 s choice),
@@ -108,6 +114,9 @@ class Candidate:
     exact: bool = True
     #: the build direction of the solid built whole, in the part's frame (None: decomposed)
     direction: tuple[float, float, float] | None = None
+    #: the label of the exactly costed candidate built whole the opposite way, for a
+    #: candidate left sampled as its mirror (`_mirror_costed`)
+    mirror_of: str | None = None
 
     @property
     def overhang(self) -> float:
@@ -130,16 +139,18 @@ class Candidate:
             same_build_as: str | None = None) -> dict:
         """The candidate as report data; `figures` (time s, material mm³) are the built
         plan's own, given for a candidate that was compared with none (estimate "plan");
-        `same_build_as`, the label of a candidate ranked before it that builds the same."""
+        `same_build_as`, the label of a candidate ranked before it that builds the same;
+        `mirror_of`, the label of the sliced candidate built the opposite way, for one left
+        sampled as its mirror."""
         if figures is not None:
             (seconds, material), estimate = figures, "plan"
         else:
             seconds, material = self.cost.seconds, self.cost.material
-            estimate = "layers" if self.exact else f"every {COARSE_EVERY}th layer"
+            estimate = "layers" if self.exact else f"every {ordinal(COARSE_EVERY)} layer"
         return {"label": self.label, "sub_parts": self.sub_parts,
                 "residual_overhang_mm2": self.overhang, "material_mm3": material,
                 "time_s": seconds, "estimate": estimate, "chosen": chosen,
-                "same_build_as": same_build_as}
+                "same_build_as": same_build_as, "mirror_of": self.mirror_of}
 
 
 def builds(candidates: list[Candidate]) -> int:
@@ -430,21 +441,21 @@ def _as_twin(candidate: Candidate, candidates: list[Candidate]) -> Candidate | N
 MIRRORED = 1e-9
 
 
-def _mirror_costed(candidate: Candidate, costed) -> bool:
-    """Whether the solid built whole along the opposite direction is among `costed`,
-    exactly costed. Built along d and −d, a solid is cut by the same planes into mirrored
-    sections: the two differ in which skins face up, where the layers start and the sparse
-    infill's phase (up to 2.7 % on the T-block), all of which the sampled estimate reads
-    too. On the 19 pairs both were costed exactly (samples, own parts, a gear, a comb, an
+def _mirror_costed(candidate: Candidate, costed) -> Candidate | None:
+    """The candidate among `costed`, exactly costed, that builds the solid whole along the
+    opposite direction (None when there is none). Built along d and −d, a solid is cut by
+    the same planes into mirrored sections: the two differ in which skins face up, where
+    the layers start and the sparse infill's phase (up to 2.7 % on the T-block), all of
+    which the sampled estimate reads too. On the 19 pairs both were costed exactly (samples, own parts, a gear, a comb, an
     I-beam, a perforated plate) the better sampled one was the better exact one, or within
     0.002 % of it (the vase). Slicing and costing the other took 0.8 s of the gear's 1.4 s
     plan choice."""
     if candidate.direction is None:
-        return False
+        return None
     mirror = -np.asarray(candidate.direction)
-    return any(other is not None and other.exact and other.direction is not None
-               and np.linalg.norm(mirror - np.asarray(other.direction)) < MIRRORED
-               for other in costed)
+    return next((other for other in costed
+                 if other is not None and other.exact and other.direction is not None
+                 and np.linalg.norm(mirror - np.asarray(other.direction)) < MIRRORED), None)
 
 
 def _exact(label: str, placed, plan: BuildPlan, split: bool, layer_settings,
@@ -524,12 +535,15 @@ def _refined(candidates: list[Candidate], layer_settings, path_settings: PathSet
     best = min(value(c) for c in contenders)
     unit = _unit(objective, best)
     replaced: dict[int, Candidate | None] = {}
+    mirrors: dict[int, Candidate] = {}      # left sampled, marked as mirrors
     lost: list[str] = []
     for c in sorted(contenders, key=value):
         near = value(c) <= best + max(COARSE_MARGIN, 0.0) * unit
         if not near and any(r is not None for r in replaced.values()):
             break
-        if _mirror_costed(c, replaced.values()):
+        mirrored = _mirror_costed(c, replaced.values())
+        if mirrored:
+            mirrors[id(c)] = dataclasses.replace(c, mirror_of=mirrored.label)
             continue
         twin = _as_twin(c, candidates)
         if twin is not None:
@@ -545,7 +559,7 @@ def _refined(candidates: list[Candidate], layer_settings, path_settings: PathSet
         except GeometryError as exc:
             replaced[id(c)] = None     # its exact layers cannot be cut: not a plan
             lost.append(f"{c.label}: {exc}")
-    result = [replaced.get(id(c), c) for c in candidates]
+    result = [replaced.get(id(c), mirrors.get(id(c), c)) for c in candidates]
     if not any(c is not None and c.exact for c in result):
         raise PlanError("no candidate plan could be sliced: " + "; ".join(lost))
     return [c for c in result if c is not None]

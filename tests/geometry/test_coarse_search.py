@@ -80,7 +80,7 @@ def test_the_coarse_ranking_chooses_what_exact_costing_chooses(name, monkeypatch
     flags = [c.exact for c in quick.candidates]
     assert flags == sorted(flags, reverse=True)
     assert {row["estimate"] for row in (c.row() for c in quick.candidates)} <= {
-        "layers", f"every {search.COARSE_EVERY}th layer"}
+        "layers", f"every {search.ordinal(search.COARSE_EVERY)} layer"}
 
 
 def test_a_coarse_candidate_with_more_overhang_than_an_exact_one_is_not_sliced(monkeypatch):
@@ -242,12 +242,59 @@ def test_of_two_mirrored_whole_builds_only_the_better_sampled_one_is_sliced(monk
     by_direction = {c.direction: c for c in result}
     assert not by_direction[up].exact and by_direction[down].exact and by_direction[side].exact
     assert search.ranked(result, "balanced")[-1].direction == up
+    # The one left sampled names the one sliced, for the summary to say why.
+    assert by_direction[up].mirror_of == f"whole along {down}"
+    assert by_direction[up].row()["mirror_of"] == f"whole along {down}"
+    assert by_direction[down].mirror_of is None and by_direction[side].mirror_of is None
 
     sliced.clear()
     unsliceable.add(f"whole along {down}")
     result = search._refined(candidates, None, None, None, "balanced")
     assert sliced == [f"whole along {down}", f"whole along {up}", f"whole along {side}"]
     assert [c.direction for c in result if c.exact] == [up, side]
+    assert all(c.mirror_of is None for c in result)
+
+
+def test_the_summary_says_what_each_plans_figures_come_from():
+    """The arch's summary showed its chosen build's planned figures beside its mirror's
+    sampled ones, lower by the estimate's error, under one header: the mirror looked
+    cheaper than the plan chosen. Each row now says what its figures are, and a mirror
+    says why it was not sliced."""
+    from types import SimpleNamespace
+
+    from freecad_conformal.jobs.report import _candidate_lines
+    from freecad_conformal.paths.cost import PlanCost
+
+    def row(label, seconds, material, exact=True, mirror_of=None, **given):
+        return search.Candidate(label, None, SimpleNamespace(support_area=0.0, subparts=[]),
+                                {}, PlanCost(seconds, material, {}, 0.0), exact=exact,
+                                mirror_of=mirror_of).row(**given)
+
+    chosen = row("whole along (+0, -1, +0)", 0.0, 0.0, chosen=True, figures=(4447.0, 14200.0))
+    mirror = row("whole along (+0, +1, +0)", 4408.0, 14178.0, exact=False,
+                 mirror_of="whole along (+0, -1, +0)")
+    sampled = row("whole along (+0, +0, -1)", 4977.0, 14532.0, exact=False)
+    sliced = row("decomposed", 5000.0, 15000.0)
+    def table(rows: list[dict]) -> tuple[dict[str, str], list[str]]:
+        lines = _candidate_lines(SimpleNamespace(candidates=rows, objective="balanced"))
+        start = next(k for k, line in enumerate(lines) if line.strip().startswith("plan "))
+        end = next(k for k, line in enumerate(lines) if line.strip().startswith("figures:"))
+        return {line[3:37].strip(): line.split()[-1] for line in lines[start + 1:end]}, lines
+
+    shown, lines = table([chosen, mirror, sliced])
+    assert shown == {"whole along (+0, -1, +0)": "planned", "whole along (+0, +1, +0)": "mirrored",
+                     "decomposed": "sliced"}
+    legend = next(line for line in lines if line.strip().startswith("figures:"))
+    assert all(f"{kind} = " in legend for kind in shown.values()) and "sampled =" not in legend
+    [why] = [line for line in lines if "built from the other end" in line]
+    assert why.strip().startswith("whole along (+0, +1, +0) is whole along (+0, -1, +0)")
+    shown, lines = table([chosen, sampled])
+    assert shown == {"whole along (+0, -1, +0)": "planned", "whole along (+0, +0, -1)": "sampled"}
+    assert any(f"sampled = from every {search.ordinal(search.COARSE_EVERY)} layer" in line
+               for line in lines)
+    assert [search.ordinal(n) for n in (1, 2, 3, 4, 11, 12, 13, 21, 22, 103, 111)] == [
+        "1st", "2nd", "3rd", "4th", "11th", "12th", "13th", "21st", "22nd", "103rd", "111th"]
+    assert not any("other end" in line or "mirrored" in line for line in lines)
 
 
 @pytest.mark.slow
