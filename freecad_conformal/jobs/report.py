@@ -124,12 +124,14 @@ def _candidate_lines(result) -> list[str]:
     chosen = [row for row in builds if row["chosen"]]
     others = [row for row in builds if not row["chosen"]][:OTHERS_SHOWN]
     shown = chosen + others
+    # As wide as the longest label (a refined direction's reads to three decimals).
+    width = max(len(row["label"]) for row in shown)
     lines = ["", f"plans compared: {len(builds)}, least residual overhang first, then "
              f"the {result.objective} objective",
-             f"   {'plan':<34} {'sub-parts':>9} {'overhang mm2':>12} {'cm3':>8} {'time':>8}"
+             f"   {'plan':<{width}} {'sub-parts':>9} {'overhang mm2':>12} {'cm3':>8} {'time':>8}"
              "  figures"]
     for mark, row in [("*", r) for r in chosen] + [(" ", r) for r in others]:
-        lines.append(f" {mark} {row['label'][:34]:<34} {row['sub_parts']:>9} "
+        lines.append(f" {mark} {row['label']:<{width}} {row['sub_parts']:>9} "
                      f"{row['residual_overhang_mm2']:>12.1f} {row['material_mm3'] / 1000:>8.3f} "
                      f"{format_duration(row['time_s']):>8}  {_figures_kind(row)}")
     kinds = {_figures_kind(row) for row in shown}

@@ -2,6 +2,8 @@
 cost is close to the exact one, and the choice is the one exact costing would make."""
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -275,12 +277,18 @@ def test_the_summary_says_what_each_plans_figures_come_from():
                  mirror_of="whole along (+0, -1, +0)")
     sampled = row("whole along (+0, +0, -1)", 4977.0, 14532.0, exact=False)
     sliced = row("decomposed", 5000.0, 15000.0)
+
     def table(rows: list[dict]) -> tuple[dict[str, str], list[str]]:
         lines = _candidate_lines(SimpleNamespace(candidates=rows, objective="balanced"))
         start = next(k for k, line in enumerate(lines) if line.strip().startswith("plan "))
         end = next(k for k, line in enumerate(lines) if line.strip().startswith("figures:"))
-        return {line[3:37].strip(): line.split()[-1] for line in lines[start + 1:end]}, lines
+        cells = [re.split(r" {2,}", line[3:].strip()) for line in lines[start + 1:end]]
+        return {row[0]: row[-1] for row in cells}, lines
 
+    refined = row("whole along (+0.158, -0.254, -0.954)", 4977.0, 14532.0, exact=False)
+    shown, _ = table([chosen, refined])      # a refined direction's label, whole
+    assert shown == {"whole along (+0, -1, +0)": "planned",
+                     "whole along (+0.158, -0.254, -0.954)": "sampled"}
     shown, lines = table([chosen, mirror, sliced])
     assert shown == {"whole along (+0, -1, +0)": "planned", "whole along (+0, +1, +0)": "mirrored",
                      "decomposed": "sliced"}
