@@ -62,6 +62,12 @@ def guard_files(args: argparse.Namespace) -> None:
                    if isinstance(getattr(args, name, None), (str, os.PathLike))], paths)
 
 
+#: What every command's help ends with: how its numbers are read (settings/cli.py).
+QUANTITIES_EPILOG = ("A number is in the unit its flag's help names (mm, deg, mm/s, s, ...); "
+                     "it may carry a unit of its own instead: --layer-height 200um, "
+                     "--infill-angle 0.8rad, --travel-speed 7.8m/min. Percentages may end in %.")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="python -m freecad_conformal",
@@ -72,7 +78,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub.required = True
     for name, (module_name, help_text) in COMMANDS.items():
         module = importlib.import_module(f"freecad_conformal.commands.{module_name}")
-        command_parser = sub.add_parser(name, help=help_text, description=help_text)
+        command_parser = sub.add_parser(name, help=help_text, description=help_text,
+                                        epilog=QUANTITIES_EPILOG)
         module.add_arguments(command_parser)
         command_parser.set_defaults(_run=module.run)
     return parser

@@ -446,10 +446,10 @@ def _mirror_costed(candidate: Candidate, costed) -> Candidate | None:
     opposite direction (None when there is none). Built along d and −d, a solid is cut by
     the same planes into mirrored sections: the two differ in which skins face up, where
     the layers start and the sparse infill's phase (up to 2.7 % on the T-block), all of
-    which the sampled estimate reads too. On the 19 pairs both were costed exactly (samples, own parts, a gear, a comb, an
-    I-beam, a perforated plate) the better sampled one was the better exact one, or within
-    0.002 % of it (the vase). Slicing and costing the other took 0.8 s of the gear's 1.4 s
-    plan choice."""
+    which the sampled estimate reads too. On the 19 pairs both were costed exactly
+    (samples, own parts, a gear, a comb, an I-beam, a perforated plate) the better sampled
+    one was the better exact one, or within 0.002 % of it (the vase). Slicing and costing
+    the other took 0.8 s of the gear's 1.4 s plan choice."""
     if candidate.direction is None:
         return None
     mirror = -np.asarray(candidate.direction)

@@ -4,10 +4,54 @@ from __future__ import annotations
 import argparse
 from typing import Any, Iterable
 
-from freecad_conformal.settings.schema import Setting
+from freecad_conformal.settings.schema import UNITS, Setting
 
-_TYPES = {"int": int, "length": float, "angle": float, "speed": float, "area": float,
-          "volume": float, "time": float, "feed": float, "percent": float, "float": float}
+#: Kinds whose flags take a quantity: a plain number is in the kind's unit (UNITS), and a
+#: number with a unit is converted to it ("0.2mm", "200um", "3.6 m/min", "0.5 rad"), read
+#: by FreeCAD's own parser as the task panel's fields read what a user types.
+QUANTITY_KINDS = ("length", "angle", "speed", "area", "volume", "time", "feed")
+
+#: An example of a quantity with another unit, per kind, for the message that refuses one.
+_EXAMPLES = {"length": "0.2mm or 200um", "angle": "45deg or 0.5rad", "speed": "60mm/s or 3.6m/min",
+             "area": "70mm^2 or 0.7cm^2", "volume": "500mm^3 or 0.5cm^3", "time": "5s or 1min",
+             "feed": "1800mm/min or 30mm/s"}
+
+
+def quantity_type(kind: str):
+    """The argparse type of a flag of `kind` (QUANTITY_KINDS): its value in the kind's unit."""
+    unit = UNITS[kind]
+
+    def parse(text: str) -> float:
+        try:
+            return float(text)
+        except ValueError:
+            pass
+        try:
+            from freecad_conformal.freecad_env import import_freecad
+
+            App, _ = import_freecad()   # only for a value with a unit: --help stays instant
+            return float(App.Units.Quantity(text).getValueAs(unit))
+        except (ValueError, ImportError, RuntimeError) as exc:
+            reason = "a quantity of another kind" if "mismatch" in str(exc) else "not a quantity"
+            raise argparse.ArgumentTypeError(
+                f"{text!r} is {reason}: give a {kind} in {unit} (a plain number) or with its "
+                f"unit, e.g. {_EXAMPLES[kind]}") from None
+
+    parse.__name__ = kind        # argparse names the type in its own messages
+    return parse
+
+
+def _percent(text: str) -> float:
+    """A percentage, with or without its % sign."""
+    try:
+        return float(text.strip().removesuffix("%"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a percentage: give a number, e.g. 20 "
+                                         "or 20%") from None
+
+
+_TYPES = {"int": int, "percent": _percent, "float": float,
+          **{kind: quantity_type(kind) for kind in QUANTITY_KINDS}}
 
 
 def _help(setting: Setting) -> str:

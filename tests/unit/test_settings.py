@@ -53,6 +53,35 @@ def test_flags_reach_their_settings_and_old_spellings_still_work():
         "layer_height"] == 0.1
 
 
+def test_numbers_may_carry_their_own_unit():
+    """A shop's script types 0.2mm or 200um as the task panel's fields take it: a number
+    with a unit is converted to the flag's unit; a plain number is in that unit."""
+    values = validate(PLAN_SETTINGS, _parse(PLAN_SETTINGS, [
+        "--layer-height", "200um", "--infill-angle", "0.5 rad", "--travel-speed", "7.8m/min",
+        "--min-layer-time", "0.1min", "--solid-below-area", "0.7cm^2", "--infill", "35%",
+        "--bead-width", "0.45"]))
+    assert values["layer_height"] == pytest.approx(0.2)
+    assert values["infill_angle"] == pytest.approx(28.64788975654116)
+    assert values["travel_speed"] == pytest.approx(130.0)
+    assert values["min_layer_time"] == pytest.approx(6.0)
+    assert values["solid_below_area"] == pytest.approx(70.0)
+    assert values["infill"] == 35.0 and values["bead_width"] == 0.45
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--layer-height", "0.2s"], ["--layer-height", "'0.2s'", "another kind", "length in mm",
+                                  "0.2mm"]),
+    (["--layer-height", "0.2 furlongs"], ["'0.2 furlongs'", "not a quantity"]),
+    (["--travel-speed", "130mm"], ["another kind", "speed in mm/s"]),
+    (["--infill", "20 pct"], ["'20 pct'", "not a percentage"]),
+])
+def test_a_value_with_a_wrong_unit_is_refused_naming_the_flag(argv, words, capsys):
+    with pytest.raises(SystemExit):
+        _parse(PLAN_SETTINGS, argv)
+    message = capsys.readouterr().err
+    assert all(word in message for word in words), message
+
+
 @pytest.mark.parametrize("argv, words", [
     (["--layer-height", "0"], ["layer height", "--layer-height", "LayerHeight", "> 0", "got 0"]),
     (["--infill", "120"], ["infill density", "--infill", "<= 100", "got 120"]),
