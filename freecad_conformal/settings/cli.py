@@ -26,16 +26,19 @@ def quantity_type(kind: str):
             return float(text)
         except ValueError:
             pass
-        try:
-            from freecad_conformal.freecad_env import import_freecad
+        from freecad_conformal.freecad_env import import_freecad
 
-            App, _ = import_freecad()   # only for a value with a unit: --help stays instant
-            return float(App.Units.Quantity(text).getValueAs(unit))
-        except (ValueError, ImportError, RuntimeError) as exc:
-            reason = "a quantity of another kind" if "mismatch" in str(exc) else "not a quantity"
-            raise argparse.ArgumentTypeError(
-                f"{text!r} is {reason}: give a {kind} in {unit} (a plain number) or with its "
-                f"unit, e.g. {_EXAMPLES[kind]}") from None
+        App, _ = import_freecad()   # only for a value with a unit: --help stays instant
+        try:
+            value = App.Units.Quantity(text)
+        except ValueError:
+            value = None
+        if value is not None and value.Unit == App.Units.Quantity(f"1 {unit}").Unit:
+            return float(value.getValueAs(unit))
+        reason = "not a quantity" if value is None else "a quantity of another kind"
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is {reason}: give a {kind} in {unit} (a plain number) or with its "
+            f"unit, e.g. {_EXAMPLES[kind]}")
 
     parse.__name__ = kind        # argparse names the type in its own messages
     return parse
