@@ -76,6 +76,17 @@ class JobFeature(Computed, ToolpathFeature):
         obj.EstimatedSeconds = float(result["seconds"])
         obj.SubPartCount = int(result["subparts"])
         store_preview(obj, result)
+        report_summary(obj)
+
+
+def report_summary(obj) -> None:
+    """In FreeCAD's GUI, the job's summary in the Report view: the property editor shows it
+    on one line, and it says what the plan costs and why overhang is left (the command
+    line prints it too). A macro without the GUI reads `obj.Summary` instead."""
+    import FreeCAD
+
+    if getattr(FreeCAD, "GuiUp", False):
+        FreeCAD.Console.PrintMessage(f"Conformal: {obj.Label}:\n{obj.Summary.rstrip()}\n")
 
 
 def compute_job(inputs: dict, progress) -> dict:

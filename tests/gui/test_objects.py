@@ -67,6 +67,9 @@ def test_job_plans_the_bracket_with_its_subparts(objects_run):
     assert job["valid"] and job["points"] > 1000
     assert job["subparts"] == 2 and job["distinct_segment_subparts"] == [0, 1]
     assert "sub-part" in job["summary"]
+    # The property editor shows the summary on one line: the Report view has it whole.
+    assert "Conformal: BracketJob:" in job["report_view"]
+    assert all(line in job["report_view"] for line in job["summary"].splitlines() if line)
     assert "G1" in job["gcode_head"] or "G0" in job["gcode_head"]
 
 

@@ -100,9 +100,11 @@ def _job(doc, params) -> dict:
     job.LayerHeight = 0.5
     job.BeadWidth = 0.8
     job.Infill = 10
+    gui_support.clear_report_view()
     started = time.perf_counter()
     doc.recompute()
     out = {"seconds": time.perf_counter() - started, "valid": job.isValid(),
+           "report_view": gui_support.report_view_text(),
            "points": job.PointCount, "subparts": job.SubPartCount,
            "distinct_segment_subparts": sorted(set(job.SegmentSubparts)),
            "summary": job.Summary, "gcode_head": open(job.GcodeFile).read(400)
