@@ -4,7 +4,7 @@ from __future__ import annotations
 import argparse
 from typing import Any, Iterable
 
-from freecad_conformal.settings.schema import UNITS, Setting
+from freecad_conformal.settings.schema import UNITS, Setting, quantity_value
 
 #: Kinds whose flags take a quantity: a plain number is in the kind's unit (UNITS), and a
 #: number with a unit is converted to it ("0.2mm", "200um", "3.6 m/min", "0.5 rad"), read
@@ -26,19 +26,12 @@ def quantity_type(kind: str):
             return float(text)
         except ValueError:
             pass
-        from freecad_conformal.freecad_env import import_freecad
-
-        App, _ = import_freecad()   # only for a value with a unit: --help stays instant
         try:
-            value = App.Units.Quantity(text)
-        except ValueError:
-            value = None
-        if value is not None and value.Unit == App.Units.Quantity(f"1 {unit}").Unit:
-            return float(value.getValueAs(unit))
-        reason = "not a quantity" if value is None else "a quantity of another kind"
-        raise argparse.ArgumentTypeError(
-            f"{text!r} is {reason}: give a {kind} in {unit} (a plain number) or with its "
-            f"unit, e.g. {_EXAMPLES[kind]}")
+            return quantity_value(text, unit)
+        except ValueError as reason:
+            raise argparse.ArgumentTypeError(
+                f"{text!r} is {reason}: give a {kind} in {unit} (a plain number) or with its "
+                f"unit, e.g. {_EXAMPLES[kind]}") from None
 
     parse.__name__ = kind        # argparse names the type in its own messages
     return parse

@@ -173,13 +173,45 @@ def parse_direction(value: Any, setting: Setting) -> str | tuple[float, float, f
     return vector  # type: ignore[return-value]
 
 
+def quantity_value(text: str, unit: str) -> float:
+    """`text` in `unit` (UNITS' spelling), a number with a unit of the same kind ("0.2mm",
+    "200um", "3.6 m/min"), read by FreeCAD's own Quantity parser as the task panel's fields
+    read what a user types. Raises ValueError saying why not: not a quantity, or a quantity
+    of another kind. FreeCAD is imported only here, for text that is no plain number (a
+    command's --help stays instant)."""
+    from freecad_conformal.freecad_env import import_freecad
+
+    App, _ = import_freecad()
+    try:
+        quantity = App.Units.Quantity(text)
+    except ValueError:
+        raise ValueError("not a quantity") from None
+    if quantity.Unit != App.Units.Quantity(f"1 {unit}").Unit:
+        raise ValueError("a quantity of another kind")
+    return float(quantity.getValueAs(unit))
+
+
+def _list_number(part: Any, unit: str) -> float:
+    """One element of a list setting: a number, or text with a unit when the list has one."""
+    try:
+        return float(part)
+    except (TypeError, ValueError):
+        if not (unit and isinstance(part, str)):
+            raise
+    return quantity_value(part.strip(), unit)
+
+
 def parse_numbers(value: Any, setting: Setting) -> tuple[float, ...]:
-    """Numbers given as text "a, b, c" or as a sequence; all finite."""
+    """Numbers given as text "a, b, c" or as a sequence; all finite. Where the setting has a
+    unit (lengths, a point: mm), an element may carry its own ("5mm, 0.6cm")."""
     parts = value.replace(";", ",").split(",") if isinstance(value, str) else list(value)
     try:
-        numbers = tuple(float(p) for p in parts if not isinstance(p, str) or p.strip())
+        numbers = tuple(_list_number(p, setting.unit) for p in parts
+                        if not isinstance(p, str) or p.strip())
     except (TypeError, ValueError):
-        raise SettingError(f"{setting.describe()} must be numbers a,b,c, got {value!r}") from None
+        unit = f" in {setting.unit} (or each with its unit)" if setting.unit else ""
+        raise SettingError(f"{setting.describe()} must be numbers a,b,c{unit}, "
+                           f"got {value!r}") from None
     if not all(map(math.isfinite, numbers)):
         raise SettingError(f"{setting.describe()} must be finite numbers, got {value!r}")
     return numbers

@@ -68,6 +68,22 @@ def test_numbers_may_carry_their_own_unit():
     assert values["infill"] == 35.0 and values["bead_width"] == 0.45
 
 
+def test_length_lists_and_points_may_carry_units_per_element():
+    """The radii, heights and axis point are text in the task panel and on the command
+    line alike: each element may carry its unit; a plain number is in mm."""
+    values = validate(SECTIONS_SETTINGS, {"radii": "5mm, 0.6cm,7", "heights": "1, 2.5 mm",
+                                          "axis_point": "0, 1cm, 2000um"})
+    assert values["radii"] == pytest.approx((5.0, 6.0, 7.0))
+    assert values["heights"] == pytest.approx((1.0, 2.5))
+    assert values["axis_point"] == pytest.approx((0.0, 10.0, 2.0))
+    for wrong in ("5mm, 2s", "5mm, 2 parsecs"):
+        with pytest.raises(SettingError, match=r"radii .* must be numbers a,b,c in mm \(or each "
+                                               r"with its unit\), got '5mm, 2"):
+            validate(SECTIONS_SETTINGS, {"radii": wrong})
+    with pytest.raises(SettingError, match="must be numbers a,b,c, got '1, 2mm'"):
+        validate(FEATURE_SETTINGS, {"at": "1, 2mm"})     # (u, v) parameters: no unit
+
+
 @pytest.mark.parametrize("argv, words", [
     (["--layer-height", "0.2s"], ["--layer-height", "'0.2s'", "another kind", "length in mm",
                                   "0.2mm"]),
