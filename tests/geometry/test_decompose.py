@@ -182,6 +182,22 @@ def test_a_part_modelled_turned_is_planned_as_well_as_upright(App, Part):
     assert any("less overhang than the other roots" in note for note in plan.notes)
 
 
+def test_a_part_that_overhangs_alike_every_way_is_not_turned_for_the_measures_noise(Part):
+    """A hollow sphere overhangs 920.15 mm² whichever way it is built; the mesh read
+    919.04 along Z and 918.60 along Y, and the sphere was turned onto its side "with less
+    overhang than as placed". A turn must save more than the measure's noise."""
+    from freecad_conformal.decomposition.decompose import TURN_SAVING
+    from freecad_conformal.geometry.overhang import DEFAULT_OVERHANG_ANGLE, overhang_area
+
+    hollow = Part.makeSphere(20.0).cut(Part.makeSphere(10.0))
+    along = {d: overhang_area(hollow, np.array(d), DEFAULT_OVERHANG_ANGLE)
+             for d in ((0.0, 0.0, 1.0), (0.0, 1.0, 0.0))}
+    assert 0.0 < along[(0.0, 0.0, 1.0)] - along[(0.0, 1.0, 0.0)] < TURN_SAVING  # the noise
+    plan = decompose(hollow, root_direction="auto", with_axes=False)
+    assert not any("root built along" in note for note in plan.notes), plan.notes
+    assert [tuple(s.build_direction) for s in plan.subparts] == [(0.0, 0.0, 1.0)]
+
+
 def test_a_part_is_never_stood_on_a_corner_to_avoid_support():
     """The jack has no overhang balanced on a corner (every face 35° off vertical), but a
     corner gives no adhesion: its root must stand on a flat face."""
