@@ -144,7 +144,8 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
                     continue
             pristine = None
             if auto:
-                direction, area = best_single_direction(solid, overhang_angle, AXIS_DIRECTIONS)
+                direction, area = best_single_direction(solid, overhang_angle, AXIS_DIRECTIONS,
+                                                        tie=TURN_SAVING)
                 turn = angle_between(direction, root) > SAME_DIRECTION
                 if (worth and turn
                         and overhang_area(solid, root, overhang_angle) > area + TURN_SAVING):
@@ -376,7 +377,9 @@ def _best_single(solids: list, angle: float) -> tuple[np.ndarray, float]:
 
     _, Part = import_freecad()
     whole = solids[0] if len(solids) == 1 else Part.Compound(solids)
-    return best_single_direction(whole, angle)
+    # The direction a turn would take (`TURN_SAVING`), so a plan kept as placed for the
+    # measure's noise is not shown saving a negative area against it.
+    return best_single_direction(whole, angle, tie=TURN_SAVING)
 
 
 def _subpart(index: int, piece: Piece, parent: int | None, angle: float) -> SubPart:

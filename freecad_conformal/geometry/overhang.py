@@ -217,10 +217,12 @@ def standing_directions(shape, directions: Sequence[np.ndarray]) -> list[np.ndar
 
 
 def best_single_direction(shape, angle: float = DEFAULT_OVERHANG_ANGLE,
-                          candidates: Sequence[np.ndarray] | None = None
-                          ) -> tuple[np.ndarray, float]:
+                          candidates: Sequence[np.ndarray] | None = None,
+                          tie: float = NEGLIGIBLE_AREA) -> tuple[np.ndarray, float]:
     """The candidate direction with the least overhang for the whole part, and that area;
-    the first of those within NEGLIGIBLE_AREA of it. Candidates default to the six axes,
+    a later candidate replaces an earlier one only when it leaves more than `tie` (mm²)
+    less (the callers that weigh a turn pass the overhang measure's noise: the first
+    candidate, +Z, is the part as placed). Candidates default to the six axes,
     then the rest of `orientation_candidates` in which the part stands on a flat face: the
     axes alone missed a part's own directions once it was modelled turned (see
     decomposition/decompose._turned_further)."""
@@ -230,6 +232,6 @@ def best_single_direction(shape, angle: float = DEFAULT_OVERHANG_ANGLE,
     best = None
     for candidate in candidates:
         area = overhang_area(shape, candidate, angle)
-        if best is None or area < best[1] - NEGLIGIBLE_AREA:
+        if best is None or area < best[1] - tie:
             best = (np.asarray(candidate, dtype=float), area)
     return best

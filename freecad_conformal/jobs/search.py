@@ -291,7 +291,9 @@ def _made(solid, makers: list, make_plan, layer_settings, path_settings: PathSet
 
     def whole_along_best() -> None:
         # This loop reaches it.
-        direction, area = best_single_direction(solid, angle)
+        # Ties go to the earlier direction (+Z, the part as placed, first): the twin of a
+        # decomposition that kept the part as placed and made no cut (a sphere's).
+        direction, area = best_single_direction(solid, angle, tie=OVERHANG_TIE)
         label = f"whole along {_text(direction)}"
         best = min(candidates, key=lambda c: c.overhang, default=None)
         if best is not None and area > best.overhang + OVERHANG_TIE:

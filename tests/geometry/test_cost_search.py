@@ -477,7 +477,7 @@ def test_a_whole_build_leaving_more_overhang_is_not_costed(monkeypatch, whole_ov
 
     monkeypatch.setattr(search, "_whole_directions", lambda solid, angle: [])
     monkeypatch.setattr(search, "best_single_direction",
-                        lambda solid, angle: (np.array([1.0, 0.0, 0.0]), whole_overhang))
+                        lambda solid, angle, **_: (np.array([1.0, 0.0, 0.0]), whole_overhang))
     monkeypatch.setattr(search, "_exact", costed)
     monkeypatch.setattr(search, "coarse_candidate", costed)
     found = search.plan_candidates(jack, make_plan, None, None, None, 0.7)

@@ -196,6 +196,9 @@ def test_a_part_that_overhangs_alike_every_way_is_not_turned_for_the_measures_no
     plan = decompose(hollow, root_direction="auto", with_axes=False)
     assert not any("root built along" in note for note in plan.notes), plan.notes
     assert [tuple(s.build_direction) for s in plan.subparts] == [(0.0, 0.0, 1.0)]
+    # The best single direction it reports (and the search builds whole) is as placed too.
+    assert tuple(plan.single_direction) == (0.0, 0.0, 1.0)
+    assert plan.support_area_saved == 0.0
 
 
 def test_a_part_is_never_stood_on_a_corner_to_avoid_support():
