@@ -4,7 +4,7 @@ from __future__ import annotations
 import argparse
 from typing import Any, Iterable
 
-from freecad_conformal.settings.schema import UNITS, Setting, quantity_value
+from freecad_conformal.settings.schema import UNITS, Setting, number_in
 
 #: Kinds whose flags take a quantity: a plain number is in the kind's unit (UNITS), and a
 #: number with a unit is converted to it ("0.2mm", "200um", "3.6 m/min", "0.5 rad"), read
@@ -23,11 +23,7 @@ def quantity_type(kind: str):
 
     def parse(text: str) -> float:
         try:
-            return float(text)
-        except ValueError:
-            pass
-        try:
-            return quantity_value(text, unit)
+            return number_in(text, unit)
         except ValueError as reason:
             raise argparse.ArgumentTypeError(
                 f"{text!r} is {reason}: give a {kind} in {unit} (a plain number) or with its "

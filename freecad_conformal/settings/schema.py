@@ -191,8 +191,10 @@ def quantity_value(text: str, unit: str) -> float:
     return float(quantity.getValueAs(unit))
 
 
-def _list_number(part: Any, unit: str) -> float:
-    """One element of a list setting: a number, or text with a unit when the list has one."""
+def number_in(part: Any, unit: str) -> float:
+    """A number, or text with a unit converted to `unit` where there is one (a flag's
+    value, an element of a list setting). Raises ValueError (TypeError for a non-number
+    without a unit to read it in): `quantity_value` says why text was refused."""
     try:
         return float(part)
     except (TypeError, ValueError):
@@ -206,7 +208,7 @@ def parse_numbers(value: Any, setting: Setting) -> tuple[float, ...]:
     unit (lengths, a point: mm), an element may carry its own ("5mm, 0.6cm")."""
     parts = value.replace(";", ",").split(",") if isinstance(value, str) else list(value)
     try:
-        numbers = tuple(_list_number(p, setting.unit) for p in parts
+        numbers = tuple(number_in(p, setting.unit) for p in parts
                         if not isinstance(p, str) or p.strip())
     except (TypeError, ValueError):
         unit = f" in {setting.unit} (or each with its unit)" if setting.unit else ""
