@@ -33,7 +33,7 @@ from freecad_conformal.geometry.shape_cache import ShapeCache
 from freecad_conformal.geometry.shape_parts import faces as faces_of, heights as vertex_heights
 from freecad_conformal.geometry.frames import LayerFrame
 from freecad_conformal.geometry.loops import Loop, loops_of_faces, polygons_of_loops
-from freecad_conformal.geometry.solids import solids_of
+from freecad_conformal.geometry.solids import loose_tolerance, solids_of
 from freecad_conformal.tolerances import DEFAULT_CHORD_TOLERANCE, MIN_SECTION_AREA, ROUNDING_SLACK
 
 #: The cutting plane extends this far (relative) beyond the solid's bounding box, so no
@@ -449,10 +449,12 @@ class PlanarSlicer:
         if faces:
             self.repairs[h] = f"fuzzy Boolean ({FUZZY_VALUE:g} mm)"
             return self.make_section(h, faces)
+        loose = loose_tolerance(self.solids[crossed[0]])
+        why = f"; {loose}: repair the part (Part > Check geometry)" if loose else ""
         raise GeometryError(f"the section at height {h:.6g} mm came back empty although the plane "
                             f"crosses solid {crossed[0] + 1} of {len(self.solids)} (its extent "
                             f"{self.extent(crossed[0])[0]:.6g}..{self.extent(crossed[0])[1]:.6g} mm); "
-                            "face-by-face, Boolean, nudged and fuzzy cuts all failed")
+                            f"face-by-face, Boolean, nudged and fuzzy cuts all failed{why}")
 
     def _fuzzy_common(self, solid_index: int, height: float) -> list[SectionFace]:
         solid, box = self.solids[solid_index], self._boxes[solid_index]

@@ -54,6 +54,17 @@ def test_and_when_everything_fails_the_height_is_named(Part, monkeypatch):
         planar_sections(Part.makeBox(10, 20, 30), heights=[5.0])
 
 
+def test_and_a_loose_tolerance_that_may_be_why_is_named(Part, monkeypatch):
+    _failing_at(monkeypatch, 5.0, also_nudged=True, also_fuzzy=True)
+    box = Part.makeBox(10, 20, 30)
+    box.fixTolerance(0.05, Part.Vertex)     # usual: not named
+    with pytest.raises(GeometryError, match=r"cuts all failed$"):
+        planar_sections(box, heights=[5.0])
+    box.fixTolerance(2.0, Part.Vertex)
+    with pytest.raises(GeometryError, match=r"a vertex carries a tolerance of 2 mm .*repair"):
+        planar_sections(box, heights=[5.0])
+
+
 def test_a_plane_beyond_or_touching_the_part_stays_empty_without_a_repair(Part):
     stack = planar_sections(Part.makeBox(10, 20, 30), heights=[-1.0, 31.0])
     assert [layer.area for layer in stack.layers] == [0.0, 0.0]
