@@ -178,43 +178,98 @@ BRANCH_SURFACES = ("Cylinder", "Cone")
 
 def branch_candidates(shape, direction: np.ndarray, angle: float, estimate: SavingEstimate,
                       needed: float, concave: list | None = None) -> Iterator[PlaneCandidates]:
-    """Planes square to round members that leave the piece leaning beyond the overhang
-    angle (a Y's or a coat rack's arms, a tee's branch), best estimated saving first, as
-    `area_jump_candidates`: METHODS section 3's fallback where no planar splitting face
-    exists ("silhouette edges"). For each cylinder or cone carrying concave edges (where the
-    member meets the rest), the plane is normal to its axis, pointing along the member
-    (towards the face's centre), just beyond the farthest point of those edges: the member
+    """Planes square to members that leave the piece leaning beyond the overhang angle (a
+    Y's or a coat rack's arms, a tee's branch, a knob's lever), best estimated saving first,
+    as `area_jump_candidates`: METHODS section 3's fallback where no planar splitting face
+    exists ("silhouette edges"). A member's axis is that of a cylinder or cone carrying
+    concave edges (where the member meets the rest), or the one direction along all the
+    planar sides of a prismatic member (`_prism_members`). The plane is normal to it,
+    pointing along the member, just beyond the farthest point of those edges: the member
     is then cut off whole, to be built along its own axis. Area-jump planes only run along
-    ±X, ±Y, ±Z, and cut an arm leaning 20° above the horizontal through its stem."""
+    ±X, ±Y, ±Z, and cut an arm leaning 20° above the horizontal through its stem; a tab
+    leaving a round body makes no area jump at all (the body's section shrinks to nothing
+    where the tab goes on)."""
     if concave is None:
         concave = concave_edges(shape)
+    lean = math.cos(angle)
+    planes = []
+    for key, normal, origin, points in _round_members(shape, concave) + _prism_members(shape, concave):
+        if float(normal @ direction) > lean:
+            continue        # a member within the overhang angle grows from the piece as it is
+        height = float(np.max(points @ normal)) + BRANCH_CLEARANCE
+        point = origin + (height - float(origin @ normal)) * normal
+        saving = estimate.saving(SplitCandidate(point, normal, None, "branch"))
+        if saving > needed:
+            planes.append((saving, key, point, normal))
+    planes.sort(key=lambda item: (-item[0], item[1]))
+    for saving, _, point, normal in planes[:MAX_EXACT_CUTS]:
+        yield PlaneCandidates(saving, point, normal, "branch",
+                              lambda point=point, normal=normal: _branch_regions(shape, point, normal))
+
+
+Member = tuple[tuple, np.ndarray, np.ndarray, np.ndarray]
+"""(sort key, axis pointing along the member, a point on the axis, its concave edges' points)"""
+
+
+def _round_members(shape, concave: list) -> list[Member]:
+    """Cylinders and cones carrying concave edges, along their axes (towards the face's
+    centre)."""
     faces = shape.Faces
     ends: dict[int, list[np.ndarray]] = {}
     for edge_angle in concave:
         for index in edge_angle.faces:
             if type(faces[index].Surface).__name__ in BRANCH_SURFACES:
                 ends.setdefault(index, []).append(edge_points(edge_angle.edge))
-    lean = math.cos(angle)
-    planes = []
+    members = []
     for index, pieces in sorted(ends.items()):
         surface = faces[index].Surface
         axis = np.array(tuple(surface.Axis), dtype=float)
         axis /= np.linalg.norm(axis)
         points = np.vstack(pieces)
         outward = 1.0 if (np.array(tuple(faces[index].CenterOfMass)) - points.mean(axis=0)) @ axis > 0 else -1.0
-        normal = outward * axis
-        if float(normal @ direction) > lean:
-            continue        # a member within the overhang angle grows from the piece as it is
-        origin = np.array(tuple(surface.Center), dtype=float)
-        height = float(np.max(points @ normal)) + BRANCH_CLEARANCE
-        point = origin + (height - float(origin @ normal)) * normal
-        saving = estimate.saving(SplitCandidate(point, normal, None, "branch"))
-        if saving > needed:
-            planes.append((saving, index, point, normal))
-    planes.sort(key=lambda item: (-item[0], item[1]))
-    for saving, _, point, normal in planes[:MAX_EXACT_CUTS]:
-        yield PlaneCandidates(saving, point, normal, "branch",
-                              lambda point=point, normal=normal: _branch_regions(shape, point, normal))
+        members.append(((0, index), outward * axis, np.array(tuple(surface.Center), dtype=float), points))
+    return members
+
+
+#: Two planar sides whose normals lie closer than this (rad) are parallel: they give no
+#: member axis; a side whose normal is this close to square to an axis runs along it.
+PRISM_ANGLE = math.radians(1.0)
+
+
+def _prism_members(shape, concave: list) -> list[Member]:
+    """Members with planar sides (a lever, a tab, a bar leaving a body): every direction
+    square to the normals of two non-parallel planar faces carrying concave edges, pointing
+    from those edges towards the faces' centres; the member's sides are the faces of such
+    edges that run along it, each pointing that way."""
+    from freecad_conformal.geometry.face_normals import plane_normal
+
+    faces = shape.Faces
+    sides: dict[int, list[np.ndarray]] = {}
+    for edge_angle in concave:
+        for index in edge_angle.faces:
+            if plane_normal(faces[index]) is not None:
+                sides.setdefault(index, []).append(edge_points(edge_angle.edge))
+    found = [(index, plane_normal(faces[index]), np.vstack(pieces),
+              np.array(tuple(faces[index].CenterOfMass))) for index, pieces in sorted(sides.items())]
+    axes: list[np.ndarray] = []
+    for i, (_, first, _, _) in enumerate(found):
+        for _, second, _, _ in found[i + 1:]:
+            across = np.cross(first, second)
+            if np.linalg.norm(across) < math.sin(PRISM_ANGLE):
+                continue
+            axis = across / np.linalg.norm(across)
+            if not any(abs(float(axis @ known)) > math.cos(PRISM_ANGLE) for known in axes):
+                axes.append(axis)
+    members = []
+    for number, axis in enumerate(axes):
+        for outward in (axis, -axis):
+            along = [points for _, normal, points, centre in found
+                     if abs(float(normal @ axis)) < math.sin(PRISM_ANGLE)
+                     and float((centre - points.mean(axis=0)) @ outward) > 0]
+            if len(along) >= 2:
+                points = np.vstack(along)
+                members.append(((1, number, float(outward @ axis)), outward, points.mean(axis=0), points))
+    return members
 
 
 def _branch_regions(shape, point: np.ndarray, normal: np.ndarray) -> list[SplitCandidate]:

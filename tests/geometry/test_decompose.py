@@ -355,6 +355,49 @@ def test_round_arms_leaning_off_a_post_are_each_built_along_their_own_axis(arms)
     assert sum(s.volume for s in plan.subparts) == pytest.approx(rack.Volume, rel=1e-6)
 
 
+def _knob(levers: int, tilt_deg: float = 0.0):
+    """A round knob (r 12, 15 mm, domed) with `levers` square bars (6 x 5 mm, reaching
+    x = 33) leaving its side at mid-height, evenly around it, each turned `tilt_deg` about
+    its own axis (its sides then lie square to no axis of the part)."""
+    from freecad_conformal.freecad_env import import_freecad
+
+    App, Part = import_freecad()
+    V = App.Vector
+    shape = Part.makeCylinder(12, 15).fuse(Part.makeSphere(12, V(0, 0, 15), V(0, 0, 1), 0, 90))
+    for k in range(levers):
+        bar = Part.makeBox(25, 6, 5, V(8, -3, -2.5))
+        bar.rotate(V(0, 0, 0), V(1, 0, 0), tilt_deg)
+        bar.translate(V(0, 0, 10.5))
+        bar.rotate(V(0, 0, 0), V(0, 0, 1), 360.0 * k / levers)
+        shape = shape.fuse(bar)
+    return shape.removeSplitter().Solids[0]
+
+
+@pytest.mark.parametrize("levers, tilt", [(1, 0.0), (2, 0.0), (1, 30.0)])
+def test_square_levers_leaving_a_round_body_are_each_built_along_their_own_axis(levers, tilt):
+    """A lever leaves the knob on no planar splitting face (its sides meet the cylinder),
+    no area jump marks it (the body's section along the lever shrinks to nothing where the
+    lever goes on) and no round member carries it: the knob kept its levers' whole
+    undersides as overhang (126.8 mm² each) until planes square to the one direction all
+    of a lever's planar sides run along were tried."""
+    knob = _knob(levers, tilt)
+    plan = decompose(knob, root_direction=(0, 0, 1))
+    body, *rest = plan.ordered()
+    np.testing.assert_allclose(body.build_direction, [0, 0, 1], atol=1e-12)
+    assert [s.rule for s in rest] == ["branch"] * levers
+    axes = {(round(math.cos(2 * math.pi * k / levers), 6) + 0.0,
+             round(math.sin(2 * math.pi * k / levers), 6) + 0.0, 0.0) for k in range(levers)}
+    assert {tuple(np.round(s.build_direction, 6) + 0.0) for s in rest} == axes
+    for lever in rest:
+        assert lever.parent == body.index
+        # cut just beyond the body: nearly all of the 21 mm the lever stands out
+        assert lever.volume == pytest.approx(30 * (33 - 12 - 0.2), rel=1e-3)
+    # what is left: the stubs' undersides between the body and the cut, 2 mm² each
+    assert plan.support_area < 2.5 * levers
+    assert overhang_of(knob) > 120 * levers
+    assert sum(s.volume for s in plan.subparts) == pytest.approx(knob.Volume, rel=1e-6)
+
+
 def overhang_of(shape) -> float:
     from freecad_conformal.geometry.overhang import overhang_area
 
