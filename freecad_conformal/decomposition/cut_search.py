@@ -102,7 +102,8 @@ def _mesh_trial(piece, mesh, region, angle: float, search: CutSearch):
 
 def _keeper_factor(piece, angle: float, search: CutSearch) -> np.ndarray:
     """Per face, the share of its overhang the piece keeps in its own direction: below 1
-    for planar faces resting (partly) on the bed or the base faces."""
+    for planar faces resting (partly) on the bed or the base faces, 0 for curved faces
+    laid on the bed."""
     report = search.report(piece, angle)
     if piece.keeper_factor is None or piece.keeper_factor[0] is not report:
         piece.keeper_factor = (report, _factor_of(piece, report, angle))
@@ -118,6 +119,9 @@ def _factor_of(piece, report, angle: float) -> np.ndarray:
         normal = plane_normal(face)
         if normal is not None and normal @ piece.direction < -threshold:
             factor[index] = overhang.get(index, 0.0) / max(float(face.Area), DIVISION_GUARD)
+    # Laid on the bed (`overhang.overhang_report`): none of it overhangs while the kept
+    # piece stands there.
+    factor[report.laid] = 0.0
     return factor
 
 

@@ -19,7 +19,8 @@ from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry.face_normals import plane_normal
 from freecad_conformal.geometry.shape_cache import ShapeCache
 from freecad_conformal.geometry.shape_parts import faces as faces_of, heights as vertex_heights, vertex_points
-from freecad_conformal.geometry.surface_mesh import face_part, mesh_deflection, mesh_faces
+from freecad_conformal.geometry.surface_mesh import (BED_BAND, BED_RUN, face_part, mesh_deflection,
+                                                     mesh_faces)
 from freecad_conformal.tolerances import PARALLEL_COS_SLACK, ROUNDING_SLACK, ZERO_LENGTH
 
 #: Default allowed overhang from the build direction (the common 45° self-support rule of FDM).
@@ -49,6 +50,8 @@ class OverhangReport:
     angle: float
     area: float
     faces: list[tuple[int, float]] = field(default_factory=list)
+    #: curved faces that overhang but are laid on the bed (`surface_mesh.BED_BAND`)
+    laid: list[int] = field(default_factory=list)
 
     def to_dict(self) -> dict:
         return {"direction": [float(c) for c in self.direction],
@@ -95,10 +98,28 @@ def base_area(shape, d: np.ndarray) -> float:
     return area
 
 
+def _bed_level(shape, d: np.ndarray, low: float, deflection: float) -> float:
+    """The shape's lowest point along d: its lowest vertex (`low`) or a curved face's lowest
+    mesh node (on the surface), where a round bottom reaches lower (a sphere's lowest vertex
+    along X is its centre's level)."""
+    lowest = low
+    for face in faces_of(shape):
+        if plane_normal(face) is None:
+            part = face_part(face, deflection)
+            if part is not None and len(part.points):
+                lowest = min(lowest, float((part.points @ d).min()))
+    return lowest
+
+
 def curved_overhang(face, d: np.ndarray, threshold: float, deflection: float) -> float:
     """Overhang area of a curved face on its mesh part (geometry/surface_mesh.py)."""
     part = face_part(face, deflection)
     return 0.0 if part is None else part.below(d, threshold)
+
+
+def _laid(face, d: np.ndarray, threshold: float, deflection: float, bed: float) -> bool:
+    part = face_part(face, deflection)
+    return part is not None and part.laid_on_bed(d, threshold, bed)
 
 
 def overhang_report(shape, direction: Sequence[float], angle: float = DEFAULT_OVERHANG_ANGLE,
@@ -111,26 +132,32 @@ def overhang_report(shape, direction: Sequence[float], angle: float = DEFAULT_OV
         angle: allowed overhang from the build direction (rad).
         base_faces: planar faces the shape is built on (its parent's split faces); the part of a
             face covered by them is not overhang.
-        on_bed: also exclude faces lying on the lowest plane (the build plate).
+        on_bed: also exclude faces lying on the lowest plane (the build plate), and curved
+            or sloping faces laid on it (`surface_mesh.BED_BAND`; the report lists them).
     """
     d = _direction(direction)
     threshold = overhang_threshold(check_angle(angle))
     low = lowest_level(shape, d) if on_bed else None
     deflection = mesh_deflection(shape)
     mesh_faces(shape, deflection)
+    bed = None if low is None else _bed_level(shape, d, low, deflection)
     faces = []
+    laid = []
     for index, face in enumerate(faces_of(shape)):
         normal = plane_normal(face)
         if normal is None:
             area = curved_overhang(face, d, threshold, deflection)
+            if bed is not None and area > NEGLIGIBLE_AREA and _laid(face, d, threshold, deflection, bed):
+                area = 0.0
+                laid.append(index)
         elif normal @ d < -threshold:
-            area = float(face.Area) - _supported_area(face, normal, d, low, base_faces)
+            area = float(face.Area) - _supported_area(face, normal, d, low, bed, base_faces)
         else:
             area = 0.0
         if area > NEGLIGIBLE_AREA:
             faces.append((index, area))
     return OverhangReport(direction=d, angle=angle, area=float(sum(a for _, a in faces)),
-                          faces=faces)
+                          faces=faces, laid=laid)
 
 
 #: Overhang areas of whole shapes (no base faces), by shape identity and (direction, angle,
@@ -160,11 +187,17 @@ def share_overhang_areas(original, copy) -> None:
 
 
 def _supported_area(face, normal: np.ndarray, d: np.ndarray, low: float | None,
-                    base_faces: Sequence) -> float:
-    """How much of a downward planar face rests on the bed or on the base faces."""
+                    bed: float | None, base_faces: Sequence) -> float:
+    """How much of a downward planar face rests on the bed or on the base faces: all of one
+    on the bed, or of a sloping one laid on it (within `BED_BAND` and `BED_RUN`)."""
     level = float(vertex_points(face)[0] @ d)
     if low is not None and abs(normal @ d + 1.0) < PARALLEL_COS_SLACK and abs(level - low) < ON_PLANE_TOLERANCE:
         return float(face.Area)
+    if bed is not None and abs(normal @ d + 1.0) >= PARALLEL_COS_SLACK:
+        rise = max(vertex_heights(face, d)) - bed
+        down = float(-(normal @ d))
+        if rise <= BED_BAND and rise * down <= BED_RUN * math.sqrt(1.0 - down * down):
+            return float(face.Area)
     supported = 0.0
     for base in base_faces:
         base_normal = plane_normal(base)

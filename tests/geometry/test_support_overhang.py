@@ -6,6 +6,7 @@ import math
 import numpy as np
 import pytest
 
+from freecad_conformal.decomposition.decompose import decompose
 from freecad_conformal.geometry.overhang import overhang_area, overhang_report
 
 ANGLE = math.radians(45.0)
@@ -136,3 +137,47 @@ def test_the_best_single_direction_never_balances_a_part_on_a_corner():
     direction, area = best_single_direction(jack, ANGLE)
     assert area > 100.0
     assert base_area(jack, direction) >= MIN_BASE_AREA
+
+
+def test_a_large_round_bottom_still_overhangs_on_the_bed(Part):
+    """Only what runs out little is laid on the bed: a 12.5 mm ball runs out 4.5 mm by
+    0.4 mm above it, and keeps its cap, seen from its pole's triangles or its equator's
+    alike (a rim of fillet is laid: below)."""
+    radius = 12.5
+    sphere = Part.makeSphere(radius, Part.Vertex(0, 0, radius).Point)
+    cap = 2 * math.pi * radius ** 2 * (1 - math.cos(ANGLE))
+    assert overhang_area(sphere, (0, 0, 1), ANGLE, on_bed=False) == pytest.approx(cap, rel=5e-3)
+    for turn in (0, 90):
+        turned = sphere.copy()
+        turned.rotate(Part.Vertex(0, 0, radius).Point, Part.Vertex(1, 0, 0).Point, turn)
+        assert overhang_area(turned, (0, 0, 1), ANGLE) == pytest.approx(cap, rel=5e-3)
+
+
+def test_a_box_rounded_on_every_edge_stands_flat_without_support(Part):
+    """The lower half of a 1 mm fillet rises 0.29 mm: counted as overhang, it left 66.2 mm²
+    "to support" and the plan turned the box on its end (200 layers, not 75)."""
+    box = Part.makeBox(40, 30, 15)
+    rounded = box.makeFillet(1.0, box.Edges)
+    assert overhang_area(rounded, (0, 0, 1), ANGLE) < 1e-3
+    assert overhang_area(rounded, (0, 0, 1), ANGLE, on_bed=False) > 90.0   # the whole rim
+    plan = decompose(rounded, root_direction="auto")
+    assert plan.support_area < 1e-3
+    assert abs(plan.subparts[0].build_direction[2]) == pytest.approx(1.0)
+
+
+def test_a_steep_chamfer_in_the_band_rests_and_a_shallow_recess_still_overhangs(App, Part):
+    """A 60° chamfer 0.2 mm high along the bottom is laid on the bed; the ceiling of a
+    0.2 mm recess in the bottom is a bridge, as before."""
+    V = App.Vector
+    box = Part.makeBox(20, 20, 10)
+    bottom = [e for e in box.Edges if abs(e.BoundBox.ZMax) < 1e-9]
+    # 0.2 mm up, 0.35 mm across: its faces lean 60° from the walls, 30° from the bed
+    chamfered = box.makeChamfer(0.2, 0.2 * math.tan(math.radians(60)), bottom)
+    sloping = [f for f in chamfered.Faces if -0.99 < f.normalAt(0, 0).z < -math.sin(ANGLE)]
+    assert len(sloping) == 4
+    assert max(f.BoundBox.ZMax for f in sloping) == pytest.approx(0.2)
+    assert overhang_area(chamfered, (0, 0, 1), ANGLE) == 0.0
+    lifted = (20 - 0.4 * math.tan(math.radians(60))) ** 2 + sum(f.Area for f in sloping)
+    assert overhang_area(chamfered, (0, 0, 1), ANGLE, on_bed=False) == pytest.approx(lifted)
+    recessed = box.cut(Part.makeBox(10, 10, 0.2, V(5, 5, 0)))
+    assert overhang_area(recessed, (0, 0, 1), ANGLE) == pytest.approx(100.0)
