@@ -237,18 +237,20 @@ PRISM_ANGLE = math.radians(1.0)
 
 
 def _prism_members(shape, concave: list) -> list[Member]:
-    """Members with planar sides (a lever, a tab, a bar leaving a body): every direction
-    square to the normals of two non-parallel planar faces carrying concave edges, pointing
-    from those edges towards the faces' centres; the member's sides are the faces of such
-    edges that run along it, each pointing that way."""
+    """Members with planar sides leaving a round body (a knob's lever, a cylinder's ears):
+    every direction square to the normals of two non-parallel planar faces meeting a curved
+    face at concave edges, pointing from those edges towards the faces' centres; the
+    member's sides are the faces of such edges that run along it, each pointing that way.
+    A member leaving a planar face is the splitting faces' (a square branch on a block's
+    top, cut off along its axis, was built into the block: no order, and the part whole)."""
     from freecad_conformal.geometry.face_normals import plane_normal
 
     faces = shape.Faces
     sides: dict[int, list[np.ndarray]] = {}
     for edge_angle in concave:
-        for index in edge_angle.faces:
-            if plane_normal(faces[index]) is not None:
-                sides.setdefault(index, []).append(edge_points(edge_angle.edge))
+        planar = [index for index in edge_angle.faces if plane_normal(faces[index]) is not None]
+        if len(planar) == 1:
+            sides.setdefault(planar[0], []).append(edge_points(edge_angle.edge))
     found = [(index, plane_normal(faces[index]), np.vstack(pieces),
               np.array(tuple(faces[index].CenterOfMass))) for index, pieces in sorted(sides.items())]
     axes: list[np.ndarray] = []
