@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Sequence
+from typing import Callable, Sequence
 
 import numpy as np
 
@@ -19,7 +19,7 @@ from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry.face_normals import plane_normal
 from freecad_conformal.geometry.shape_cache import ShapeCache
 from freecad_conformal.geometry.shape_parts import faces as faces_of, heights as vertex_heights, vertex_points
-from freecad_conformal.geometry.surface_mesh import (BED_BAND, BED_RUN, face_part, mesh_deflection,
+from freecad_conformal.geometry.surface_mesh import (PLANE_RUN, face_part, laid_at, mesh_deflection,
                                                      mesh_faces)
 from freecad_conformal.tolerances import PARALLEL_COS_SLACK, ROUNDING_SLACK, ZERO_LENGTH
 
@@ -117,11 +117,6 @@ def curved_overhang(face, d: np.ndarray, threshold: float, deflection: float) ->
     return 0.0 if part is None else part.below(d, threshold)
 
 
-def _laid(face, d: np.ndarray, threshold: float, deflection: float, bed: float) -> bool:
-    part = face_part(face, deflection)
-    return part is not None and part.laid_on_bed(d, threshold, bed)
-
-
 def overhang_report(shape, direction: Sequence[float], angle: float = DEFAULT_OVERHANG_ANGLE,
                     base_faces: Sequence = (), on_bed: bool = True) -> OverhangReport:
     """Area of `shape`'s faces overhanging more than `angle` when built along `direction`.
@@ -140,18 +135,27 @@ def overhang_report(shape, direction: Sequence[float], angle: float = DEFAULT_OV
     low = lowest_level(shape, d) if on_bed else None
     deflection = mesh_deflection(shape)
     mesh_faces(shape, deflection)
-    bed = None if low is None else _bed_level(shape, d, low, deflection)
+    bed: list[float] = []       # the bed's level, read once a face may be laid on it
+
+    def bed_level() -> float:
+        if not bed:
+            bed.append(_bed_level(shape, d, low, deflection))
+        return bed[0]
+
     faces = []
     laid = []
     for index, face in enumerate(faces_of(shape)):
         normal = plane_normal(face)
         if normal is None:
-            area = curved_overhang(face, d, threshold, deflection)
-            if bed is not None and area > NEGLIGIBLE_AREA and _laid(face, d, threshold, deflection, bed):
+            part = face_part(face, deflection)
+            area = 0.0 if part is None else part.below(d, threshold)
+            if (low is not None and area > NEGLIGIBLE_AREA
+                    and part.laid_on_bed(d, threshold, bed_level())):
                 area = 0.0
                 laid.append(index)
         elif normal @ d < -threshold:
-            area = float(face.Area) - _supported_area(face, normal, d, low, bed, base_faces)
+            area = float(face.Area) - _supported_area(
+                face, normal, d, low, None if low is None else bed_level, base_faces)
         else:
             area = 0.0
         if area > NEGLIGIBLE_AREA:
@@ -187,16 +191,15 @@ def share_overhang_areas(original, copy) -> None:
 
 
 def _supported_area(face, normal: np.ndarray, d: np.ndarray, low: float | None,
-                    bed: float | None, base_faces: Sequence) -> float:
+                    bed_level: Callable[[], float] | None, base_faces: Sequence) -> float:
     """How much of a downward planar face rests on the bed or on the base faces: all of one
-    on the bed, or of a sloping one laid on it (within `BED_BAND` and `BED_RUN`)."""
+    on the bed, or of a sloping one laid on it (`surface_mesh.laid_at`, at its top)."""
     level = float(vertex_points(face)[0] @ d)
     if low is not None and abs(normal @ d + 1.0) < PARALLEL_COS_SLACK and abs(level - low) < ON_PLANE_TOLERANCE:
         return float(face.Area)
-    if bed is not None and abs(normal @ d + 1.0) >= PARALLEL_COS_SLACK:
-        rise = max(vertex_heights(face, d)) - bed
-        down = float(-(normal @ d))
-        if rise <= BED_BAND and rise * down <= BED_RUN * math.sqrt(1.0 - down * down):
+    if bed_level is not None and abs(normal @ d + 1.0) >= PARALLEL_COS_SLACK:
+        rise = max(vertex_heights(face, d)) - bed_level()
+        if laid_at(rise, float(-(normal @ d)), PLANE_RUN):
             return float(face.Area)
     supported = 0.0
     for base in base_faces:

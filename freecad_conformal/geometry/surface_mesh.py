@@ -145,8 +145,7 @@ class FacePart:
         if not over.any():
             return False
         z = self.points[self.triangles[over]] @ d - bed
-        c = np.clip(down[over], 0.0, 1.0)
-        return bool(np.all((z <= BED_BAND) & (2.0 * z * c <= BED_RUN * np.sqrt(1.0 - c * c))))
+        return bool(np.all(laid_at(z, down[over], ROUND_RUN)))
 
 
 #: A face whose overhang lies no higher than BED_BAND (mm) above the bed, and reaches out
@@ -161,6 +160,17 @@ class FacePart:
 #: passes (1/(2R) high) was laid or not as its mesh fell, 3 mm² apart between two sides.
 BED_BAND = 0.4
 BED_RUN = 1.0
+#: A surface's run from the bed to a height z is z cot ψ times this: 1 on a plane at slope
+#: ψ, 2 to first order on a round profile read at its top (z = r(1 − cos ψ)).
+PLANE_RUN, ROUND_RUN = 1.0, 2.0
+
+
+def laid_at(z, down, run: float):
+    """Whether a surface point z above the bed, with −n·d = `down` there, is laid on it
+    (see BED_BAND): z within the band, its run `run` z cot ψ within BED_RUN (numbers or
+    arrays alike)."""
+    c = np.clip(down, 0.0, 1.0)
+    return (z <= BED_BAND) & (run * z * c <= BED_RUN * np.sqrt(1.0 - c * c))
 
 
 def below_fraction(g: np.ndarray) -> np.ndarray:
