@@ -15,6 +15,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable, Sequence
 
+import shapely
+
 from freecad_conformal.child_python import ChildPython, can_start_child, can_stream, serve_items
 from freecad_conformal.geometry.loops import grid_key
 from freecad_conformal.paths.fill2d import IslandFill, layer_fill
@@ -62,6 +64,7 @@ class _Maker:
         self.bridges = [dict(enumerate(k[1])) if k else {} for k in known]
         self.fills: list[dict[int, list[IslandFill]]] = [{} for _ in stacks]
         self.made: dict[tuple, list[IslandFill]] = {}
+        self.simplified: dict[bytes, object] = {}
 
     def skin(self, stack: int, i: int):
         found = self.skins[stack].get(i)
@@ -81,7 +84,7 @@ class _Maker:
         if bridge is None and settings.feeds.bridges_apart:
             bridge = bridge_at(layers, i, skin, self.skin(stack, i - 1) if i else None,
                                settings.fill.solid_below_area)
-        region = layer.region.simplify(settings.fill.bead_width * SIMPLIFY_FRACTION)
+        region = self.simplified_region(layer.region)
         key = fill_key(region, skin, bridge, layer)
         fill = self.made.get(key)
         if fill is None:
@@ -89,6 +92,17 @@ class _Maker:
             self.made[key] = fill
         self.put(stack, i, skin, bridge, fill)
         return skin, bridge, fill, key
+
+    def simplified_region(self, region):
+        """The region simplified to `SIMPLIFY_FRACTION` of the bead, once per region the
+        same bit for bit: a prism's layers repeat theirs (the table's 300 layers hold 7, and
+        simplifying each took 0.13 s, a tenth of its paths)."""
+        key = shapely.to_wkb(region)
+        found = self.simplified.get(key)
+        if found is None:
+            found = region.simplify(self.settings.fill.bead_width * SIMPLIFY_FRACTION)
+            self.simplified[key] = found
+        return found
 
     def put(self, stack: int, i: int, skin, bridge, fill: list[IslandFill]) -> None:
         self.skins[stack][i] = skin

@@ -106,3 +106,36 @@ def test_distinct_fills_count_each_region_at_each_parity_to_rounding():
     assert stack_fill._distinct([(stack, False)]) == 2
     moved = [_layer(i, _tube(1e-3 * (i // 2)), 0.2) for i in range(24)]    # 12 regions
     assert stack_fill._distinct([(moved, False)]) == 24
+
+
+
+def _fine_tube(shift: float = 0.0) -> MultiPolygon:
+    """The tube with one corner rounded in many short chords, as a section comes (1 µm
+    chord): simplifying it drops points. `shift` moves its first corner."""
+    corner = [(22.0 + 3.0 * np.sin(t), 22.0 + 3.0 * np.cos(t))
+              for t in np.linspace(0.0, 0.5 * np.pi, 200)]
+    outer = [(shift, 0.0), (25.0, 0.0), *corner[::-1], (0.0, 25.0)]
+    return MultiPolygon([Polygon(outer, [box(1.2, 1.2, 23.8, 23.8).exterior.coords])])
+
+
+def test_a_prisms_region_is_simplified_once_and_each_other_region_its_own(monkeypatch):
+    """A prism's layers repeat one region bit for bit (the table's 300 layers hold 7):
+    simplified once, and each layer filled from it. A region that differs, however
+    little, is simplified itself."""
+    regions = [_fine_tube(), _fine_tube(1e-3)]
+    layers = [_layer(i, regions[i // 10], 0.2) for i in range(20)]
+    simplified: list[int] = []
+    original = MultiPolygon.simplify
+    monkeypatch.setattr(MultiPolygon, "simplify",
+                        lambda self, *args, **kwargs: simplified.append(1) or original(self, *args, **kwargs))
+    filled: list = []
+    monkeypatch.setattr(stack_fill, "layer_fill",
+                        lambda region, *args, **kwargs: filled.append(region) or [])
+    stack_fills([(layers, False)], PathSettings(), child=False)
+    assert len(simplified) == 2
+    monkeypatch.undo()
+    tolerance = PathSettings().fill.bead_width * stack_fill.SIMPLIFY_FRACTION
+    expected = [shapely.to_wkb(region.simplify(tolerance)) for region in regions]
+    assert shapely.get_num_coordinates(regions[0].simplify(tolerance)) < 100
+    # Each distinct fill made from its own layer's region simplified: both regions'.
+    assert {shapely.to_wkb(region) for region in filled} == set(expected)
