@@ -19,7 +19,7 @@ from freecad_conformal.errors import PlanError
 from freecad_conformal.geometry.face_normals import plane_normal
 from freecad_conformal.geometry.shape_cache import ShapeCache
 from freecad_conformal.geometry.shape_parts import faces as faces_of, heights as vertex_heights, vertex_points
-from freecad_conformal.geometry.surface_mesh import (PLANE_RUN, face_part, laid_at, mesh_deflection,
+from freecad_conformal.geometry.surface_mesh import (BED_BAND, PLANE_RUN, face_part, laid_at, mesh_deflection,
                                                      mesh_faces)
 from freecad_conformal.tolerances import PARALLEL_COS_SLACK, ROUNDING_SLACK, ZERO_LENGTH
 
@@ -150,7 +150,7 @@ def overhang_report(shape, direction: Sequence[float], angle: float = DEFAULT_OV
             part = face_part(face, deflection)
             area = 0.0 if part is None else part.below(d, threshold)
             if (low is not None and area > NEGLIGIBLE_AREA
-                    and part.laid_on_bed(d, threshold, bed_level())):
+                    and part.laid_on_bed(d, threshold, bed_level, low)):
                 area = 0.0
                 laid.append(index)
         elif normal @ d < -threshold:
@@ -198,8 +198,10 @@ def _supported_area(face, normal: np.ndarray, d: np.ndarray, low: float | None,
     if low is not None and abs(normal @ d + 1.0) < PARALLEL_COS_SLACK and abs(level - low) < ON_PLANE_TOLERANCE:
         return float(face.Area)
     if bed_level is not None and abs(normal @ d + 1.0) >= PARALLEL_COS_SLACK:
-        rise = max(vertex_heights(face, d)) - bed_level()
-        if laid_at(rise, float(-(normal @ d)), PLANE_RUN):
+        top = max(vertex_heights(face, d))
+        # The bed is not above the lowest vertex: a top more than the band over that is
+        # not laid, whatever the bed's level (reading it costs a pass over the mesh).
+        if top - low <= BED_BAND and laid_at(top - bed_level(), float(-(normal @ d)), PLANE_RUN):
             return float(face.Area)
     supported = 0.0
     for base in base_faces:

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
 
@@ -135,17 +136,21 @@ class FacePart:
             return 0.0
         return float(self.areas @ below_fraction(self.corner_normals @ d + threshold))
 
-    def laid_on_bed(self, d: np.ndarray, threshold: float, bed: float) -> bool:
-        """Whether all of the face's overhang is laid on the bed at level `bed` along d (see
-        BED_BAND): every corner of its overhanging triangles is, its run from the bed read
-        as 2 z cot ψ (z its height, ψ the slope there; exact to first order on a round
-        profile, z = r(1 − cos ψ))."""
+    def laid_on_bed(self, d: np.ndarray, threshold: float, bed: Callable[[], float],
+                    above: float) -> bool:
+        """Whether all of the face's overhang is laid on the bed at level `bed()` along d
+        (see BED_BAND): every corner of its overhanging triangles is, its run from the bed
+        read as 2 z cot ψ (z its height, ψ the slope there; exact to first order on a round
+        profile, z = r(1 − cos ψ)). `above`: a level the bed is not above (the lowest
+        vertex): a corner more than BED_BAND over it settles the answer without `bed()`."""
         down = -(self.corner_normals @ d)
         over = below_fraction(threshold - down) > 0.0
         if not over.any():
             return False
-        z = self.points[self.triangles[over]] @ d - bed
-        return bool(np.all(laid_at(z, down[over], ROUND_RUN)))
+        heights = self.points[self.triangles[over]] @ d
+        if heights.max() - above > BED_BAND:
+            return False
+        return bool(np.all(laid_at(heights - bed(), down[over], ROUND_RUN)))
 
 
 #: A face whose overhang lies no higher than BED_BAND (mm) above the bed, and reaches out

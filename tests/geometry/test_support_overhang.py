@@ -181,3 +181,24 @@ def test_a_steep_chamfer_in_the_band_rests_and_a_shallow_recess_still_overhangs(
     assert overhang_area(chamfered, (0, 0, 1), ANGLE, on_bed=False) == pytest.approx(lifted)
     recessed = box.cut(Part.makeBox(10, 10, 0.2, V(5, 5, 0)))
     assert overhang_area(recessed, (0, 0, 1), ANGLE) == pytest.approx(100.0)
+
+
+def test_the_beds_level_is_read_only_for_overhang_near_the_bed(App, Part, monkeypatch):
+    """Reading the bed's level is a pass over every curved face's mesh (3 ms a direction on
+    Pump_Nut, a fifth of its scan of 30 directions): a cap far above the lowest vertex is not
+    laid whatever that level, and keeps its overhang without it."""
+    from freecad_conformal.geometry import overhang
+
+    read: list[int] = []
+    original = overhang._bed_level
+    monkeypatch.setattr(overhang, "_bed_level", lambda *args: read.append(1) or original(*args))
+    radius = 6.0
+    ball = Part.makeSphere(radius, App.Vector(0, 0, 30.0))
+    post = Part.makeCylinder(2.0, 30.0 - radius + 1.0)
+    on_a_post = post.fuse(ball).removeSplitter()
+    report = overhang_report(on_a_post, (0, 0, 1), ANGLE)
+    assert report.area > 10.0 and not report.laid
+    assert not read
+    box = Part.makeBox(40, 30, 15)
+    report = overhang_report(box.makeFillet(1.0, box.Edges), (0, 0, 1), ANGLE)
+    assert report.area < 1e-3 and report.laid and read
