@@ -17,6 +17,7 @@ import numpy as np
 from freecad_conformal.errors import KinematicsError, PlanError
 from freecad_conformal.fileio import write_all
 from freecad_conformal.geometry.shape_cache import ShapeCache
+from freecad_conformal.paths import stack_fill
 from freecad_conformal.paths.bead import bead_area
 from freecad_conformal.paths.assemble import Assembly, PathSettings, assemble
 from freecad_conformal.paths.timing import DEFAULT_JERK, estimate_time, jerk_record
@@ -488,9 +489,14 @@ def plan_additive(shape, options: PlanOptions, part: str = "part", library=None,
     any geometry work), then the plan chosen and placed on the machine (`choose_plan`), then
     layers, paths and G-code."""
     checked = check_options(shape, options, library, part)
-    choice = choose_plan(shape, options, checked)
-    return run_job(choice.placed, choice.plan, options, part, library, progress, checked=checked,
-                   layers=choice.layers, candidates=choice.candidates)
+    # The fills' child starts while the plan is chosen, to be ready for its paths.
+    stack_fill.prestart()
+    try:
+        choice = choose_plan(shape, options, checked)
+        return run_job(choice.placed, choice.plan, options, part, library, progress,
+                       checked=checked, layers=choice.layers, candidates=choice.candidates)
+    finally:
+        stack_fill.drop_prestarted()
 
 
 def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",

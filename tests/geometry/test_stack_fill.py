@@ -195,3 +195,62 @@ def test_skins_read_for_the_paths_serve_the_cost_and_back(stacks, monkeypatch):
     assert skins == filled.skins and bridges == filled.bridges and len(read) == len(layers)
     again = assemble.stacks_filled([(layers, rests)], settings)[0]
     assert again.skins == skins and len(read) == len(layers)
+
+
+@pytest.fixture
+def prestarting(monkeypatch):
+    """`prestart` with the replaying child: the children it started."""
+    started: list[_Replay] = []
+
+    def start(module: str) -> _Replay:
+        started.append(_Replay(module))
+        return started[-1]
+
+    monkeypatch.setattr(stack_fill, "ChildPython", start)
+    monkeypatch.setattr(stack_fill, "can_start_child", lambda: True)
+    monkeypatch.setattr(stack_fill, "can_stream", lambda: True)
+    yield started
+    stack_fill.drop_prestarted()
+
+
+def test_a_child_started_while_the_plan_is_chosen_shares_fewer_layers(stacks, alone, monkeypatch,
+                                                                      prestarting):
+    """Started ahead, its start costs the fills nothing: it takes a share of stacks too
+    small to repay starting one then."""
+    monkeypatch.setattr(stack_fill, "MIN_CHILD_LAYERS", sum(len(s[0]) for s in stacks) + 1)
+    monkeypatch.setattr(stack_fill, "MIN_PRESTARTED_LAYERS", 1)
+    stack_fill.prestart()
+    stack_fill.prestart()                       # one child, however often asked
+    made = _made_here(monkeypatch)
+    shared = stack_fill.stack_fills(stacks, _settings())
+    assert _same(shared, alone)
+    assert made == [] and len(prestarting) == 1     # the child had it all
+    # Taken: the next fills start no other and find none ahead.
+    again = stack_fill.stack_fills(stacks, _settings())
+    assert _same(again, alone) and len(prestarting) == 1
+
+
+def test_a_child_started_ahead_is_ended_where_it_does_not_pay(stacks, alone, monkeypatch,
+                                                              prestarting):
+    monkeypatch.setattr(stack_fill, "MIN_PRESTARTED_LAYERS", sum(len(s[0]) for s in stacks) + 1)
+    monkeypatch.setattr(stack_fill, "MIN_CHILD_LAYERS", 10 ** 6)
+    stack_fill.prestart()
+    made = _made_here(monkeypatch)
+    assert _same(stack_fill.stack_fills(stacks, _settings()), alone)
+    assert len(made) == sum(len(s[0]) for s in stacks)
+    assert len(prestarting) == 1 and prestarting[0].stopped
+
+
+def test_a_failed_job_ends_the_child_started_for_its_paths(monkeypatch, prestarting):
+    from freecad_conformal.errors import PlanError
+    from freecad_conformal.geometry.samples import load_part
+    from freecad_conformal.jobs import plan as job
+
+    def refused(*args, **kwargs):
+        raise PlanError("no plan")
+
+    monkeypatch.setattr(job, "choose_plan", refused)
+    with pytest.raises(PlanError):
+        job.plan_additive(load_part("bracket")[0], job.PlanOptions())
+    assert len(prestarting) == 1 and prestarting[0].stopped
+    assert not stack_fill._PRESTARTED
