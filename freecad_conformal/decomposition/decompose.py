@@ -31,10 +31,11 @@ from freecad_conformal.decomposition.trial import (EarlyTrial, Trial, can_start_
 from freecad_conformal.decomposition.subparts import BuildPlan, SubPart
 from freecad_conformal.geometry.overhang import (AXIS_DIRECTIONS, CUBE_DIRECTIONS,
                                                 DEFAULT_OVERHANG_ANGLE, MIN_BASE_AREA,
-                                                base_area, best_single_direction, check_angle,
+                                                base_area, best_single_direction,
+                                                check_angle, footprint_area,
                                                 lowest_level, orientation_candidates,
                                                 overhang_area, overhang_report,
-                                                standing_directions)
+                                                standing_directions, stands)
 from freecad_conformal.settings.decompose import METHODS
 from freecad_conformal.tolerances import PARALLEL_COS_SLACK, ZERO_LENGTH
 #: `root_direction` value that lets each solid's root be built along the best of ±X, ±Y, ±Z
@@ -143,10 +144,18 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
                     parents.extend(_parents_of(refined, first))
                     continue
             pristine = None
+            forced = None
             if auto:
                 direction, area = best_single_direction(solid, overhang_angle, AXIS_DIRECTIONS,
                                                         tie=TURN_SAVING)
                 turn = angle_between(direction, root) > SAME_DIRECTION
+                if turn and stands(solid, direction) and not stands(solid, root):
+                    # As placed it rests on a line or a point (a ring on its edge): the
+                    # part must stand, whatever the overhang it keeps.
+                    forced = (f"solid {solid_index + 1}: root built along {_text(direction)}: "
+                              f"as placed it would rest on {footprint_area(solid, root):.1f} mm² "
+                              "of first layer")
+                    root, turn = direction, False
                 if (worth and turn
                         and overhang_area(solid, root, overhang_angle) > area + TURN_SAVING):
                     pristine = written
@@ -160,7 +169,7 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
             axis, refined = plan(root, notes)
             placed_total = _total(refined)
             # Said once the root is settled: a further root may still replace this one.
-            root_notes: list[str] = []
+            root_notes: list[str] = [] if forced is None else [forced]
             if auto and placed_total > area + TURN_SAVING and turn:
                 # The part as placed keeps more overhang than turning it whole would: plan
                 # from that direction and keep whichever leaves less.

@@ -202,3 +202,55 @@ def test_the_beds_level_is_read_only_for_overhang_near_the_bed(App, Part, monkey
     box = Part.makeBox(40, 30, 15)
     report = overhang_report(box.makeFillet(1.0, box.Edges), (0, 0, 1), ANGLE)
     assert report.area < 1e-3 and report.laid and read
+
+
+def _ring(App, Part, on_edge: bool):
+    """A ring (torus R 20, r 4): lying flat it rests on an annulus, on its edge on a spot."""
+    ring = Part.makeTorus(20.0, 4.0)
+    if on_edge:
+        ring.rotate(App.Vector(0, 0, 0), App.Vector(1, 0, 0), 90.0)
+    return ring
+
+
+def test_a_ring_on_its_edge_does_not_stand_and_a_bar_on_its_side_does(App, Part):
+    """A part stands on a flat face or on a first layer of MIN_BASE_AREA: a ring on its edge
+    rests on 6 mm² (its 48 mm above it tip or peel off), a round bar on its side on a
+    strip along its length."""
+    from freecad_conformal.geometry.overhang import MIN_BASE_AREA, footprint_area, stands
+
+    ring = _ring(App, Part, on_edge=False)
+    # At 0.1 mm up its outer rim is an ellipse of half-axes √(2·4·0.1) and √(2·24·0.1).
+    spot = math.pi * math.sqrt(2 * 4 * 0.1) * math.sqrt(2 * 24 * 0.1)
+    assert footprint_area(ring, (1, 0, 0)) == pytest.approx(spot, rel=0.02)
+    assert footprint_area(ring, (0, 0, 1)) > 10 * MIN_BASE_AREA
+    assert not stands(ring, (1, 0, 0)) and stands(ring, (0, 0, 1))
+    bar = Part.makeCylinder(5.0, 60.0, App.Vector(0, 0, 0), App.Vector(1, 0, 0))
+    assert stands(bar, (0, 0, 1)) and stands(bar, (1, 0, 0))
+
+
+def test_the_best_single_direction_stands_where_the_part_can(App, Part):
+    """On its edge the ring keeps 319 mm² of overhang, lying flat 789 mm²: it lies flat. A
+    ball stands nowhere: its least overhang, as before."""
+    from freecad_conformal.geometry.overhang import AXIS_DIRECTIONS, best_single_direction
+
+    ring = _ring(App, Part, on_edge=False)
+    direction, area = best_single_direction(ring, ANGLE)
+    assert abs(direction[2]) == pytest.approx(1.0)
+    assert area == pytest.approx(overhang_area(ring, (0, 0, 1), ANGLE))
+    assert area > 2 * overhang_area(ring, (1, 0, 0), ANGLE)
+    ball = Part.makeSphere(10.0)
+    direction, area = best_single_direction(ball, ANGLE, AXIS_DIRECTIONS)
+    assert area == pytest.approx(min(overhang_area(ball, d, ANGLE) for d in AXIS_DIRECTIONS))
+
+
+@pytest.mark.parametrize("on_edge", [False, True])
+def test_a_ring_is_planned_lying_flat_however_it_was_modelled(App, Part, on_edge):
+    """Turning it on its edge saves overhang, but it would rest on a spot; modelled on its
+    edge, it is laid flat, and the plan says why."""
+    ring = _ring(App, Part, on_edge)
+    plan = decompose(ring, root_direction="auto")
+    root = plan.subparts[plan.order[0]]
+    up = np.array([0.0, 1.0, 0.0]) if on_edge else np.array([0.0, 0.0, 1.0])
+    assert abs(float(root.build_direction @ up)) == pytest.approx(1.0)
+    assert plan.support_area == pytest.approx(overhang_area(ring, up, ANGLE), rel=1e-6)
+    assert any("as placed it would rest on" in note for note in plan.notes) == on_edge
