@@ -27,10 +27,16 @@ def remaining(plan) -> list[float]:
     return areas
 
 
+#: A sub-part's overhang read afresh meshes its curved faces one by one, where the plan read
+#: them off the piece's closed mesh: CrankArm's arm 1170.1707 against 1170.1747 mm².
+MESH_AGREEMENT = 1e-5
+
+
 def check_reported_exactly(plan, shape) -> None:
     np.testing.assert_allclose([s.overhang_area for s in plan.subparts], remaining(plan),
-                               atol=AREA_TOLERANCE)
-    assert plan.support_area == pytest.approx(sum(remaining(plan)), abs=AREA_TOLERANCE)
+                               atol=AREA_TOLERANCE, rtol=MESH_AGREEMENT)
+    assert plan.support_area == pytest.approx(sum(remaining(plan)), abs=AREA_TOLERANCE,
+                                              rel=MESH_AGREEMENT)
     # Splits of B-spline faces (CrankArm) lose ~1e-5 of the volume to Boolean tolerances.
     assert sum(s.volume for s in plan.subparts) == pytest.approx(shape.Volume, rel=1e-4)
     assert sorted(plan.order) == list(range(len(plan.subparts)))
@@ -91,10 +97,12 @@ def test_crank_arm_plans_both_solids(parts_dir):
     check_reported_exactly(plan, shape)
     assert {s.solid_index for s in plan.subparts} == {0, 1}
     assert plan.support_area <= plan.support_area_single_direction + AREA_TOLERANCE
-    # The search keeps cutting the arm's curved end: 185.4 of 2828.6 mm² remain (a mesh
-    # trial that took a part reaching the base on a curved face for a second base
-    # stopped it at 595.5).
-    assert plan.support_area <= 0.1 * plan.support_area_single_direction
+    # The arm stands on its large boss (+X): 1170.2 of 2828.2 mm² remain. From the round
+    # end of its small boss (−X) 185.4 remained, on 8.9 mm² of first layer under 154 mm.
+    from freecad_conformal.geometry.overhang import stands
+
+    assert all(stands(sub.shape, sub.build_direction) for sub in plan.subparts if sub.parent is None)
+    assert plan.support_area <= 0.45 * plan.support_area_single_direction
     # Every sub-part holds layers: none is a sliver left by a plane a hair off a face.
     from freecad_conformal.decomposition.planner import MIN_SUBPART_THICKNESS
     from freecad_conformal.geometry.sections import extent_along
@@ -112,7 +120,7 @@ def test_crank_arm_plans_both_solids(parts_dir):
     check_standing(laid, 0.0)
     assert footprints_apart(laid, 10.0)
     assert laid.support_area == pytest.approx(plan.support_area, abs=AREA_TOLERANCE)
-    np.testing.assert_allclose(remaining(laid), remaining(plan), atol=1e-3)
+    np.testing.assert_allclose(remaining(laid), remaining(plan), atol=1e-3, rtol=MESH_AGREEMENT)
 
 
 #: CrankArm's plan as FreeCAD 0.20.2 (OCCT 7.6) makes it: (solid, build direction, volume
@@ -120,12 +128,9 @@ def test_crank_arm_plans_both_solids(parts_dir):
 #: must not depend on it (the FreeCAD 1.x issue: the same sub-parts, volumes within 1e-6).
 CRANK_ARM_PLAN = [
     (0, (0.0, 0.0, 1.0), 15390.2854, None),
-    (1, (-1.0, 0.0, 0.0), 10914.4923, None),
-    (1, (0.0, 0.0, 1.0), 4080.9520, 1),
-    (1, (0.0, 0.0, -1.0), 13813.9331, 1),
-    (1, (0.0, 0.0, 1.0), 7790.6223, 2),
-    (1, (0.030141, 0.0, 0.999546), 1042.0431, 4),
-    (1, (0.030141, 0.0, -0.999546), 1042.0431, 3),
+    (1, (1.0, 0.0, 0.0), 36603.1743, None),
+    (1, (0.030141, 0.0, 0.999546), 1042.0431, 1),
+    (1, (0.030141, 0.0, -0.999546), 1042.0431, 1),
 ]
 
 
