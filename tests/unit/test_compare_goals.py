@@ -32,3 +32,12 @@ def test_a_part_that_needs_support_names_what_the_support_alone_weighs():
     verdict = goal_verdict(SUPPORTED, BARE, False, 11.4, 8100.0)
     assert "support is 62% of its material" in verdict
     assert "its print without the support: 0.441, 0.674" in verdict
+
+
+def test_a_plan_that_leaves_overhang_to_support_meets_no_goal():
+    """Our material and time count no support under the overhang a plan leaves, where
+    PrusaSlicer's count its support: such a plan is not the support-free plan the goals
+    weigh (CrankArm's arm stood on its large boss leaves 1170 mm², 0.558 and 0.630)."""
+    verdict = goal_verdict(SUPPORTED, BARE, False, 0.5 * 17.0, 0.5 * 5700.0, 1170.2)
+    assert ": missed" in verdict and "leaves 1170 mm² of overhang to support" in verdict
+    assert ": met" in goal_verdict(SUPPORTED, BARE, False, 0.5 * 17.0, 0.5 * 5700.0, 0.4)
