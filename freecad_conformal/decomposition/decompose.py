@@ -145,17 +145,21 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
                     continue
             pristine = None
             forced = None
+            placed = root
             if auto:
                 direction, area = best_single_direction(solid, overhang_angle, AXIS_DIRECTIONS,
                                                         tie=TURN_SAVING)
+                if not stands(solid, root):
+                    # As placed it rests on a line or a point (a ring on its edge, a foot on
+                    # its edge): the part must stand, whatever the overhang it keeps. Its
+                    # root is the best direction it stands in, axis or face.
+                    standing, _ = best_single_direction(solid, overhang_angle, tie=TURN_SAVING)
+                    if stands(solid, standing):
+                        forced = (f"solid {solid_index + 1}: root built along {_text(standing)}: "
+                                  f"as placed it would rest on "
+                                  f"{footprint_area(solid, root):.1f} mm² of first layer")
+                        root = standing
                 turn = angle_between(direction, root) > SAME_DIRECTION
-                if turn and stands(solid, direction) and not stands(solid, root):
-                    # As placed it rests on a line or a point (a ring on its edge): the
-                    # part must stand, whatever the overhang it keeps.
-                    forced = (f"solid {solid_index + 1}: root built along {_text(direction)}: "
-                              f"as placed it would rest on {footprint_area(solid, root):.1f} mm² "
-                              "of first layer")
-                    root, turn = direction, False
                 if (worth and turn
                         and overhang_area(solid, root, overhang_angle) > area + TURN_SAVING):
                     pristine = written
@@ -206,8 +210,10 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
                     root_notes = [*trial_notes, f"solid {solid_index + 1}: root built along "
                                   f"{_text(direction)} (less overhang than as placed)"]
             if auto:
+                # Further roots are weighed against the solid as placed, standing or not.
                 (axis, refined), root_notes = _turned_further(
-                    plan, root, (direction, area), ((axis, refined), root_notes), notes)
+                    plan, placed, (direction, area), ((axis, refined), root_notes), notes,
+                    planned=root)
             notes.extend(root_notes)
         finally:
             if trial is not None:
@@ -305,7 +311,7 @@ def _regrouped_parents(pieces: list[Piece]) -> list[int | None]:
 
 
 def _turned_further(plan: Planner, root: np.ndarray, best_axis: tuple[np.ndarray, float],
-                    chosen: tuple, notes: list[str]) -> tuple:
+                    chosen: tuple, notes: list[str], planned: np.ndarray | None = None) -> tuple:
     """`chosen` ((axis, pieces), the notes saying how they were planned), or the plan from
     a further root where it leaves less overhang, with its notes. The further roots are the
     direction of least whole overhang among the cube's edges and corners, and the one among
@@ -319,13 +325,14 @@ def _turned_further(plan: Planner, root: np.ndarray, best_axis: tuple[np.ndarray
     whose split would save most was never planned: a round-bar hook turned 40° kept
     57.4 mm² in four sub-parts as placed, where standing it on its foot (81.5 mm² whole)
     leaves 2.4 mm² in two. A root OCC cannot plan from is noted in `notes` and passed
-    over."""
+    over. `planned`: the root `chosen` was planned from where it is not `root` (a solid
+    that does not stand as placed, `stands`), not planned again."""
     solid, angle = plan.solid, plan.angle
     placed_whole = overhang_area(solid, root, angle)
     # `orientation_candidates` lists the cube's directions first, then the faces' own.
     families = (CUBE_DIRECTIONS[len(AXIS_DIRECTIONS):],
                 orientation_candidates(solid)[len(CUBE_DIRECTIONS):])
-    tried = [root, best_axis[0]]
+    tried = [root, best_axis[0]] + ([] if planned is None else [planned])
     for family in families:
         family = standing_directions(solid, family)
         if not family:

@@ -162,11 +162,19 @@ def test_a_u_channel_with_inward_lips_builds_whole_on_its_side(App, Part):
     assert plan.subparts[0].overhang_area == pytest.approx(0.0, abs=1e-3)
 
 
-def test_a_part_modelled_turned_is_planned_as_well_as_upright(App, Part):
+@pytest.mark.parametrize("rests_on_a_corner", [True, False])
+def test_a_part_modelled_turned_is_planned_as_well_as_upright(App, Part, monkeypatch,
+                                                              rests_on_a_corner):
     """An L-bracket with a bore through its base and one through its upright needs support
     for one bore whichever way it stands. Modelled turned 33° off every axis, its roots
     were the six axes of the file's frame: four sub-parts with 244.5 mm² left. Standing
-    it on its base (a place-on-face direction) leaves the upright's bore alone, as upright."""
+    it on its base (a place-on-face direction) leaves the upright's bore alone, as upright.
+    As placed it rests on a corner, so it is stood on the best direction it stands in; were
+    it standing (a base under it), the further roots would find its base."""
+    import freecad_conformal.decomposition.decompose as module
+
+    if not rests_on_a_corner:
+        monkeypatch.setattr(module, "stands", lambda shape, d: True)
     V = App.Vector
     bracket = Part.makeBox(40, 30, 5).fuse(Part.makeBox(5, 30, 40))
     bracket = bracket.cut(Part.makeCylinder(4, 5, V(0, 15, 25), V(1, 0, 0)))
@@ -179,7 +187,8 @@ def test_a_part_modelled_turned_is_planned_as_well_as_upright(App, Part):
     assert len(upright.subparts) == len(plan.subparts) == 1
     assert upright.support_area > 1.0       # a bore's top: no direction is support-free
     assert plan.support_area == pytest.approx(upright.support_area, rel=1e-3)
-    assert any("less overhang than the other roots" in note for note in plan.notes)
+    why = "as placed it would rest on 0.0 mm²" if rests_on_a_corner else "than the other roots"
+    assert any(why in note for note in plan.notes)
 
 
 def test_a_part_that_overhangs_alike_every_way_is_not_turned_for_the_measures_noise(Part):
@@ -466,11 +475,20 @@ def test_a_plan_whose_only_cut_cannot_be_built_still_says_so(App, Part, monkeypa
 
 
 @pytest.mark.slow
-def test_a_further_root_whose_split_saves_most_is_planned(App, Part):
+@pytest.mark.parametrize("rests_on_an_edge", [True, False])
+def test_a_further_root_whose_split_saves_most_is_planned(App, Part, monkeypatch,
+                                                          rests_on_an_edge):
     """A round-bar L on a square foot, modelled turned 40° about Y. Planned as placed it
-    keeps 57.4 mm² of overhang in four sub-parts; built whole on its foot it would keep
+    kept 57.4 mm² of overhang in four sub-parts; built whole on its foot it would keep
     81.5 mm², more than that, so the foot's root was never planned, though its split leaves
-    2.4 mm² in two. Further roots are now weighed against the whole solid as placed."""
+    2.4 mm² in two. Further roots were then weighed against the whole solid as placed; as
+    placed it rests on an edge of its foot (2.8 mm² of first layer), so it is now stood on
+    the best direction it stands in, its foot's; were it standing, the further roots would
+    find its foot."""
+    import freecad_conformal.decomposition.decompose as module
+
+    if not rests_on_an_edge:
+        monkeypatch.setattr(module, "stands", lambda shape, d: True)
     V = App.Vector
     hook = Part.makeCylinder(3, 40).fuse([Part.makeCylinder(3, 20, V(0, 0, 40), V(1, 0, 0)),
                                           Part.makeSphere(3, V(0, 0, 40)),
@@ -483,4 +501,5 @@ def test_a_further_root_whose_split_saves_most_is_planned(App, Part):
     np.testing.assert_allclose(root.build_direction, foot, atol=1e-9)
     assert plan.support_area < 5.0 and len(plan.subparts) == 2
     assert plan.support_area_single_direction > 80.0
-    assert any("less overhang than the other roots" in note for note in plan.notes)
+    why = "as placed it would rest on 2.8 mm²" if rests_on_an_edge else "than the other roots"
+    assert any(why in note for note in plan.notes)
