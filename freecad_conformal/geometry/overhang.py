@@ -302,12 +302,12 @@ def best_single_direction(shape, angle: float = DEFAULT_OVERHANG_ANGLE,
     # The part must stand (`stands`): the best that does, or where none does (a ball) the
     # best of all. Only the winners are read for their footprint (an exact section, 0.1 s
     # on CrankArm's arm).
-    left = [np.asarray(c, dtype=float) for c in candidates]
+    left = list(candidates)
     while left:
         best = _least_overhang(shape, angle, left, tie)
         if stands(shape, best[0]):
             return best
-        left = [c for c in left if c is not best[0]]
+        left = [c for c in left if not np.array_equal(np.asarray(c, dtype=float), best[0])]
     return _least_overhang(shape, angle, candidates, tie)
 
 

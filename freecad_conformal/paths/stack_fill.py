@@ -157,7 +157,7 @@ def stack_fills(stacks: Sequence[tuple[Sequence[Layer], bool]], settings: PathSe
     known = list(known) if known is not None else [None] * len(stacks)
     maker = _Maker(stacks, settings, known)
     units = [(s, i) for s, (layers, _) in enumerate(stacks) for i in range(len(layers))]
-    helper = _helper(stacks, units) if child else _dropped()
+    helper = _helper(stacks, units) if child else None
     if helper is not None:
         helper.ask({"stacks": stacks, "settings": settings, "known": known})
     done_from = len(units)      # the child has made every unit from here on
@@ -195,10 +195,6 @@ def prestart() -> None:
 def drop_prestarted() -> None:
     """End the child `prestart` started, if no `stack_fills` took it (the job failed, or
     made no paths)."""
-    _dropped()
-
-
-def _dropped() -> None:
     while _PRESTARTED:
         _PRESTARTED.pop().stop()
 
