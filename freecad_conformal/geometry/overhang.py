@@ -111,12 +111,6 @@ def _bed_level(shape, d: np.ndarray, low: float, deflection: float) -> float:
     return lowest
 
 
-def curved_overhang(face, d: np.ndarray, threshold: float, deflection: float) -> float:
-    """Overhang area of a curved face on its mesh part (geometry/surface_mesh.py)."""
-    part = face_part(face, deflection)
-    return 0.0 if part is None else part.below(d, threshold)
-
-
 def overhang_report(shape, direction: Sequence[float], angle: float = DEFAULT_OVERHANG_ANGLE,
                     base_faces: Sequence = (), on_bed: bool = True) -> OverhangReport:
     """Area of `shape`'s faces overhanging more than `angle` when built along `direction`.
