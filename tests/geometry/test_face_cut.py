@@ -527,3 +527,37 @@ def test_a_curvy_boundary_is_read_in_uv_as_closely_as_its_stencil_needs(App, Par
         if domain.contains(middle) != face.isInside(middle, 1e-7, True):
             wrong.append(float(t))
     assert not wrong
+
+
+@pytest.mark.parametrize("angle, height, where", [
+    (67.0, 45.0, "u"),      # a fillet's cylinder: 1.17 rad across, 45 mm long
+    (300.0, 0.5, "v"),      # a thread-like strip: 5.2 rad around, 0.5 mm wide
+])
+def test_a_narrow_faces_points_near_its_boundary_are_told_by_the_polygon(
+        App, Part, angle, height, where):
+    """The polygon's stencil and deflection are shares of a face's shorter parameter range
+    (`uv_domain.domain_scale`): shares of the longer one made the stencil wider than the
+    points' distance across a narrow face, and OCC classified them (483 of the bottle's
+    points cut along X, 0.49 s). Points 0.6 % of the narrow range inside and outside each
+    side are decided without OCC, as OCC decides them."""
+    from freecad_conformal.geometry.uv_domain import FaceDomain
+
+    face = Part.makeCylinder(30.0, height, App.Vector(0, 0, 0), App.Vector(0, 0, 1), angle).Faces[0]
+    u0, u1, v0, v1 = face.ParameterRange
+    surface = face.Surface
+    if where == "u":
+        shift = 0.006 * (u1 - u0)
+        uv = [(u, 0.5 * (v0 + v1)) for u in (u0 - shift, u0 + shift, u1 - shift, u1 + shift)]
+    else:
+        shift = 0.006 * (v1 - v0)
+        uv = [(0.5 * (u0 + u1), v) for v in (v0 - shift, v0 + shift, v1 - shift, v1 + shift)]
+    points = [surface.value(u, v) for u, v in uv]
+    expected = [face.isInside(point, 1e-7, True) for point in points]
+    assert expected == [False, True, True, False]
+    domain = FaceDomain(face)
+
+    def occ(point):
+        raise AssertionError(f"OCC was asked about {point}")
+
+    domain._classified = occ
+    assert [domain.contains(point) for point in points] == expected
