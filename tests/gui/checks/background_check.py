@@ -31,6 +31,21 @@ def _spin(seconds: float) -> None:
         time.sleep(0.01)
 
 
+def _turns_timed(background) -> list:
+    """(start, end) of each turn of the background poll: the last is the one that applied
+    the finished result."""
+    turns = []
+    poll = background._poll
+
+    def timed() -> None:
+        start = time.monotonic()
+        poll()
+        turns.append((start, time.monotonic()))
+
+    background._poll = timed        # the apply turn is a singleShot of the module's _poll
+    return turns
+
+
 def main(params: dict) -> dict:
     gui_support.prepare_main_window()
     FreeCADGui.activateWorkbench("ConformalWorkbench")
@@ -48,6 +63,7 @@ def main(params: dict) -> dict:
         doc.recompute()
     out = {"first_layers": sections.LayerCount, "hooked": background.enabled()}
 
+    applying = _turns_timed(background)
     timer, ticks = _ticking()
     sections.LayerHeight = 0.1                   # as the property editor would set it
     began = time.monotonic()
@@ -63,8 +79,21 @@ def main(params: dict) -> dict:
     timer.stop()
     gaps = [(b - a, a - began) for a, b in zip(ticks, ticks[1:])]
     out["max_gap"], out["max_gap_at"] = max(gaps, default=(99.0, 0.0))
+    # The last turn applies the result: FreeCAD draws the new shape there, so that gap is
+    # held to FreeCAD's own drawing of it (the same shape set again, below).
+    last_start, last_end = applying[-1] if applying else (0.0, 0.0)
+    out["max_gap_computing"] = max((b - a for a, b in zip(ticks, ticks[1:])
+                                    if b <= last_start or a >= last_end), default=99.0)
+    out["max_gap_applying"] = max((b - a for a, b in zip(ticks, ticks[1:])
+                                   if a < last_end and b > last_start), default=0.0)
     out["layers_after"] = sections.LayerCount
     out["valid"] = bool(sections.isValid())
+    again = sections.Shape.copy()
+    FreeCADGui.updateGui()
+    shown = time.monotonic()
+    sections.Shape = again                      # drawn again by its own view provider
+    FreeCADGui.updateGui()
+    out["drawing_s"] = time.monotonic() - shown
 
     name = sections.Name
     path = os.path.join(params["tmp"], "background.FCStd")
