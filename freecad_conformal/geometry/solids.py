@@ -185,10 +185,13 @@ def moved_rigidly(original, copy) -> None:
     """Record that `copy` is `original` copied and then only rotated or translated: OCC's
     check would find of it what it found of the original (a rigid motion changes no
     distance or tolerance it compares), so `solids_of` does not check it again; and its
-    faces' and edges' boxes are the original's moved (`boxes.seed_moved_boxes`)."""
+    faces' and edges' boxes are the original's moved (`boxes.seed_moved_boxes`), and so is
+    its mesh where one was made (`surface_mesh.seed_moved_mesh`, for the collision samples)."""
     from freecad_conformal.geometry.boxes import seed_moved_boxes
+    from freecad_conformal.geometry.surface_mesh import seed_moved_mesh
 
     seed_moved_boxes(original, copy)
+    seed_moved_mesh(original, copy)
     for solid, twin in zip(original.Solids, copy.Solids):
         known = _CHECKED.peek((solid,))
         if known is not None:

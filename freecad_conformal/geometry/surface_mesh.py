@@ -9,6 +9,7 @@ copies; when the triangulation is found broken anyway, a fresh copy is meshed wh
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Callable
@@ -90,6 +91,47 @@ def surface_mesh(shape, deflection: float | None = None) -> SurfaceMesh | None:
     `mesh_deflection(shape)`), or None when BRepMesh's result is not a closed 2-manifold
     (callers then work on the exact shape)."""
     return _MESHES.get((shape,), lambda: _build(shape, deflection or mesh_deflection(shape)))
+
+
+#: Rigid copies of meshed shapes (`seed_moved_mesh`): the original's mesh and the move (a
+#: 4 x 4 matrix), read by `made_mesh` alone: `surface_mesh` of a copy still meshes the copy.
+_MOVED: ShapeCache[tuple[SurfaceMesh, np.ndarray]] = ShapeCache(limit=4096, oriented=True)
+
+#: A copy's first vertex must lie this close (mm) to the original's moved by the placements'
+#: difference for the copy to be taken as moved only by its placement.
+MOVED_VERTEX_SLACK = 1e-6
+
+
+def seed_moved_mesh(original, moved) -> None:
+    """Record that `moved` is `original` given a new placement (copied, turned, translated),
+    so that `made_mesh(moved)` is the original's mesh moved, if it has one."""
+    mesh = _MESHES.peek((original,))
+    if mesh is None:
+        return
+    move = moved.Placement.multiply(original.Placement.inverse()).toMatrix()
+    matrix = np.array(move.A, dtype=float).reshape(4, 4)
+    if original.Vertexes:
+        before = np.array(tuple(original.Vertexes[0].Point))
+        after = np.array(tuple(moved.Vertexes[0].Point))
+        if np.linalg.norm(matrix[:3, :3] @ before + matrix[:3, 3] - after) > MOVED_VERTEX_SLACK:
+            return
+    _MOVED.get((moved,), lambda: (mesh, matrix))
+
+
+def made_mesh(shape) -> SurfaceMesh | None:
+    """The shape's mesh if one was made already, of it or of the shape it is a rigid copy of
+    (`seed_moved_mesh`), moved with it; None when none was, or it was not closed. Nothing is
+    meshed."""
+    mesh = _MESHES.peek((shape,))
+    if mesh is not None:
+        return mesh
+    moved = _MOVED.peek((shape,))
+    if moved is None:
+        return None
+    mesh, matrix = moved
+    turn, shift = matrix[:3, :3], matrix[:3, 3]
+    return dataclasses.replace(mesh, points=mesh.points @ turn.T + shift,
+                               normals=mesh.normals @ turn.T, derived={})
 
 
 def _build(shape, deflection: float) -> SurfaceMesh | None:

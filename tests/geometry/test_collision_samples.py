@@ -51,3 +51,81 @@ def test_the_shape_itself_keeps_its_own_mesh(App, Part):
     collision.surface_points(shape, 1.0)
     _, after = shape.tessellate(1.0)
     assert len(after) == len(before)
+
+
+def test_a_shape_meshed_already_is_sampled_from_that_mesh(App, Part, twisted_loft, monkeypatch):
+    """The decomposition's mesh of a sub-part is sampled, not a second one made, and its
+    samples lie on the surface within that mesh's chord error."""
+    from freecad_conformal.geometry.surface_mesh import surface_mesh
+
+    shape = twisted_loft.copy()
+    mesh = surface_mesh(shape)
+    assert mesh is not None and mesh.deflection <= collision.REUSED_DEFLECTION
+
+    def meshed_again(_shape):
+        raise AssertionError("a second mesh was made")
+
+    monkeypatch.setattr(collision, "_triangulated", meshed_again)
+    samples = collision.surface_points(shape, 1.0)
+    assert len(samples) >= len(mesh.points)
+    rng = np.random.default_rng(11)
+    picked = samples[rng.choice(len(samples), size=200, replace=False)]
+    gaps = [shape.distToShape(Part.Vertex(App.Vector(*map(float, p))))[0] for p in picked]
+    assert max(gaps) <= mesh.deflection + 1e-9
+
+
+def test_a_coarse_mesh_of_the_shape_is_not_sampled(App, Part, monkeypatch):
+    """A mesh whose chord error could hide a collision (a large part's) is left alone: the
+    samples come from a copy meshed at SAMPLE_DEFLECTION."""
+    from freecad_conformal.geometry.surface_mesh import surface_mesh
+
+    shape = Part.makeCylinder(150.0, 300.0)
+    mesh = surface_mesh(shape)
+    assert mesh is not None and mesh.deflection > collision.REUSED_DEFLECTION
+    copies = []
+    real = collision._triangulated
+    monkeypatch.setattr(collision, "_triangulated", lambda s: copies.append(s) or real(s))
+    samples = collision.surface_points(shape, 5.0)
+    assert copies
+    gaps = [shape.distToShape(Part.Vertex(App.Vector(*map(float, p))))[0] for p in samples[::50]]
+    assert max(gaps) <= collision.SAMPLE_DEFLECTION + 1e-9
+
+
+def test_a_rigid_copy_of_a_meshed_shape_is_sampled_from_that_mesh_moved(App, Part, twisted_loft,
+                                                                        monkeypatch):
+    """A sub-part laid out on the platform (turned and moved: decomposition/layout.py) is
+    sampled from its original's mesh carried along, its samples on the copy's surface."""
+    from freecad_conformal.geometry.solids import moved_rigidly
+    from freecad_conformal.geometry.surface_mesh import made_mesh, surface_mesh
+
+    shape = twisted_loft.copy()
+    mesh = surface_mesh(shape)
+    moved = shape.copy()
+    moved.rotate(App.Vector(1, 2, 3), App.Vector(0, 1, 0), 90)
+    moved.translate(App.Vector(50, 0, 10))
+    moved_rigidly(shape, moved)
+    monkeypatch.setattr(collision, "_triangulated",
+                        lambda _s: (_ for _ in ()).throw(AssertionError("meshed again")))
+    samples = collision.surface_points(moved, 1.0)
+    rng = np.random.default_rng(5)
+    picked = samples[rng.choice(len(samples), size=200, replace=False)]
+    gaps = [moved.distToShape(Part.Vertex(App.Vector(*map(float, p))))[0] for p in picked]
+    assert max(gaps) <= mesh.deflection + 1e-9
+    # The normals turn with it: outward from the copy's axis, which now runs along X.
+    carried = made_mesh(moved)
+    centre = np.array(tuple(moved.BoundBox.Center))
+    sides = carried.points[carried.triangles[:, 0]] - centre
+    sides[:, 0] = 0.0
+    assert np.mean(np.einsum("ij,ij->i", carried.normals[:, 0, :], sides) > 0) > 0.9
+
+
+def test_a_copy_not_only_moved_gets_no_mesh(App, Part):
+    from freecad_conformal.geometry.solids import moved_rigidly
+    from freecad_conformal.geometry.surface_mesh import made_mesh, surface_mesh
+
+    shape = Part.makeBox(10, 10, 10)
+    surface_mesh(shape)
+    scaled = shape.copy()
+    scaled.scale(2.0)
+    moved_rigidly(shape, scaled)
+    assert made_mesh(scaled) is None
