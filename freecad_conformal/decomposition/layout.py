@@ -175,9 +175,11 @@ def _beside(box, placed: dict, directions: dict, k: int, gap: float) -> np.ndarr
     union = (min(b[0] for b in others), max(b[1] for b in others),
              min(b[2] for b in others), max(b[3] for b in others))
 
+    # The tool stands on the side a sub-part is built towards: building towards the others
+    # (its directions against `side`), or they towards it, brings a tool over the other.
     def facing(side: np.ndarray) -> float:
-        mine = float(np.max(directions[k][:, :2] @ side))
-        theirs = max(float(np.max(directions[j][:, :2] @ -side)) for j in placed)
+        mine = float(np.max(directions[k][:, :2] @ -side))
+        theirs = max(float(np.max(directions[j][:, :2] @ side)) for j in placed)
         return max(mine, 0.0) + max(theirs, 0.0)
 
     side = min(SIDES, key=facing)

@@ -226,3 +226,26 @@ def test_a_solid_blocked_within_itself_keeps_the_cuts_it_can_build_beside_anothe
     assert plan.support_area < 0.6 * plan.support_area_single_direction
     whole_box = [s for s in plan.subparts if s.solid_index == 1]
     assert len(whole_box) == 1 and whole_box[0].volume == pytest.approx(1000.0, rel=1e-9)
+
+
+def test_a_solid_is_set_where_its_sub_parts_are_built_away_from_the_others(App, Part):
+    """The tool stands on the side a sub-part is built towards: a ring whose lug is built
+    along -X is set on the -X side of the pin, so that the tool building the lug points away
+    from the pin (set on +X, CrankArm's arm built its end along -X into its pin: no order)."""
+    import dataclasses
+
+    pin = Part.makeCylinder(3, 40, App.Vector(0, 0, 0))
+    ring = Part.makeCylinder(10, 5, App.Vector(0, 0, 15)).cut(Part.makeCylinder(4, 5, App.Vector(0, 0, 15)))
+    lug = Part.makeBox(6, 4, 5, App.Vector(-16, -2, 15))
+    plan = single_plan(Part.Compound([pin, ring]))
+    root = plan.subparts[1]
+    child = dataclasses.replace(root, index=2, shape=lug, build_direction=np.array([-1.0, 0.0, 0.0]),
+                                parent=root.index, volume=lug.Volume, name="P3", rule="branch")
+    plan = dataclasses.replace(plan, subparts=plan.subparts + [child], order=[0, 1, 2])
+    laid = lay_out(plan, GAP)
+    pin_centre = np.array(tuple(laid.subparts[0].shape.BoundBox.Center))
+    ring_centre = np.array(tuple(laid.subparts[1].shape.BoundBox.Center))
+    towards_pin = pin_centre - ring_centre
+    assert np.linalg.norm(towards_pin[:2]) > 10.0
+    assert towards_pin @ laid.subparts[2].build_direction < 0.0
+    assert footprints_apart(laid, GAP)
