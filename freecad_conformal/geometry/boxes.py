@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from freecad_conformal.geometry.shape_access import placement_move
 from freecad_conformal.geometry.shape_cache import ShapeCache
 
 _BOXES = ShapeCache(limit=20000, oriented=False)
@@ -46,7 +47,7 @@ def seed_moved_boxes(original, moved) -> None:
     turns by right angles about the axes (roots built along ±X, ±Y, ±Z), where that is OCC's
     box of the moved shape but for rounding: boxing the sub-part the bottle's layers cut,
     turned onto the platform, took 0.16 s of them."""
-    move = moved.Placement.multiply(original.Placement.inverse()).toMatrix()
+    move = placement_move(original, moved)
     turn = np.array([[move.A11, move.A12, move.A13], [move.A21, move.A22, move.A23],
                      [move.A31, move.A32, move.A33]])
     if np.max(np.abs(turn - np.round(turn))) > RIGHT_ANGLE_SLACK:

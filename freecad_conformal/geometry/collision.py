@@ -58,13 +58,13 @@ def surface_points(shape, spacing: float = MIN_SPACING) -> np.ndarray:
     copy meshed at SAMPLE_DEFLECTION."""
     made = made_mesh(shape)
     if made is not None and made.deflection <= REUSED_DEFLECTION:
-        points, triangles = made.points, made.triangles
+        pts, tri = made.points, made.triangles
     else:
         points, triangles = _triangulated(shape)
-    if not len(triangles):
+        pts = np.array([tuple(p) for p in points], dtype=float).reshape(-1, 3)
+        tri = np.asarray(triangles, dtype=int).reshape(-1, 3)
+    if not len(tri):
         return np.array([tuple(v.Point) for v in shape.Vertexes], dtype=float).reshape(-1, 3)
-    pts = np.array([tuple(p) for p in points]) if isinstance(points, list) else points
-    tri = np.asarray(triangles, dtype=int)
     a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
     longest = np.max([np.linalg.norm(b - a, axis=1), np.linalg.norm(c - b, axis=1),
                       np.linalg.norm(a - c, axis=1)], axis=0)

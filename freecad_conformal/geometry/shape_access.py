@@ -50,3 +50,9 @@ def orientation(shape) -> str:
 def point(vertex) -> tuple[float, float, float]:
     """`tuple(vertex.Point)`."""
     return tuple((_BOUND or _bind())["point"](vertex))
+
+
+def placement_move(original, moved):
+    """The FreeCAD Matrix of the rigid move from `original`'s placement to `moved`'s: what a
+    copy turned or translated from it was given."""
+    return moved.Placement.multiply(original.Placement.inverse()).toMatrix()

@@ -19,6 +19,7 @@ import numpy as np
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.face_normals import node_normals, plane_normal
 from freecad_conformal.geometry.rows import find_rows, unique_rows
+from freecad_conformal.geometry.shape_access import placement_move
 from freecad_conformal.geometry.shape_cache import ShapeCache
 from freecad_conformal.geometry.shape_parts import faces as faces_of
 
@@ -108,8 +109,7 @@ def seed_moved_mesh(original, moved) -> None:
     mesh = _MESHES.peek((original,))
     if mesh is None:
         return
-    move = moved.Placement.multiply(original.Placement.inverse()).toMatrix()
-    matrix = np.array(move.A, dtype=float).reshape(4, 4)
+    matrix = np.array(placement_move(original, moved).A, dtype=float).reshape(4, 4)
     if original.Vertexes:
         before = np.array(tuple(original.Vertexes[0].Point))
         after = np.array(tuple(moved.Vertexes[0].Point))
