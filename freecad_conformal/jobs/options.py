@@ -37,7 +37,7 @@ def plan_options(values: Mapping[str, Any]) -> PlanOptions:
              if v[f"{role}_speed"] is not None}
     paths = PathSettings(fill=fill, feeds=Feeds(**given), top_layers=v["solid_layers"],
                          bottom_layers=v["solid_layers"], min_layer_time=v["min_layer_time"],
-                         min_speed=v["min_speed"] * SECONDS_PER_MINUTE)
+                         min_speed=v["min_speed"] * SECONDS_PER_MINUTE, alternate=v["alternate"])
     return PlanOptions(machine=v["machine"], tool=v["tool"], material=v["material"],
                        layers=layers, paths=paths, bead_width=v["bead_width"],
                        dialect=v["dialect"], root=v["root"], decompose=v["decompose"],

@@ -527,9 +527,13 @@ def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
         check_thickness(layers[sub.index], options.layers)
         if progress is not None:
             progress(sub.index)
-    assembly = assemble(plan, layers, path_settings, tool.envelope, part=part,
+    assembly = assemble(plan, layers, path_settings, tool.envelope,
+                        motion=(machine.acceleration, options.jerk), part=part,
                         material=material_name, tool=tool.id,
                         **jerk_record(options.jerk))
+    notes.extend(f"sub-parts {', '.join(map(str, run))} laid in turn, a layer of each per "
+                 "round: each cools while the others are built, instead of slowing down"
+                 for run in assembly.alternated)
     seconds = estimate_time(assembly.toolpath, machine.acceleration, options.jerk,
                             max_feed=machine.max_feed, rapid_feed=machine.rapid_feed)
     # The program's header says the time the summary and report say.

@@ -21,6 +21,7 @@ from typing import Sequence
 import numpy as np
 
 from freecad_conformal.errors import PlanError
+from freecad_conformal.paths import alternate
 from freecad_conformal.paths.bead import bead_area
 from freecad_conformal.paths.approach import (SAFE_MARGIN, UP, bounding_sphere, check_clearance,
                                               exit_distance, passes_near_up, transition)
@@ -89,6 +90,8 @@ class PathSettings:
     min_layer_time: float = 5.0
     min_speed: float = 10.0 * 60
     tool_number: int = 1
+    #: lay the layers of sub-parts ready together in turn where that beats slowing down
+    alternate: bool = True
 
 
 @dataclass
@@ -101,6 +104,8 @@ class Assembly:
     moves_checked: int
     #: milling pass polylines of a hybrid plan (tool-tip points), for the preview
     cuts: list[np.ndarray] = field(default_factory=list)
+    #: sub-part indices of each run laid in turn to cool (`alternation_sets`)
+    alternated: list[list[int]] = field(default_factory=list)
 
 
 def in_layer_travel(position: np.ndarray, start: np.ndarray, axis: np.ndarray,
@@ -253,10 +258,14 @@ def _levels(per_member: list[list[list[Path3D]]], member_layers: list[list[Layer
 CAP_STEPS = 40
 
 
-def _layer_feeds(paths: Sequence[Path3D], settings: PathSettings) -> list[float]:
-    """Deposit feeds; when the layer (deposits and the travels between them) would take
-    under `min_layer_time`, every feed is capped at the one speed that makes it take that
-    long, but not below `min_speed` (PrusaSlicer's cooling slowdown)."""
+def nominal_seconds(paths: Sequence[Path3D], settings: PathSettings) -> float:
+    """Seconds of a layer's deposits and the travels between them at full feed, without
+    acceleration: what the cooling slowdown reads (`_layer_feeds`)."""
+    return _layer_seconds(paths, settings)(math.inf)
+
+
+def _layer_seconds(paths: Sequence[Path3D], settings: PathSettings):
+    """The layer's seconds with every deposit feed capped at a given feed (mm/min)."""
     feeds = [settings.feeds.for_path(p) for p in paths]
     gaps = sum(float(np.linalg.norm(b.points[0] - a.points[-1])) for a, b in zip(paths, paths[1:]))
     travel = 60.0 * gaps / settings.feeds.travel
@@ -265,24 +274,126 @@ def _layer_feeds(paths: Sequence[Path3D], settings: PathSettings) -> list[float]
     def seconds(cap: float) -> float:
         return travel + sum(60.0 * length / min(f, cap) for length, f in zip(lengths, feeds))
 
-    if not paths or seconds(max(feeds)) >= settings.min_layer_time:
+    return seconds
+
+
+def _layer_feeds(paths: Sequence[Path3D], settings: PathSettings,
+                 min_time: float | None = None) -> list[float]:
+    """Deposit feeds; when the layer (deposits and the travels between them) would take
+    under `min_time` (default `min_layer_time`; an alternated layer's: `paths.alternate`),
+    every feed is capped at the one speed that makes it take that long, but not below
+    `min_speed` (PrusaSlicer's cooling slowdown)."""
+    min_time = settings.min_layer_time if min_time is None else min_time
+    feeds = [settings.feeds.for_path(p) for p in paths]
+    seconds = _layer_seconds(paths, settings)
+    if not paths or seconds(max(feeds)) >= min_time:
         return feeds
     low = min(settings.min_speed, max(feeds))
-    if seconds(low) <= settings.min_layer_time:
+    if seconds(low) <= min_time:
         return [min(f, low) for f in feeds]
     high = max(feeds)
     for _ in range(CAP_STEPS):              # seconds(cap) falls as the cap rises
         middle = 0.5 * (low + high)
-        if seconds(middle) > settings.min_layer_time:
+        if seconds(middle) > min_time:
             low = middle
         else:
             high = middle
     return [min(f, high) for f in feeds]
 
 
+def alternation_sets(groups: list[list], per_group: list[list[list[Path3D]]],
+                     settings: PathSettings, envelope,
+                     motion: tuple[float, float] | None) -> list[tuple[list[int], float]]:
+    """The groups (positions in `groups`) in runs laid in turn (`paths.alternate`), each with
+    its turn's estimated seconds; a group not worth alternating is a run of its own (0 s).
+    A group joins the run before it when none of its sub-parts stands on the run's, its
+    layers and the run's would be slowed down by more than alternating could save, that
+    estimate pays for the turns, and the tool building either never meets the other
+    (`motion`: the machine's acceleration, mm/s², and jerk, mm/s, the estimate's; None:
+    no group is alternated)."""
+    runs: list[tuple[list[int], float]] = []
+    seconds = [[nominal_seconds(paths, settings) for paths in levels if paths]
+               for levels in per_group]
+    for g, group in enumerate(groups):
+        if runs and motion is not None and settings.alternate and settings.min_layer_time > 0:
+            switch = _joined(runs[-1][0], g, groups, per_group, seconds, settings, envelope,
+                             motion)
+            if switch is not None:
+                runs[-1] = (runs[-1][0] + [g], switch)
+                continue
+        runs.append(([g], 0.0))
+    return runs
+
+
+def _joined(run: list[int], g: int, groups: list[list], per_group: list, nominal: list,
+            settings: PathSettings, envelope, motion: tuple[float, float]) -> float | None:
+    """The turn's seconds if group `g` is worth laying in turn with `run`, else None."""
+    members = run + [g]
+    minimum = settings.min_layer_time
+    levels = [[paths for paths in per_group[m] if paths] for m in members]
+    slowest = [[_layer_seconds(paths, settings)(settings.min_speed) for paths in member]
+               for member in levels]
+    # Alternating saves at most the slowing down: most plans stop here, before any timing.
+    slowed = [[alternate.slowed_seconds(n, n, s, minimum) for n, s in zip(nominal[m], low)]
+              for m, low in zip(members, slowest)]
+    cooling = sum(map(sum, slowed)) - sum(sum(nominal[m]) for m in members)
+    if cooling <= alternate.MIN_SAVING * sum(map(sum, slowed)):
+        return None
+    run_subs = {sub.index for m in run for sub in groups[m]}
+    if any(sub.parent in run_subs for sub in groups[g]):
+        return None
+    shapes = [sub.shape for m in range(g + 1) for sub in groups[m]]
+    ends = [(member[0][-1].points[-1], member[0][-1].axis) for member in levels]
+    starts = [(member[0][0].points[0], member[0][0].axis) for member in levels]
+    switch = alternate.switch_seconds(ends, starts, shapes, settings.feeds.travel, *motion)
+    full = [[full_feed_seconds(paths, settings, motion) for paths in member] for member in levels]
+    slowed = [[alternate.slowed_seconds(f, n, s, minimum) for f, n, s in zip(*layer)]
+              for layer in zip(full, (nominal[m] for m in members), slowest)]
+    if not alternate.alternation_pays(full, slowed, switch, minimum):
+        return None
+    subs = [sub for m in members for sub in groups[m]]
+    sizes = [len(groups[m]) for m in members]
+    indices = [list(range(sum(sizes[:k]), sum(sizes[:k + 1]))) for k in range(len(members))]
+    if not alternate.mutually_clear([sub.shape for sub in subs],
+                                    [sub.build_direction for sub in subs], indices, envelope):
+        return None
+    return switch
+
+
+def full_feed_seconds(paths: Sequence[Path3D], settings: PathSettings,
+                      motion: tuple[float, float]) -> float:
+    """A layer's seconds at full feed with acceleration (`motion`: mm/s², jerk mm/s): its
+    deposits and the straight travels between them."""
+    points, speeds = [paths[0].points[:1]], []
+    for k, path in enumerate(paths):
+        if k:
+            speeds.append(settings.feeds.travel / 60.0)
+            points.append(path.points[:1])
+        points.append(path.points[1:])
+        speeds.extend([settings.feeds.for_path(path) / 60.0] * (len(path.points) - 1))
+    return alternate.polyline_seconds(np.vstack(points), speeds, *motion)
+
+
+def _steps(members: list[int], per_group: list, switch: float, settings: PathSettings,
+           motion: tuple[float, float] | None):
+    """(group, the level's paths, its minimum nominal seconds or None for the usual rule) in
+    building order: a lone group level by level, a run in rounds (`paths.alternate`): a
+    layer is slowed by what its member's period falls short of the minimum layer time."""
+    if len(members) == 1:
+        return [(members[0], paths, None) for paths in per_group[members[0]]]
+    levels = [[paths for paths in per_group[m] if paths] for m in members]
+    order = alternate.rounds([len(member) for member in levels])
+    full = [full_feed_seconds(levels[m][k], settings, motion) for m, k in order]
+    minimums = alternate.step_minimums(full, order, switch, settings.min_layer_time)
+    return [(members[m], levels[m][k], nominal_seconds(levels[m][k], settings) + minimum - seconds)
+            for (m, k), minimum, seconds in zip(order, minimums, full)]
+
+
 def assemble(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSettings,
-             envelope, **metadata: str) -> Assembly:
-    """Build the toolpath of a whole plan (sub-parts in `plan.order`)."""
+             envelope, motion: tuple[float, float] | None = None, **metadata: str) -> Assembly:
+    """Build the toolpath of a whole plan (sub-parts in `plan.order`); with `motion` (the
+    machine's acceleration, mm/s², and jerk, mm/s) sub-parts whose layers would be slowed
+    down to cool are laid in turn where that is quicker (`alternation_sets`)."""
     settings.fill.validate()
     settings.feeds.validate()
     builder = ToolpathBuilder(**metadata)
@@ -305,20 +416,31 @@ def assemble(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSett
     # child that shares them is started once for the plan.
     filled = iter(stacks_filled([(layers[sub.index], sub.parent is not None)
                                  for group in groups for sub in group], settings))
+    per_group = []
     for group in groups:
-        per_layer = _levels([plan_paths(layers[sub.index], settings, sub.parent is not None,
-                                        position, next(filled)) for sub in group],
-                            [layers[sub.index] for sub in group])
-        first = True
-        for paths in per_layer:
-            feeds = _layer_feeds(paths, settings)
+        per_group.append(_levels([plan_paths(layers[sub.index], settings, sub.parent is not None,
+                                             position, next(filled)) for sub in group],
+                                 [layers[sub.index] for sub in group]))
+        ends = [paths for paths in per_group[-1] if paths]
+        if ends:
+            position = ends[-1][-1].points[-1]
+    position = None
+    alternated: list[list[int]] = []
+    for members, switch in alternation_sets(groups, per_group, settings, envelope, motion):
+        shapes = [sub.shape for m in members for sub in groups[m]]
+        sphere = bounding_sphere(built + shapes) if len(members) > 1 else None
+        if len(members) > 1:
+            alternated.append([sub.index for m in members for sub in groups[m]])
+        previous = None
+        for member, paths, minimum in _steps(members, per_group, switch, settings, motion):
+            feeds = _layer_feeds(paths, settings, minimum)
             for k, (path, feed) in enumerate(zip(paths, feeds)):
                 start, new_axis = path.points[0], path.axis
                 if position is None:
-                    lift = SAFE_MARGIN + bounding_sphere([sub.shape for sub in group])[1]
+                    lift = SAFE_MARGIN + bounding_sphere(shapes)[1]
                     travel(np.array([start + lift * new_axis, start]), np.array([new_axis, new_axis]))
-                elif first:
-                    centre, radius = bounding_sphere(built)
+                elif member != previous:
+                    centre, radius = sphere or bounding_sphere(built)
                     points, axes = transition(position, axis, start, new_axis, centre, radius)
                     check_clearance(np.vstack((position[None], points)), np.vstack((axis[None], axes)),
                                     built, envelope,
@@ -329,7 +451,7 @@ def assemble(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSett
                     points, axes = layer_travel(position, axis, start, new_axis, k == 0)
                     if len(points):
                         travel(points, axes)
-                first = False
+                previous = member
                 builder.event("extruder_on")
                 builder.add_segment(path.points[1:], new_axis, kind="deposit", feed=feed, tool=tool,
                                     flow=bead_area(path.width or width, path.thickness,
@@ -337,12 +459,12 @@ def assemble(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSett
                 builder.event("extruder_off")
                 position, axis = path.points[-1], new_axis
                 all_paths.append(path)
-        built.extend(sub.shape for sub in group)
-        names.extend(f"sub-part {sub.index}" for sub in group)
+        built.extend(shapes)
+        names.extend(f"sub-part {sub.index}" for m in members for sub in groups[m])
     if position is None:
         raise PlanError("the plan has no layer with material to deposit")
     centre, radius = bounding_sphere(built)
     retract = position + (exit_distance(position, axis, centre, radius + SAFE_MARGIN) + 1.0) * axis
     travel(retract[None], axis[None])
-    return Assembly(builder.build(), all_paths, travels, checked)
+    return Assembly(builder.build(), all_paths, travels, checked, alternated=alternated)
 

@@ -141,6 +141,10 @@ PLAN_SETTINGS: tuple[Setting, ...] = (
     Setting("min_speed", "speed", 10.0, "minimum print speed",
             "cooling never slows printing below this", group="cooling",
             minimum=0.0, open_minimum=True),
+    Setting("alternate", "bool", True, "alternate sub-parts",
+            "where sub-parts ready together would be slowed down to cool, lay their layers in "
+            "turn instead, the table turning between them, when that is quicker",
+            group="cooling", prop="AlternateSubParts"),
 )
 
 #: Print roles with a `<role>_speed` setting (fields of paths/assemble.Feeds).
