@@ -312,11 +312,25 @@ def alternation_sets(groups: list[list], per_group: list[list[list[Path3D]]],
     (`motion`: the machine's acceleration, mm/s², and jerk, mm/s, the estimate's; None:
     no group is alternated)."""
     runs: list[tuple[list[int], float]] = []
-    seconds = [[nominal_seconds(paths, settings) for paths in levels if paths]
-               for levels in per_group]
+    timed: dict[int, tuple[list[float], list[float]]] = {}
+
+    def cooled(m: int) -> tuple[list[float], list[float]]:
+        """Group m's layers' (nominal seconds, seconds slowed down as the rule does)."""
+        if m not in timed:
+            nominal, slowed = [], []
+            for paths in per_group[m]:
+                if paths:
+                    seconds = _layer_seconds(paths, settings)
+                    nominal.append(seconds(math.inf))
+                    slowed.append(alternate.slowed_seconds(
+                        nominal[-1], nominal[-1], seconds(settings.min_speed),
+                        settings.min_layer_time))
+            timed[m] = (nominal, slowed)
+        return timed[m]
+
     for g, group in enumerate(groups):
         if runs and motion is not None and settings.alternate and settings.min_layer_time > 0:
-            switch = _joined(runs[-1][0], g, groups, per_group, seconds, settings, envelope,
+            switch = _joined(runs[-1][0], g, groups, per_group, cooled, settings, envelope,
                              motion)
             if switch is not None:
                 runs[-1] = (runs[-1][0] + [g], switch)
@@ -325,30 +339,30 @@ def alternation_sets(groups: list[list], per_group: list[list[list[Path3D]]],
     return runs
 
 
-def _joined(run: list[int], g: int, groups: list[list], per_group: list, nominal: list,
+def _joined(run: list[int], g: int, groups: list[list], per_group: list, cooled,
             settings: PathSettings, envelope, motion: tuple[float, float]) -> float | None:
-    """The turn's seconds if group `g` is worth laying in turn with `run`, else None."""
-    members = run + [g]
-    minimum = settings.min_layer_time
-    levels = [[paths for paths in per_group[m] if paths] for m in members]
-    slowest = [[_layer_seconds(paths, settings)(settings.min_speed) for paths in member]
-               for member in levels]
-    # Alternating saves at most the slowing down: most plans stop here, before any timing.
-    slowed = [[alternate.slowed_seconds(n, n, s, minimum) for n, s in zip(nominal[m], low)]
-              for m, low in zip(members, slowest)]
-    cooling = sum(map(sum, slowed)) - sum(sum(nominal[m]) for m in members)
-    if cooling <= alternate.MIN_SAVING * sum(map(sum, slowed)):
-        return None
+    """The turn's seconds if group `g` is worth laying in turn with `run`, else None
+    (`cooled`: a group's layers' nominal and slowed-down seconds)."""
     run_subs = {sub.index for m in run for sub in groups[m]}
     if any(sub.parent in run_subs for sub in groups[g]):
         return None
+    members = run + [g]
+    # Alternating saves at most the slowing down: most plans stop here, before any timing.
+    nominal = [cooled(m)[0] for m in members]
+    slowed_nominal = [cooled(m)[1] for m in members]
+    cooling = sum(map(sum, slowed_nominal)) - sum(map(sum, nominal))
+    if cooling <= alternate.MIN_SAVING * sum(map(sum, slowed_nominal)):
+        return None
+    minimum = settings.min_layer_time
+    levels = [[paths for paths in per_group[m] if paths] for m in members]
     shapes = [sub.shape for m in range(g + 1) for sub in groups[m]]
     ends = [(member[0][-1].points[-1], member[0][-1].axis) for member in levels]
     starts = [(member[0][0].points[0], member[0][0].axis) for member in levels]
     switch = alternate.switch_seconds(ends, starts, shapes, settings.feeds.travel, *motion)
     full = [[full_feed_seconds(paths, settings, motion) for paths in member] for member in levels]
-    slowed = [[alternate.slowed_seconds(f, n, s, minimum) for f, n, s in zip(*layer)]
-              for layer in zip(full, (nominal[m] for m in members), slowest)]
+    # Built alone, a slowed layer takes about as long as the slowdown asks, else its full time.
+    slowed = [[max(f, s) if s > n else f for f, n, s in zip(*layer)]
+              for layer in zip(full, nominal, slowed_nominal)]
     if not alternate.alternation_pays(full, slowed, switch, minimum):
         return None
     subs = [sub for m in members for sub in groups[m]]

@@ -7,6 +7,7 @@ tilt, so the bead height varies between the layer's minimum and maximum thicknes
 """
 from __future__ import annotations
 
+from functools import cached_property
 from dataclasses import dataclass
 from typing import Sequence
 
@@ -38,8 +39,11 @@ class Path3D:
     #: bead width where it is not the settings' (`Path2D.width`)
     width: float | None = None
 
-    @property
+    @cached_property
     def length(self) -> float:
+        """Read by the cooling rule, the choice of runs to alternate and the summaries: once
+        (the jack's plan read 21,625 lengths, 0.27 s on FreeCAD 1.0). The points are not
+        changed after the path is made."""
         return float(np.linalg.norm(np.diff(self.points, axis=0), axis=1).sum())
 
 
