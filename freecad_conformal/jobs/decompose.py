@@ -16,4 +16,5 @@ def decompose_with(shape, values: Mapping[str, Any]):
     v = validate(DECOMPOSE_SETTINGS, values)
     return decompose(shape, overhang_angle=math.radians(v["overhang"]), tool=v["tool"],
                      method=v["method"], max_subparts=v["max_subparts"],
-                     root_direction=v["root"], check_collisions=v["collision"])
+                     root_direction=v["root"], check_collisions=v["collision"],
+                     thorough=v["root_search"] == "thorough")

@@ -41,6 +41,7 @@ def plan_options(values: Mapping[str, Any]) -> PlanOptions:
     return PlanOptions(machine=v["machine"], tool=v["tool"], material=v["material"],
                        layers=layers, paths=paths, bead_width=v["bead_width"],
                        dialect=v["dialect"], root=v["root"], decompose=v["decompose"],
+                       root_search=v["root_search"],
                        objective=v["objective"], jerk=v["jerk"],
                        settings=v, process=v["process"],
                        hybrid=HybridOptions(mill_tools=mill_tool_ids(v["mill_tool"]),

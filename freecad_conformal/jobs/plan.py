@@ -53,6 +53,8 @@ class PlanOptions:
     #: each solid's root build direction: "auto" (as placed unless turning the solid leaves
     #: less overhang) or a 3-vector (decomposition/decompose.py)
     root: str | tuple[float, float, float] = "auto"
+    #: "quick" or "thorough": how many roots an auto root is planned from (decompose.py)
+    root_search: str = "quick"
     #: split each solid into support-free sub-parts (False: one sub-part per solid)
     decompose: bool = True
     #: what the choice among candidate plans minimises once residual overhang is least:
@@ -493,6 +495,11 @@ def plan_additive(shape, options: PlanOptions, part: str = "part", library=None,
     stack_fill.prestart()
     try:
         choice = choose_plan(shape, options, checked)
+        if (choice.plan.support_area > 0 and options.decompose and options.root == "auto"
+                and options.root_search == "quick" and len(choice.plan.subparts) > 1):
+            choice.plan.notes.append(
+                "a thorough root search (--root-search thorough; Root search in the GUI) "
+                "also plans each solid turned over, which may leave less overhang")
         return run_job(choice.placed, choice.plan, options, part, library, progress,
                        checked=checked, layers=choice.layers, candidates=choice.candidates)
     finally:
@@ -619,7 +626,8 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
             # The job builds the plan; it shows no centroidal axis (the Analysis does).
             begun = {} if early is None else {"early": early}
             plan = decompose(placed, tool=tool, root_direction=root,
-                             check_collisions=check_collisions, with_axes=False, **begun)
+                             check_collisions=check_collisions, with_axes=False,
+                             thorough=options.root_search == "thorough", **begun)
         elif not isinstance(root, str):
             plan = single_plan(placed, root)
         else:

@@ -1,7 +1,7 @@
 """Settings of a decomposition (`decompose` command, the GUI's Decomposition object)."""
 from __future__ import annotations
 
-from freecad_conformal.settings.plan import ROOT
+from freecad_conformal.settings.plan import ROOT, ROOT_SEARCH
 from freecad_conformal.settings.schema import Setting
 
 #: Centroidal-axis methods (decomposition/decompose.METHODS, restated: settings stay pure).
@@ -20,6 +20,7 @@ DECOMPOSE_SETTINGS: tuple[Setting, ...] = (
             "stop splitting beyond this many sub-parts", group="decomposition",
             prop="MaxSubParts", minimum=1),
     ROOT,
+    ROOT_SEARCH,
     Setting("collision", "bool", True, "collision check",
             "order the sub-parts so the tool envelope clears what is built (off: skip it)",
             group="decomposition", prop="CollisionCheck"),

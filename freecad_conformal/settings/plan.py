@@ -22,6 +22,15 @@ ROOT = Setting("root", "direction", "auto", "root direction",
                "turning the solid leaves less overhang), 'as placed' (+Z) or x,y,z",
                group="machine", choices=("auto",))
 
+#: How many roots an "auto" root plans each solid from (decomposition/decompose.py).
+ROOT_SEARCHES = ("quick", "thorough")
+ROOT_SEARCH = Setting("root_search", "choice", "quick", "root search",
+                      "with an auto root, quick plans each solid as placed, on its best "
+                      "axis and on a few directions of least overhang whole; thorough also "
+                      "turned over, where its split may keep far less overhang (CrankArm: "
+                      "647 mm² against 1,170) at several seconds more", group="machine",
+                      choices=ROOT_SEARCHES)
+
 #: What the choice among candidate plans minimises (jobs/search.py).
 OBJECTIVES = ("balanced", "time", "material")
 
@@ -39,6 +48,7 @@ PLAN_SETTINGS: tuple[Setting, ...] = (
     Setting("dialect", "text", None, "G-code dialect", "G-code dialect", group="machine",
             derived="the machine's dialect"),
     ROOT,
+    ROOT_SEARCH,
     Setting("decompose", "bool", True, "decompose",
             "split each solid into support-free sub-parts (off, or on a machine that cannot "
             "tilt the tool: one sub-part per solid)",

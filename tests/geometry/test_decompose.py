@@ -506,16 +506,17 @@ def test_a_further_root_whose_split_saves_most_is_planned(App, Part, monkeypatch
 
 
 @pytest.mark.slow
-def test_a_part_turned_over_is_a_root_of_its_own(parts_dir):
+def test_a_thorough_root_search_plans_the_part_turned_over_too(parts_dir):
     """CrankArm's arm lies flat as modelled: split as placed it keeps 2,477 mm² of overhang,
     stood on its side (its best axis whole) 1,170; turned over, with as much overhang whole
-    as placed, its split keeps 647. The search plans from there too and keeps that."""
+    as placed, its split keeps 647. The quick search stops at its side; the thorough one
+    plans from there too and keeps that."""
     from freecad_conformal.geometry.solids import load_shape
 
     arm = max(load_shape(parts_dir / "CrankArm.brep").Solids, key=lambda s: s.Volume)
-    plan = decompose(arm, root_direction="auto")
-    residual = sum(sub.overhang_area for sub in plan.subparts)
-    side = decompose(arm, root_direction=(1.0, 0.0, 0.0))
-    assert residual < 0.7 * sum(sub.overhang_area for sub in side.subparts)
-    assert any("root built along (-0, -0, -1)" in note or "root built along (+0, +0, -1)" in note
-               for note in plan.notes)
+    quick = decompose(arm, root_direction="auto", with_axes=False)
+    thorough = decompose(arm, root_direction="auto", with_axes=False, thorough=True)
+    left = [sum(sub.overhang_area for sub in plan.subparts) for plan in (quick, thorough)]
+    assert left[1] < 0.7 * left[0]
+    assert any("root built along (-0, -0, -1)" in note for note in thorough.notes)
+    assert not any("-1)" in note and "root built along" in note for note in quick.notes)
