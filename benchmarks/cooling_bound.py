@@ -8,7 +8,9 @@ beyond that move can be won. For each part this prints the plan's time, the seco
 cooling added (`PlanCost.cooling`, the cost model's own reading, within 10 % of the full
 plan's), the plan's shortest move between sub-parts, and the bound: the sum over levels of
 what cooling added beyond one such move. A plan of one sub-part (or of sub-parts all built
-together, level by level) has nothing to interleave with.
+together, level by level) has nothing to interleave with. The plan does interleave where
+its own estimate says it pays (`paths/alternate.py`, `--alternate`): this bound says how
+much it could win at most at the default settings, before any path is planned.
 
 Run: .venv/bin/python benchmarks/cooling_bound.py [parts...]   (default: the samples, the
 parts in ../shared/parts and the own parts)
