@@ -336,7 +336,37 @@ def alternation_sets(groups: list[list], per_group: list[list[list[Path3D]]],
                 runs[-1] = (runs[-1][0] + [g], switch)
                 continue
         runs.append(([g], 0.0))
-    return runs
+    # A turn that would pass too close to what is built (`check_clearance`) leaves the run's
+    # groups one after another, as the plan would build them without alternating.
+    return [single for run in runs
+            for single in ([run] if len(run[0]) == 1
+                           or _turns_clear(run, groups, per_group, settings, envelope, motion)
+                           else [([m], 0.0) for m in run[0]])]
+
+
+def _turns_clear(run: tuple[list[int], float], groups: list[list], per_group: list,
+                 settings: PathSettings, envelope, motion: tuple[float, float]) -> bool:
+    """Whether every turn of `run` (its first move in included) keeps clear of the groups
+    built before it, as `assemble` checks each move between sub-parts."""
+    members, switch = run
+    built = [sub.shape for m in range(members[0]) for sub in groups[m]]
+    centre, radius = bounding_sphere(built + [sub.shape for m in members for sub in groups[m]])
+    before = [paths for levels in per_group[:members[0]] for paths in levels if paths]
+    position, axis = ((before[-1][-1].points[-1], before[-1][-1].axis) if before
+                      else (None, None))
+    previous = None
+    for member, paths, _ in _steps(members, per_group, switch, settings, motion):
+        start, new_axis = paths[0].points[0], paths[0].axis
+        if position is not None and member != previous:
+            points, axes = transition(position, axis, start, new_axis, centre, radius)
+            try:
+                check_clearance(np.vstack((position[None], points)),
+                                np.vstack((axis[None], axes)), built, envelope, "", "")
+            except PlanError:
+                return False
+        previous = member
+        position, axis = paths[-1].points[-1], paths[-1].axis
+    return True
 
 
 def _joined(run: list[int], g: int, groups: list[list], per_group: list, cooled,
@@ -456,9 +486,10 @@ def assemble(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSett
                 elif member != previous:
                     centre, radius = sphere or bounding_sphere(built)
                     points, axes = transition(position, axis, start, new_axis, centre, radius)
-                    check_clearance(np.vstack((position[None], points)), np.vstack((axis[None], axes)),
-                                    built, envelope,
-                                    f"move to sub-part {path.subpart}", ", ".join(names))
+                    if sphere is None:      # an alternated run's turns were checked already
+                        check_clearance(np.vstack((position[None], points)),
+                                        np.vstack((axis[None], axes)), built, envelope,
+                                        f"move to sub-part {path.subpart}", ", ".join(names))
                     checked += 1
                     travel(points, axes)
                 else:

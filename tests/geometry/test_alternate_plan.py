@@ -97,3 +97,16 @@ def test_sub_parts_built_towards_each_other_are_not_alternated():
                                         envelope)
     # built away from each other, neither tool comes near the other
     assert alternate.mutually_clear([left, right], [(-1, 0, 0), (1, 0, 0)], [[0], [1]], envelope)
+
+
+@pytest.mark.slow
+def test_a_run_whose_turns_are_not_clear_is_built_one_after_another(both, monkeypatch):
+    from freecad_conformal.paths import assemble
+
+    turned, alone = both
+    monkeypatch.setattr(assemble, "_turns_clear", lambda *args: False)
+    options = PlanOptions()
+    options.paths = dataclasses.replace(options.paths, min_layer_time=MIN_LAYER_TIME)
+    fallen = plan_job(finned_hub(), options, part="fins")
+    assert fallen.assembly.alternated == []
+    assert fallen.post.text == alone.post.text
