@@ -12,11 +12,20 @@ time. That is done only where it is estimated to be quicker than slowing down
 
 The schedule is pure arithmetic on seconds per layer: `rounds` orders the layers,
 `step_minimums` says how long each must last for every member to get its minimum layer time
-between its layers, and the toolpath (paths/assemble.py) and the estimate follow them.
+between its layers, and the toolpath (paths/assemble.py) follows them. `polyline_seconds`
+and `switch_seconds` time layers and turns as paths/timing.py times the toolpath, and
+`mutually_clear` is the collision check between members.
 """
 from __future__ import annotations
 
 from typing import Sequence
+
+import numpy as np
+
+from freecad_conformal.geometry.collision import CollisionChecker
+from freecad_conformal.paths.approach import bounding_sphere, transition
+from freecad_conformal.paths.timing import junction_speeds, move_times
+from freecad_conformal.tolerances import COINCIDENT_POINTS
 
 #: Alternating must save at least this share of the groups' sequential time: the estimate
 #: times the turns at the travel feed without acceleration, so a saving smaller than its
@@ -93,13 +102,9 @@ def alternation_pays(full: Sequence[Sequence[float]], slowed: Sequence[Sequence[
 def polyline_seconds(points, speeds, acceleration: float, jerk: float) -> float:
     """Seconds along the polyline `points` (N, 3), segment k at `speeds[k]` mm/s, from rest
     to rest (`paths.timing`: trapezoids, junctions limited by jerk)."""
-    import numpy as np
-
-    from freecad_conformal.paths.timing import junction_speeds, move_times
-
     steps = np.diff(np.asarray(points, dtype=float), axis=0)
     lengths = np.linalg.norm(steps, axis=1)
-    keep = lengths > 1e-9
+    keep = lengths > COINCIDENT_POINTS
     if not keep.any():
         return 0.0
     lengths, speeds = lengths[keep], np.asarray(speeds, dtype=float)[keep]
@@ -112,10 +117,6 @@ def switch_seconds(ends: Sequence, starts: Sequence, shapes: Sequence, travel_fe
     """The longest turn between members (s at `travel_feed` mm/min): from each member's
     first layer's end (point, axis) to the next member's first layer's start, the last
     back to the first, over the safe sphere of `shapes` (`approach.transition`)."""
-    import numpy as np
-
-    from freecad_conformal.paths.approach import bounding_sphere, transition
-
     centre, radius = bounding_sphere(list(shapes))
     longest = 0.0
     for k, (end, end_axis) in enumerate(ends):
@@ -132,8 +133,6 @@ def mutually_clear(shapes: Sequence, directions: Sequence, members: Sequence[Seq
     """Whether the tool, building any of the sub-parts (`shapes`, built along `directions`;
     `members`: their indices per member), never meets a sub-part of another member
     (`geometry.collision`, against whole sub-parts)."""
-    from freecad_conformal.geometry.collision import CollisionChecker
-
     checker = CollisionChecker(list(shapes), list(directions), envelope)
     owner = {index: m for m, indices in enumerate(members) for index in indices}
     return not any(checker.hits(i, [j for j in owner if owner[j] != owner[i]]) for i in owner)
