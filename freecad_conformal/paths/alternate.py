@@ -28,8 +28,9 @@ from freecad_conformal.paths.timing import junction_speeds, move_times
 from freecad_conformal.tolerances import COINCIDENT_POINTS
 
 #: Alternating must save at least this share of the groups' sequential time: the estimate
-#: times the turns at the travel feed without acceleration, so a saving smaller than its
-#: error is not worth the extra turns of the table.
+#: times each turn once, between the members' first layers, and a slowed layer as taking
+#: the slowdown's nominal seconds, so a saving smaller than its error is not worth the
+#: extra turns of the table.
 MIN_SAVING = 0.05
 
 

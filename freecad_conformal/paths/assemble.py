@@ -258,12 +258,6 @@ def _levels(per_member: list[list[list[Path3D]]], member_layers: list[list[Layer
 CAP_STEPS = 40
 
 
-def nominal_seconds(paths: Sequence[Path3D], settings: PathSettings) -> float:
-    """Seconds of a layer's deposits and the travels between them at full feed, without
-    acceleration: what the cooling slowdown reads (`_layer_feeds`)."""
-    return _layer_seconds(paths, settings)(math.inf)
-
-
 def _layer_seconds(paths: Sequence[Path3D], settings: PathSettings):
     """The layer's seconds with every deposit feed capped at a given feed (mm/min)."""
     feeds = [settings.feeds.for_path(p) for p in paths]
@@ -301,61 +295,82 @@ def _layer_feeds(paths: Sequence[Path3D], settings: PathSettings,
     return [min(f, high) for f in feeds]
 
 
+class _Timing:
+    """Each group's levels (those with paths) and their seconds, read once: nominal (what the
+    cooling rule reads), nominal at the minimum speed, and at full feed with acceleration
+    (what the estimate and the rounds' minimums read)."""
+
+    def __init__(self, per_group: list, settings: PathSettings,
+                 motion: tuple[float, float] | None) -> None:
+        self._per_group, self._settings, self._motion = per_group, settings, motion
+        self._nominal: dict[int, tuple[list[float], list[float]]] = {}
+        self._full: dict[int, list[float]] = {}
+
+    def levels(self, m: int) -> list[list[Path3D]]:
+        return [paths for paths in self._per_group[m] if paths]
+
+    def nominal(self, m: int) -> tuple[list[float], list[float]]:
+        """Group m's levels' (nominal seconds, nominal seconds at the minimum speed)."""
+        if m not in self._nominal:
+            seconds = [_layer_seconds(paths, self._settings) for paths in self.levels(m)]
+            self._nominal[m] = ([at(math.inf) for at in seconds],
+                                [at(self._settings.min_speed) for at in seconds])
+        return self._nominal[m]
+
+    def full(self, m: int) -> list[float]:
+        """Group m's levels' seconds at full feed with acceleration."""
+        if m not in self._full:
+            self._full[m] = [full_feed_seconds(paths, self._settings, self._motion)
+                             for paths in self.levels(m)]
+        return self._full[m]
+
+    def slowed(self, m: int, seconds: list[float]) -> list[float]:
+        """Group m's levels' `seconds` as the cooling rule slows each built alone."""
+        return [alternate.slowed_seconds(at, nominal, slowest, self._settings.min_layer_time)
+                for at, nominal, slowest in zip(seconds, *self.nominal(m))]
+
+
 def alternation_sets(groups: list[list], per_group: list[list[list[Path3D]]],
                      settings: PathSettings, envelope,
-                     motion: tuple[float, float] | None) -> list[tuple[list[int], float]]:
+                     motion: tuple[float, float] | None) -> list[tuple[list[int], list]]:
     """The groups (positions in `groups`) in runs laid in turn (`paths.alternate`), each with
-    its turn's estimated seconds; a group not worth alternating is a run of its own (0 s).
-    A group joins the run before it when none of its sub-parts stands on the run's, its
-    layers and the run's would be slowed down by more than alternating could save, that
-    estimate pays for the turns, and the tool building either never meets the other
-    (`motion`: the machine's acceleration, mm/s², and jerk, mm/s, the estimate's; None:
-    no group is alternated)."""
+    its steps (`_steps`); a group not worth alternating is a run of its own. A group joins
+    the run before it when none of its sub-parts stands on the run's, its layers and the
+    run's would be slowed down by more than alternating could save, that estimate pays for
+    the turns, and the tool building either never meets the other (`motion`: the machine's
+    acceleration, mm/s², and jerk, mm/s, the estimate's; None: no group is alternated).
+    A run any of whose turns would pass too close to what is built (`check_clearance`) is
+    built one group after another, as the plan would be without alternating."""
+    timing = _Timing(per_group, settings, motion)
     runs: list[tuple[list[int], float]] = []
-    timed: dict[int, tuple[list[float], list[float]]] = {}
-
-    def cooled(m: int) -> tuple[list[float], list[float]]:
-        """Group m's layers' (nominal seconds, seconds slowed down as the rule does)."""
-        if m not in timed:
-            nominal, slowed = [], []
-            for paths in per_group[m]:
-                if paths:
-                    seconds = _layer_seconds(paths, settings)
-                    nominal.append(seconds(math.inf))
-                    slowed.append(alternate.slowed_seconds(
-                        nominal[-1], nominal[-1], seconds(settings.min_speed),
-                        settings.min_layer_time))
-            timed[m] = (nominal, slowed)
-        return timed[m]
-
-    for g, group in enumerate(groups):
+    for g in range(len(groups)):
         if runs and motion is not None and settings.alternate and settings.min_layer_time > 0:
-            switch = _joined(runs[-1][0], g, groups, per_group, cooled, settings, envelope,
-                             motion)
+            switch = _joined(runs[-1][0], g, groups, timing, settings, envelope, motion)
             if switch is not None:
                 runs[-1] = (runs[-1][0] + [g], switch)
                 continue
         runs.append(([g], 0.0))
-    # A turn that would pass too close to what is built (`check_clearance`) leaves the run's
-    # groups one after another, as the plan would build them without alternating.
-    return [single for run in runs
-            for single in ([run] if len(run[0]) == 1
-                           or _turns_clear(run, groups, per_group, settings, envelope, motion)
-                           else [([m], 0.0) for m in run[0]])]
+    result = []
+    for members, switch in runs:
+        steps = _steps(members, per_group, switch, timing, settings)
+        if len(members) == 1 or _turns_clear(members, steps, groups, per_group, envelope):
+            result.append((members, steps))
+        else:
+            result.extend(([m], _steps([m], per_group, 0.0, timing, settings)) for m in members)
+    return result
 
 
-def _turns_clear(run: tuple[list[int], float], groups: list[list], per_group: list,
-                 settings: PathSettings, envelope, motion: tuple[float, float]) -> bool:
-    """Whether every turn of `run` (its first move in included) keeps clear of the groups
+def _turns_clear(members: list[int], steps: list, groups: list[list], per_group: list,
+                 envelope) -> bool:
+    """Whether every turn of the run (its first move in included) keeps clear of the groups
     built before it, as `assemble` checks each move between sub-parts."""
-    members, switch = run
     built = [sub.shape for m in range(members[0]) for sub in groups[m]]
     centre, radius = bounding_sphere(built + [sub.shape for m in members for sub in groups[m]])
     before = [paths for levels in per_group[:members[0]] for paths in levels if paths]
     position, axis = ((before[-1][-1].points[-1], before[-1][-1].axis) if before
                       else (None, None))
     previous = None
-    for member, paths, _ in _steps(members, per_group, switch, settings, motion):
+    for member, paths, _ in steps:
         start, new_axis = paths[0].points[0], paths[0].axis
         if position is not None and member != previous:
             points, axes = transition(position, axis, start, new_axis, centre, radius)
@@ -369,31 +384,27 @@ def _turns_clear(run: tuple[list[int], float], groups: list[list], per_group: li
     return True
 
 
-def _joined(run: list[int], g: int, groups: list[list], per_group: list, cooled,
+def _joined(run: list[int], g: int, groups: list[list], timing: _Timing,
             settings: PathSettings, envelope, motion: tuple[float, float]) -> float | None:
-    """The turn's seconds if group `g` is worth laying in turn with `run`, else None
-    (`cooled`: a group's layers' nominal and slowed-down seconds)."""
+    """The turn's seconds if group `g` is worth laying in turn with `run`, else None."""
     run_subs = {sub.index for m in run for sub in groups[m]}
     if any(sub.parent in run_subs for sub in groups[g]):
         return None
     members = run + [g]
     # Alternating saves at most the slowing down: most plans stop here, before any timing.
-    nominal = [cooled(m)[0] for m in members]
-    slowed_nominal = [cooled(m)[1] for m in members]
+    nominal = [timing.nominal(m)[0] for m in members]
+    slowed_nominal = [timing.slowed(m, seconds) for m, seconds in zip(members, nominal)]
     cooling = sum(map(sum, slowed_nominal)) - sum(map(sum, nominal))
     if cooling <= alternate.MIN_SAVING * sum(map(sum, slowed_nominal)):
         return None
-    minimum = settings.min_layer_time
-    levels = [[paths for paths in per_group[m] if paths] for m in members]
+    levels = [timing.levels(m) for m in members]
     shapes = [sub.shape for m in range(g + 1) for sub in groups[m]]
     ends = [(member[0][-1].points[-1], member[0][-1].axis) for member in levels]
     starts = [(member[0][0].points[0], member[0][0].axis) for member in levels]
     switch = alternate.switch_seconds(ends, starts, shapes, settings.feeds.travel, *motion)
-    full = [[full_feed_seconds(paths, settings, motion) for paths in member] for member in levels]
-    # Built alone, a slowed layer takes about as long as the slowdown asks, else its full time.
-    slowed = [[max(f, s) if s > n else f for f, n, s in zip(*layer)]
-              for layer in zip(full, nominal, slowed_nominal)]
-    if not alternate.alternation_pays(full, slowed, switch, minimum):
+    full = [timing.full(m) for m in members]
+    slowed = [timing.slowed(m, seconds) for m, seconds in zip(members, full)]
+    if not alternate.alternation_pays(full, slowed, switch, settings.min_layer_time):
         return None
     subs = [sub for m in members for sub in groups[m]]
     sizes = [len(groups[m]) for m in members]
@@ -418,18 +429,18 @@ def full_feed_seconds(paths: Sequence[Path3D], settings: PathSettings,
     return alternate.polyline_seconds(np.vstack(points), speeds, *motion)
 
 
-def _steps(members: list[int], per_group: list, switch: float, settings: PathSettings,
-           motion: tuple[float, float] | None):
+def _steps(members: list[int], per_group: list, switch: float, timing: _Timing,
+           settings: PathSettings) -> list:
     """(group, the level's paths, its minimum nominal seconds or None for the usual rule) in
     building order: a lone group level by level, a run in rounds (`paths.alternate`): a
     layer is slowed by what its member's period falls short of the minimum layer time."""
     if len(members) == 1:
         return [(members[0], paths, None) for paths in per_group[members[0]]]
-    levels = [[paths for paths in per_group[m] if paths] for m in members]
-    order = alternate.rounds([len(member) for member in levels])
-    full = [full_feed_seconds(levels[m][k], settings, motion) for m, k in order]
+    order = alternate.rounds([len(timing.levels(m)) for m in members])
+    full = [timing.full(members[m])[k] for m, k in order]
     minimums = alternate.step_minimums(full, order, switch, settings.min_layer_time)
-    return [(members[m], levels[m][k], nominal_seconds(levels[m][k], settings) + minimum - seconds)
+    return [(members[m], timing.levels(members[m])[k],
+             timing.nominal(members[m])[0][k] + minimum - seconds)
             for (m, k), minimum, seconds in zip(order, minimums, full)]
 
 
@@ -470,13 +481,13 @@ def assemble(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSett
             position = ends[-1][-1].points[-1]
     position = None
     alternated: list[list[int]] = []
-    for members, switch in alternation_sets(groups, per_group, settings, envelope, motion):
+    for members, steps in alternation_sets(groups, per_group, settings, envelope, motion):
         shapes = [sub.shape for m in members for sub in groups[m]]
         sphere = bounding_sphere(built + shapes) if len(members) > 1 else None
         if len(members) > 1:
             alternated.append([sub.index for m in members for sub in groups[m]])
         previous = None
-        for member, paths, minimum in _steps(members, per_group, switch, settings, motion):
+        for member, paths, minimum in steps:
             feeds = _layer_feeds(paths, settings, minimum)
             for k, (path, feed) in enumerate(zip(paths, feeds)):
                 start, new_axis = path.points[0], path.axis
