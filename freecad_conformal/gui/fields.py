@@ -7,7 +7,8 @@ import FreeCAD
 
 from freecad_conformal.gui.panel_layout import FieldSpec
 from freecad_conformal.gui.qt import QtCore, QtWidgets
-from freecad_conformal.gui.widgets import quantity_field, quantity_value
+from freecad_conformal.gui.widgets import (optional_quantity_field, quantity_field, quantity_value,
+                                           set_quantity)
 
 #: FreeCAD property types shown as quantity fields, with the unit typed values default to.
 QUANTITY_UNITS = {"App::PropertyLength": "mm", "App::PropertyDistance": "mm",
@@ -135,6 +136,9 @@ def make_field(obj, spec: FieldSpec, task: str):
     if spec.picks == "root":
         return _combo(["auto", "as placed"], str(value), True)
     if kind in QUANTITY_UNITS:
+        if spec.empty_means:
+            return optional_quantity_field(QUANTITY_UNITS[kind], float(value.Value),
+                                           spec.empty_means, -1e9, 1e9)
         return quantity_field(QUANTITY_UNITS[kind], float(value.Value), -1e9, 1e9)
     if kind in ("App::PropertyInteger", "App::PropertyPercent"):
         widget = QtWidgets.QSpinBox()
@@ -185,7 +189,7 @@ def field_value(spec: FieldSpec, widget):
 def set_field_value(spec: FieldSpec, widget, value) -> None:
     """Type `value` into a field as a user would (scripts and tests)."""
     if spec.type_id in QUANTITY_UNITS and not isinstance(widget, QtWidgets.QComboBox):
-        widget.setProperty("rawValue", float(value))
+        set_quantity(widget, float(value))
     elif isinstance(widget, QtWidgets.QSpinBox):
         widget.setValue(int(value))
     elif isinstance(widget, QtWidgets.QDoubleSpinBox):

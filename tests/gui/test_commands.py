@@ -85,3 +85,13 @@ def test_command_screenshots_are_not_blank(commands_run):
     for shot in (commands_run["analysis"]["shot"], commands_run["decomposition"]["shot"],
                  commands_run["job"]["shot"], commands_run["plan_panel_shot"]):
         assert_image_has_content(Path(shot))
+
+
+def test_a_derived_speed_reads_as_derived_not_zero(commands_run):
+    # An optional speed left to the material shows empty with what it stands for, not as
+    # "0.00 mm/s"; typed, it holds the value; emptied by the user, it is derived again.
+    unset, typed, emptied = (commands_run["derived_speed"][k] for k in ("unset", "typed", "emptied"))
+    text, placeholder, value = unset
+    assert text == "" and "material" in placeholder and value == 0.0
+    assert typed[0].startswith("35") and typed[1] == 35.0
+    assert emptied == ["", 0.0]

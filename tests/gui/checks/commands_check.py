@@ -33,6 +33,25 @@ def accept(panel, **fields):
     return ok, panel.obj, panel.status
 
 
+def derived_speed_field(panel, prop: str) -> dict:
+    """What an optional speed field shows and holds: unset, typed, emptied by the user."""
+    from freecad_conformal.gui.fields import field_value
+    from freecad_conformal.gui.qt import QtWidgets
+
+    widget, spec = panel.fields[prop], panel.specs[prop]
+    line = widget.findChild(QtWidgets.QLineEdit)
+    seen = {"unset": (line.text(), line.placeholderText(), field_value(spec, widget))}
+    panel.set_field(prop, 35.0)
+    seen["typed"] = (line.text(), field_value(spec, widget))
+    widget.setFocus()
+    line.selectAll()
+    line.del_()                  # the user empties the field and leaves it
+    panel.fields["Infill"].setFocus()
+    gui_support.settle()
+    seen["emptied"] = (line.text(), field_value(spec, widget))
+    return seen
+
+
 def show_only(doc, *objects) -> None:
     for obj in doc.Objects:
         obj.ViewObject.Visibility = obj in objects
@@ -80,6 +99,7 @@ def main(params: dict) -> dict:
     for field, value in (("LayerHeight", 1.5), ("BeadWidth", 1.5), ("Infill", 10),
                          ("TiltLayers", False)):
         panel.set_field(field, value)
+    out["derived_speed"] = derived_speed_field(panel, "ExternalPerimeterSpeed")
     show_only(doc, body)
     body.ViewObject.Transparency = 0
     out["plan_panel_shot"] = gui_support.artifact(params, "plan_task_panel.png")
