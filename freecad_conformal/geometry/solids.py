@@ -244,3 +244,59 @@ def occ_confusion() -> float:
     are one point for OCC, so no geometric test here can be finer."""
     _, Part = import_freecad()
     return float(Part.Precision.confusion())
+
+
+#: Solids of one part sharing more than this volume (mm³) are one body to print: built
+#: apart they could never be put together. Touching solids (a shared face, a pin in a bore)
+#: share none, to OCC's rounding (1e-9 mm³ on two boxes sharing a face).
+OVERLAP_VOLUME = 1e-3
+
+
+def united_overlaps(shape) -> tuple[object, str]:
+    """`shape` with each group of its overlapping solids fused into one solid, as a slicer
+    prints the overlapping parts of one object, and a note saying which ("" where none
+    overlap). A multi-body export with a boss modelled as its own body overlapping the base
+    was laid out as two parts side by side."""
+    _, Part = import_freecad()
+    solids = list(shape.Solids)
+    if len(solids) < 2:
+        return shape, ""
+    group = list(range(len(solids)))
+
+    def root(k: int) -> int:
+        while group[k] != k:
+            k = group[k]
+        return k
+
+    shared = []
+    for i, first in enumerate(solids):
+        for j in range(i + 1, len(solids)):
+            if not first.BoundBox.intersect(solids[j].BoundBox):
+                continue
+            volume = first.common(solids[j]).Volume
+            if volume > OVERLAP_VOLUME:
+                group[root(j)] = root(i)
+                shared.append((i, j, volume))
+    if not shared:
+        return shape, ""
+    members: dict[int, list[int]] = {}
+    for k in range(len(solids)):
+        members.setdefault(root(k), []).append(k)
+    united = []
+    for ks in members.values():
+        if len(ks) == 1:
+            united.append(solids[ks[0]])
+            continue
+        fused = solids[ks[0]].fuse([solids[k] for k in ks[1:]]).removeSplitter()
+        if len(fused.Solids) != 1:
+            raise GeometryError(f"solids {_numbers(ks)} overlap but do not fuse into one solid "
+                                "(OCC); fuse them in the model (Part > Boolean > Union)")
+        united.append(fused.Solids[0])
+    pairs = "; ".join(f"{i + 1} and {j + 1} by {volume:.3g} mm³" for i, j, volume in shared)
+    note = (f"solids overlap ({pairs}): each overlapping group fused into one solid, as a "
+            f"slicer prints an object's overlapping parts ({len(solids)} solids -> {len(united)})")
+    return (united[0] if len(united) == 1 else Part.makeCompound(united)), note
+
+
+def _numbers(indices: list[int]) -> str:
+    return ", ".join(str(k + 1) for k in indices)

@@ -10,11 +10,17 @@ from freecad_conformal.settings.schema import validate
 
 
 def decompose_with(shape, values: Mapping[str, Any]):
-    """The BuildPlan of `shape` with checked settings (SettingError names a bad one)."""
+    """The BuildPlan of `shape` with checked settings (SettingError names a bad one), its
+    overlapping solids fused first as the plan job fuses them (`solids.united_overlaps`)."""
     from freecad_conformal.decomposition.decompose import decompose
+    from freecad_conformal.geometry.solids import united_overlaps
 
     v = validate(DECOMPOSE_SETTINGS, values)
-    return decompose(shape, overhang_angle=math.radians(v["overhang"]), tool=v["tool"],
+    shape, fused = united_overlaps(shape)
+    plan = decompose(shape, overhang_angle=math.radians(v["overhang"]), tool=v["tool"],
                      method=v["method"], max_subparts=v["max_subparts"],
                      root_direction=v["root"], check_collisions=v["collision"],
                      thorough=v["root_search"] == "thorough")
+    if fused:
+        plan.notes.insert(0, fused)
+    return plan

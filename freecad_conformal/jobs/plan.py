@@ -398,13 +398,15 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
     `options.objective`, wins; otherwise the one plan of `machine_plan`, or each solid built
     whole when no decomposition can be built. `progress(text)` hears of each candidate."""
     from freecad_conformal.geometry.section_pool import warm_workers
-    from freecad_conformal.geometry.solids import solids_of
+    from freecad_conformal.geometry.solids import solids_of, united_overlaps
 
     tool, _, _, path_settings, machine = checked
+    shape, fused = united_overlaps(shape)
     # Centred first, so that what the search measures of the part (its meshes, its overhang
     # in each direction) is measured of the very shape every plan places (Pump_Nut, modelled
     # off the platform, was meshed and scanned twice: 0.2 s of its 0.8 s choice).
     shape, centred = centred_if_off_platform(shape, machine)
+    moved = [note for note in (fused, centred) if note]     # said first in the plan's notes
     solids = solids_of(shape)
     warm_workers(shape, options.layers.thickness)
     flat = options.decompose and not machine_tilts(machine)
@@ -425,8 +427,7 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
             plan.support_reason = WHOLE_AFTER_FAILURE
         if flat:
             _built_whole_on(machine, plan)
-        if centred:
-            plan.notes.insert(0, centred)
+        plan.notes[:0] = moved
         return Choice(placed, plan)
     from freecad_conformal.geometry.overhang import DEFAULT_OVERHANG_ANGLE
     from freecad_conformal.jobs.search import builds, plan_candidates, ranked
@@ -459,8 +460,7 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
     best = candidates[0]
     if flat:
         _built_whole_on(machine, best.plan)
-    if centred:
-        best.plan.notes.insert(0, centred)
+    best.plan.notes[:0] = moved
     if builds(candidates) > 1:
         best.plan.notes.append(f"{best.label}: chosen among {builds(candidates)} candidate "
                                f"plans (least residual overhang, then cheapest: "

@@ -51,3 +51,51 @@ def test_a_rigid_copy_keeps_the_verdict_of_occs_check(App, Part):
         else:
             with pytest.raises(GeometryError, match="invalid"):
                 solids_of(copy)
+
+
+def test_overlapping_solids_are_fused_and_touching_ones_kept(App, Part):
+    """A multi-body export: bodies that overlap are one object to print (built apart they
+    could never be put together), those that only touch or stand apart stay solids of
+    their own (CrankArm's pin sits 0.4 mm inside its bore's clearance)."""
+    from freecad_conformal.geometry.solids import united_overlaps
+
+    box = Part.makeBox
+    a, b = box(10, 10, 10), box(10, 10, 10, App.Vector(5, 5, 0))         # overlap 250 mm³
+    c = box(10, 10, 10, App.Vector(12, 12, 0))                            # overlaps b only
+    face_to_face = box(10, 10, 10, App.Vector(0, 0, 10))                  # touches a
+    apart = box(5, 5, 5, App.Vector(40, 0, 0))
+    united, note = united_overlaps(Part.makeCompound([a, b, c, face_to_face, apart]))
+    assert len(united.Solids) == 3
+    chain = a.fuse([b, c]).Volume
+    assert sorted(s.Volume for s in united.Solids) == pytest.approx(
+        sorted([chain, face_to_face.Volume, apart.Volume]), rel=1e-9)
+    assert "1 and 2 by 250 mm³" in note and "2 and 3" in note and "5 solids -> 3" in note
+    kept = Part.makeCompound([a, face_to_face, apart])
+    assert united_overlaps(kept) == (kept, "")
+    single = box(3, 3, 3)
+    assert united_overlaps(single) == (single, "")
+
+
+def test_a_job_prints_overlapping_bodies_as_one(App, Part):
+    """Planned, two overlapping boxes are one solid, built in one piece (not laid out side
+    by side as two parts), and the plan says why."""
+    from freecad_conformal.jobs.plan import PlanOptions, check_options, choose_plan
+
+    part = Part.makeCompound([Part.makeBox(10, 10, 10),
+                              Part.makeBox(10, 10, 10, App.Vector(5, 5, 0))])
+    options = PlanOptions()
+    plan = choose_plan(part, options, check_options(part, options)).plan
+    assert len(plan.subparts) == 1
+    assert plan.subparts[0].volume == pytest.approx(1750.0, rel=1e-9)
+    assert "fused into one solid" in plan.notes[0]
+
+
+def test_decompose_fuses_overlapping_bodies_as_the_plan_does(App, Part):
+    from freecad_conformal.jobs.decompose import decompose_with
+    from freecad_conformal.settings.decompose import DECOMPOSE_SETTINGS
+    from freecad_conformal.settings.schema import defaults
+
+    part = Part.makeCompound([Part.makeBox(10, 10, 10),
+                              Part.makeBox(10, 10, 10, App.Vector(5, 5, 0))])
+    plan = decompose_with(part, defaults(DECOMPOSE_SETTINGS))
+    assert len(plan.subparts) == 1 and "fused into one solid" in plan.notes[0]
