@@ -17,6 +17,7 @@ import numpy as np
 
 from freecad_conformal.errors import GeometryError
 from freecad_conformal.geometry.face_normals import plane_normal
+from freecad_conformal.geometry.frames import index_rows, points_array
 from freecad_conformal.geometry.sections import PlanarSlicer, extent_along
 from freecad_conformal.geometry.shape_parts import vertex_points
 from freecad_conformal.geometry.splitting_faces import SplitCandidate, interior_regions
@@ -63,8 +64,8 @@ class MeshProfile:
             deflection = mesh_deflection(shape)
             # On a copy: re-meshing the shape itself would undo the surface mesh's sharing.
             points, triangles = shape.copy().tessellate(deflection, True)
-            self.points = np.array([tuple(p) for p in points]).reshape(-1, 3)
-            self.triangles = np.asarray(triangles, dtype=int).reshape(-1, 3)
+            self.points = points_array(points)
+            self.triangles = index_rows(triangles)
         a, b, c = (self.points[self.triangles[:, k]] for k in range(3))
         #: each triangle's area vector (outward normal × area)
         self.area_vectors = 0.5 * np.cross(b - a, c - a)

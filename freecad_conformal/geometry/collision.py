@@ -13,6 +13,7 @@ import math
 import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.frames import index_rows, points_array
 from freecad_conformal.geometry.surface_mesh import made_mesh
 from freecad_conformal.process.tools import Envelope
 from freecad_conformal.tolerances import BASE_LEVEL_TOLERANCE, SAME_DIRECTION_ANGLE
@@ -61,8 +62,8 @@ def surface_points(shape, spacing: float = MIN_SPACING) -> np.ndarray:
         pts, tri = made.points, made.triangles
     else:
         points, triangles = _triangulated(shape)
-        pts = np.array([tuple(p) for p in points], dtype=float).reshape(-1, 3)
-        tri = np.asarray(triangles, dtype=int).reshape(-1, 3)
+        pts = points_array(points)
+        tri = index_rows(triangles)
     if not len(tri):
         return np.array([tuple(v.Point) for v in shape.Vertexes], dtype=float).reshape(-1, 3)
     a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]

@@ -9,6 +9,7 @@ import shapely
 from shapely.geometry import MultiPolygon, Polygon
 
 from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.frames import points_array
 from freecad_conformal.tolerances import COINCIDENT_POINTS
 
 #: Maps discretised 3D points (N, 3) of a loop to 2D coordinates (N, 2).
@@ -141,11 +142,11 @@ def discretize_wire(wire, chord_tolerance: float) -> np.ndarray:
     """
     runs = []
     for edge in wire.OrderedEdges:
-        run = [tuple(p) for p in edge.discretize(Deflection=chord_tolerance)]
+        run = points_array(edge.discretize(Deflection=chord_tolerance))
         if edge.Orientation == "Reversed":
-            run.reverse()
+            run = run[::-1]
         runs.append(run if not runs else run[1:])
-    points = np.array([p for run in runs for p in run]) if runs else np.zeros((0, 3))
+    points = np.concatenate(runs) if runs else np.zeros((0, 3))
     if len(points) > 1 and np.linalg.norm(points[0] - points[-1]) < COINCIDENT_POINTS:
         points = points[:-1]
     return points

@@ -18,6 +18,7 @@ import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
 from freecad_conformal.geometry.face_normals import node_normals, plane_normal
+from freecad_conformal.geometry.frames import index_rows, points_array
 from freecad_conformal.geometry.rows import find_rows, unique_rows
 from freecad_conformal.geometry.shape_access import placement_move
 from freecad_conformal.geometry.shape_cache import ShapeCache
@@ -303,8 +304,8 @@ def _face_part(face, deflection: float) -> FacePart | None:
     pts, tris = face.tessellate(deflection)
     if not tris:
         return None
-    p = np.array([tuple(v) for v in pts])
-    t = np.asarray(tris, dtype=int)
+    p = points_array(pts)
+    t = index_rows(tris)
     normal = plane_normal(face)
     a, b, c = p[t[:, 0]], p[t[:, 1]], p[t[:, 2]]
     doubled = np.cross(b - a, c - a)
