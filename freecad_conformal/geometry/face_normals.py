@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
+from freecad_conformal.geometry.frames import points_array
 from freecad_conformal.geometry.rows import find_rows, unique_rows
 from freecad_conformal.geometry.shape_cache import ShapeCache
 from freecad_conformal.tolerances import ZERO_LENGTH
@@ -104,32 +105,26 @@ def _closed_form(face, points: np.ndarray) -> np.ndarray | None:
         return None
     if kind == "Toroid" and float(surface.MajorRadius) <= float(surface.MinorRadius):
         return None   # a spindle torus: a point near the axis lies on both of its sheets
-    centre = _array(surface.Center)
-    axis = _array(getattr(surface, "Axis", (0.0, 0.0, 1.0)))
-    normals = _CLOSED_FORMS[kind](surface, points - centre, axis)
+    normals_at = _CLOSED_FORMS[kind]
+    centre, axis = points_array([surface.Center, getattr(surface, "Axis", (0.0, 0.0, 1.0))])
     u0, u1, v0, v1 = face.ParameterRange
     u, v = 0.5 * (u0 + u1), 0.5 * (v0 + v1)
     reference = np.array(_normal_or_zero(surface, u, v))
-    here = _CLOSED_FORMS[kind](surface, (_array(surface.value(u, v)) - centre)[None, :], axis)[0]
+    here = normals_at(surface, points_array([surface.value(u, v)]) - centre, axis)[0]
     agree = float(reference @ here)
     if abs(agree) < 1.0 - CLOSED_FORM_CHECK:
         return None           # no normal there (a pole, an apex), or not the surface we think
     sign = (1.0 if agree > 0 else -1.0) * (-1.0 if face.Orientation == "Reversed" else 1.0)
-    return sign * normals
+    return sign * normals_at(surface, points - centre, axis)
 
 
 #: The closed-form normal and OCC's at the check point agree to this (1 - |cos|).
 CLOSED_FORM_CHECK = 1e-9
 
 
-def _array(vector) -> np.ndarray:
-    return np.array([vector[0], vector[1], vector[2]], dtype=float)
-
-
-def _radial(offsets: np.ndarray, axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Each offset's part across the axis and its length."""
-    across = offsets - np.outer(offsets @ axis, axis)
-    return across, np.linalg.norm(across, axis=1)
+def _across(offsets: np.ndarray, axis: np.ndarray) -> np.ndarray:
+    """Each offset's part across the axis."""
+    return offsets - np.outer(offsets @ axis, axis)
 
 
 def _unit_rows(vectors: np.ndarray) -> np.ndarray:
@@ -142,7 +137,7 @@ def _unit_rows(vectors: np.ndarray) -> np.ndarray:
 
 
 def _cylinder_normals(surface, offsets: np.ndarray, axis: np.ndarray) -> np.ndarray:
-    return _unit_rows(_radial(offsets, axis)[0])
+    return _unit_rows(_across(offsets, axis))
 
 
 def _sphere_normals(surface, offsets: np.ndarray, axis: np.ndarray) -> np.ndarray:
@@ -153,16 +148,14 @@ def _cone_normals(surface, offsets: np.ndarray, axis: np.ndarray) -> np.ndarray:
     # OCC's cone: P = C + (R + v sin α) e_r(u) + v cos α A, so du x dv lies along
     # cos α e_r - sin α A, scaled by R + v sin α (negative on the far nappe).
     alpha = float(surface.SemiAngle)
-    across, _ = _radial(offsets, axis)
     v = (offsets @ axis) / np.cos(alpha)
     side = np.sign(float(surface.Radius) + v * np.sin(alpha))
-    radial = _unit_rows(across)
+    radial = _unit_rows(_across(offsets, axis))
     return _unit_rows(np.cos(alpha) * radial - (side * np.sin(alpha))[:, None] * axis)
 
 
 def _torus_normals(surface, offsets: np.ndarray, axis: np.ndarray) -> np.ndarray:
-    across, _ = _radial(offsets, axis)
-    tube_centre = float(surface.MajorRadius) * _unit_rows(across)
+    tube_centre = float(surface.MajorRadius) * _unit_rows(_across(offsets, axis))
     return _unit_rows(offsets - tube_centre)
 
 

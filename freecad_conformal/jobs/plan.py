@@ -406,7 +406,7 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
     # in each direction) is measured of the very shape every plan places (Pump_Nut, modelled
     # off the platform, was meshed and scanned twice: 0.2 s of its 0.8 s choice).
     shape, centred = centred_if_off_platform(shape, machine)
-    moved = [note for note in (fused, centred) if note]     # said first in the plan's notes
+    first_notes = [note for note in (fused, centred) if note]
     solids = solids_of(shape)
     warm_workers(shape, options.layers.thickness)
     flat = options.decompose and not machine_tilts(machine)
@@ -427,7 +427,7 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
             plan.support_reason = WHOLE_AFTER_FAILURE
         if flat:
             _built_whole_on(machine, plan)
-        plan.notes[:0] = moved
+        plan.notes[:0] = first_notes
         return Choice(placed, plan)
     from freecad_conformal.geometry.overhang import DEFAULT_OVERHANG_ANGLE
     from freecad_conformal.jobs.search import builds, plan_candidates, ranked
@@ -460,7 +460,7 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
     best = candidates[0]
     if flat:
         _built_whole_on(machine, best.plan)
-    best.plan.notes[:0] = moved
+    best.plan.notes[:0] = first_notes
     if builds(candidates) > 1:
         best.plan.notes.append(f"{best.label}: chosen among {builds(candidates)} candidate "
                                f"plans (least residual overhang, then cheapest: "
