@@ -19,6 +19,9 @@ from freecad_conformal.geometry.uv_projection import SurfaceProjector
 #: evenly in parameter.
 UV_POINTS_PER_EDGE = 48
 
+#: FreeCAD's names of 2-D curves that are straight: two points describe them exactly.
+STRAIGHT_2D = frozenset({"Line2d", "Line2dSegment"})
+
 #: A point whose (u, v) neighbours this far away (a share of `domain_scale`) disagree
 #: with it lies too near the discretised boundary: OCC decides.
 UV_AMBIGUOUS = 1e-3
@@ -138,11 +141,7 @@ def _domain_polygon(face):
             if found is None:
                 raise ValueError("edge without a curve on the face")
             curve2d, a, b = found
-            close = (curve2d.discretize(Deflection=deflection, First=a, Last=b)
-                     if deflection > 0.0 else [])
-            points = (close if len(close) > UV_POINTS_PER_EDGE
-                      else [curve2d.value(t) for t in np.linspace(a, b, UV_POINTS_PER_EDGE)])
-            uv = [(p.x, p.y) for p in points]
+            uv = _edge_points(curve2d, a, b, deflection)
             if edge.Orientation == "Reversed":
                 uv.reverse()
             ring.extend(uv[:-1])
@@ -154,6 +153,20 @@ def _domain_polygon(face):
     polygon = shapely.make_valid(Polygon(shells[0], holes))
     shapely.prepare(polygon)
     return polygon, max(size, 1e-12)
+
+
+def _edge_points(curve2d, a: float, b: float, deflection: float) -> list[tuple[float, float]]:
+    """(u, v) points along one boundary curve from parameter a to b: its ends where it is a
+    straight line (the polygon is then exact: a gear's 400 flat flanks took 48 points an
+    edge, 1.4 ms a face, 1.6 s of its plan choice), else at least UV_POINTS_PER_EDGE."""
+    if type(curve2d).__name__ in STRAIGHT_2D:
+        points = [curve2d.value(a), curve2d.value(b)]
+    else:
+        close = (curve2d.discretize(Deflection=deflection, First=a, Last=b)
+                 if deflection > 0.0 else [])
+        points = (close if len(close) > UV_POINTS_PER_EDGE
+                  else [curve2d.value(t) for t in np.linspace(a, b, UV_POINTS_PER_EDGE)])
+    return [(p.x, p.y) for p in points]
 
 
 def domain_scale(u_range: float, v_range: float) -> float:
