@@ -87,13 +87,14 @@ def base_area(shape, d: np.ndarray) -> float:
     """Area (mm²) of the shape's planar faces lying flat on the bed when built along `d`:
     facing straight down at the shape's lowest level."""
     low = lowest_level(shape, d)
+    table = _planar_table(shape)
+    if not len(table.indices):
+        return 0.0
+    all_faces = faces_of(shape)
     area = 0.0
-    for face in faces_of(shape):
-        normal = plane_normal(face)     # None: not a plane
-        if normal is None:
-            continue
-        point = vertex_points(face)[0]
-        if float(normal @ d) < -1.0 + PARALLEL_COS_SLACK and abs(float(point @ d) - low) < ON_PLANE_TOLERANCE:
+    for index in table.indices[table.normals @ d < -1.0 + PARALLEL_COS_SLACK]:
+        face = all_faces[index]
+        if abs(float(vertex_points(face)[0] @ d) - low) < ON_PLANE_TOLERANCE:
             area += float(face.Area)
     return area
 
@@ -136,26 +137,62 @@ def overhang_report(shape, direction: Sequence[float], angle: float = DEFAULT_OV
             bed.append(_bed_level(shape, d, low, deflection))
         return bed[0]
 
-    faces = []
+    table = _planar_table(shape)
+    all_faces = faces_of(shape)
+    areas: dict[int, float] = {}
     laid = []
-    for index, face in enumerate(faces_of(shape)):
-        normal = plane_normal(face)
-        if normal is None:
-            part = face_part(face, deflection)
-            area = 0.0 if part is None else part.below(d, threshold)
-            if (low is not None and area > NEGLIGIBLE_AREA
-                    and part.laid_on_bed(d, threshold, bed_level, low)):
-                area = 0.0
-                laid.append(index)
-        elif normal @ d < -threshold:
-            area = float(face.Area) - _supported_area(
-                face, normal, d, low, None if low is None else bed_level, base_faces)
-        else:
+    # Only the planar faces facing down are looked at one by one (a gear's 400 flat flanks,
+    # scanned along 30 directions, cost 0.85 s of its plan choice face by face).
+    down = table.indices[table.normals @ d < -threshold] if len(table.indices) else []
+    for index in down:
+        face = all_faces[index]
+        normal = table.normal_of[index]
+        areas[int(index)] = float(face.Area) - _supported_area(
+            face, normal, d, low, None if low is None else bed_level, base_faces)
+    for index in table.curved:
+        part = face_part(all_faces[index], deflection)
+        area = 0.0 if part is None else part.below(d, threshold)
+        if (low is not None and area > NEGLIGIBLE_AREA
+                and part.laid_on_bed(d, threshold, bed_level, low)):
             area = 0.0
-        if area > NEGLIGIBLE_AREA:
-            faces.append((index, area))
+            laid.append(index)
+        areas[index] = area
+    faces = [(index, areas[index]) for index in sorted(areas) if areas[index] > NEGLIGIBLE_AREA]
     return OverhangReport(direction=d, angle=angle, area=float(sum(a for _, a in faces)),
                           faces=faces, laid=laid)
+
+
+@dataclass(frozen=True)
+class _PlanarTable:
+    """A shape's faces sorted once for overhang scans: the planar ones' indices and outward
+    normals (one row each), and the indices of the others."""
+
+    indices: np.ndarray
+    normals: np.ndarray
+    normal_of: dict
+    curved: list[int]
+
+
+#: Per shape (oriented: a face's normal follows its orientation), its `_PlanarTable`.
+_TABLES: ShapeCache[_PlanarTable] = ShapeCache(limit=4096, oriented=True)
+
+
+def _planar_table(shape) -> _PlanarTable:
+    def build() -> _PlanarTable:
+        normal_of = {}
+        curved = []
+        for index, face in enumerate(faces_of(shape)):
+            normal = plane_normal(face)
+            if normal is None:
+                curved.append(index)
+            else:
+                normal_of[index] = normal
+        indices = np.array(sorted(normal_of), dtype=int)
+        normals = (np.array([normal_of[i] for i in indices]) if len(indices)
+                   else np.zeros((0, 3)))
+        return _PlanarTable(indices, normals, normal_of, curved)
+
+    return _TABLES.get((shape,), build)
 
 
 #: Overhang areas of whole shapes (no base faces), by shape identity and (direction, angle,

@@ -43,6 +43,26 @@ def test_box_on_the_bed_has_no_overhang_and_its_ceiling_when_lifted(Part):
     assert len(report.faces) == 1
 
 
+def test_a_reversed_solid_overhangs_where_its_faces_point_down(App, Part):
+    """A box with a round bore along X, built along +Z off the bed: its floor and the
+    bore's upper quarter overhang, listed by face index. The same box reversed (its normals
+    point inward) is scanned again, not read from the first: its ceiling faces down
+    instead. Planar faces are looked up by normal in one product per direction
+    (`overhang._planar_table`), curved ones on their mesh."""
+    box = Part.makeBox(20, 10, 10).cut(Part.makeCylinder(3.0, 20.0, App.Vector(0, 5, 5), App.Vector(1, 0, 0)))
+    bore = next(i for i, f in enumerate(box.Faces) if type(f.Surface).__name__ == "Cylinder")
+    ceiling = next(i for i, f in enumerate(box.Faces) if abs(f.CenterOfMass.z - 10) < 1e-9)
+    floor = next(i for i, f in enumerate(box.Faces) if abs(f.CenterOfMass.z) < 1e-9)
+    quarter = 2 * math.pi * 3.0 * 20.0 / 4
+    outward = overhang_report(box, (0, 0, 1), ANGLE, on_bed=False)
+    assert [i for i, _ in outward.faces] == sorted([floor, bore])
+    assert dict(outward.faces)[floor] == pytest.approx(200.0, rel=1e-9)
+    assert dict(outward.faces)[bore] == pytest.approx(quarter, rel=5e-3)
+    inward = overhang_report(box.reversed(), (0, 0, 1), ANGLE, on_bed=False)
+    assert [i for i, _ in inward.faces] == sorted([ceiling, bore])
+    assert inward.area == pytest.approx(200.0 + quarter, rel=5e-3)
+
+
 def test_cylinder_built_sideways_overhangs_on_its_lower_quarter(Part):
     # Axis along X, built along +Z: the lateral strip with n·z < −sin 45° spans 90° of 360°.
     cylinder = Part.makeCylinder(5.0, 20.0, Part.Vertex(0, 0, 0).Point, Part.Vertex(1, 0, 0).Point)
