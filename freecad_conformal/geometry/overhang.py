@@ -143,12 +143,15 @@ def overhang_report(shape, direction: Sequence[float], angle: float = DEFAULT_OV
     laid = []
     # Only the planar faces facing down are looked at one by one (a gear's 400 flat flanks,
     # scanned along 30 directions, cost 0.85 s of its plan choice face by face).
-    down = table.indices[table.normals @ d < -threshold] if len(table.indices) else []
-    for index in down:
+    down = table.normals @ d < -threshold
+    near = down & (table.near_bed(d, low) if low is not None and not base_faces
+                   else np.ones(len(down), dtype=bool))
+    for row in np.flatnonzero(down):
+        index = int(table.indices[row])
         face = all_faces[index]
-        normal = table.normal_of[index]
-        areas[int(index)] = float(face.Area) - _supported_area(
-            face, normal, d, low, None if low is None else bed_level, base_faces)
+        areas[index] = float(face.Area) - (_supported_area(
+            face, table.normal_of[index], d, low, None if low is None else bed_level,
+            base_faces) if near[row] else 0.0)
     for index in table.curved:
         part = face_part(all_faces[index], deflection)
         area = 0.0 if part is None else part.below(d, threshold)
@@ -171,7 +174,23 @@ class _PlanarTable:
     normals: np.ndarray
     normal_of: dict
     curved: list[int]
+    #: every planar face's vertex points, one face after another, and where each begins
+    vertices: np.ndarray
+    starts: np.ndarray
 
+    def near_bed(self, d: np.ndarray, low: float) -> np.ndarray:
+        """Per planar face, whether its top lies within the bed band (and rounding) of the
+        lowest level `low`: only such a face can rest on the bed (`_supported_area`)."""
+        if not len(self.indices):
+            return np.zeros(0, dtype=bool)
+        top = np.maximum.reduceat(self.vertices @ d, self.starts)
+        return top - low <= BED_BAND + NEAR_BED_SLACK
+
+
+#: How far beyond BED_BAND (mm) a face's top vertex may seem from the lowest level and
+#: still be measured one by one: the heights of one product of all vertices may differ from
+#: a face's own in the last bits.
+NEAR_BED_SLACK = 1e-6
 
 #: Per shape (oriented: a face's normal follows its orientation), its `_PlanarTable`.
 _TABLES: ShapeCache[_PlanarTable] = ShapeCache(limit=4096, oriented=True)
@@ -190,7 +209,10 @@ def _planar_table(shape) -> _PlanarTable:
         indices = np.array(sorted(normal_of), dtype=int)
         normals = (np.array([normal_of[i] for i in indices]) if len(indices)
                    else np.zeros((0, 3)))
-        return _PlanarTable(indices, normals, normal_of, curved)
+        points = [vertex_points(faces_of(shape)[i]) for i in indices]
+        starts = np.cumsum([0] + [len(p) for p in points[:-1]]).astype(int)
+        vertices = np.array([p for face in points for p in face]) if points else np.zeros((0, 3))
+        return _PlanarTable(indices, normals, normal_of, curved, vertices, starts)
 
     return _TABLES.get((shape,), build)
 
