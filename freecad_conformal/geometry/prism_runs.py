@@ -16,6 +16,7 @@ from typing import Sequence
 
 import numpy as np
 
+from freecad_conformal.geometry.frames import cross
 from freecad_conformal.geometry.plane_curves import STRAIGHT_CURVES, curve_name
 
 #: A wall's axis or normal within this (|sin| or |cos|) of being parallel or square to n
@@ -37,7 +38,7 @@ def is_wall(surface, n: np.ndarray) -> bool:
     if attribute is None:
         return False
     axis = np.array(tuple(getattr(surface, attribute)))
-    return float(np.linalg.norm(np.cross(axis / np.linalg.norm(axis), n))) < PARALLEL
+    return float(np.linalg.norm(cross(axis / np.linalg.norm(axis), n))) < PARALLEL
 
 
 def is_along(edge, n: np.ndarray) -> bool:
@@ -45,7 +46,7 @@ def is_along(edge, n: np.ndarray) -> bool:
     if curve_name(edge) not in STRAIGHT_CURVES:
         return False
     direction = np.array(tuple(edge.tangentAt(edge.FirstParameter)))
-    return float(np.linalg.norm(np.cross(direction / np.linalg.norm(direction), n))) < PARALLEL
+    return float(np.linalg.norm(cross(direction / np.linalg.norm(direction), n))) < PARALLEL
 
 
 def free_runs(blocked: Sequence[tuple[float, float]]) -> list[tuple[float, float]]:
