@@ -29,6 +29,11 @@ SAMPLE_FRACTIONS = (0.25, 0.5, 0.75)
 #: Step (mm, relative to the edge length) taken off the edge to tell which side a face lies.
 PROBE_FRACTION = 1e-3
 
+#: An edge's curve on a face whose parameter range matches the edge's to this share is
+#: taken to share its parametrisation (OCC's SameParameter edges: the same t, the same
+#: point), so its (u, v) need no projection.
+SAME_PARAMETER = 1e-9
+
 
 @dataclass(frozen=True)
 class EdgeAngle:
@@ -53,9 +58,20 @@ def _vec(v) -> np.ndarray:
     return np.array([v.x, v.y, v.z])
 
 
-def _normal_at(face, point) -> np.ndarray:
-    u, v = face.Surface.parameter(point)
-    return _vec(face.normalAt(u, v))
+def _normals_along(face, edge, parameters: list[float], points: list) -> list[np.ndarray]:
+    """The face's outward normals at the edge's `points` (at edge `parameters`): their
+    (u, v) read off the edge's curve on the face where it shares the edge's parametrisation
+    (OCC's same-parameter edges), else projected. Projecting onto a B-spline surface cost
+    CrankArm's concave-edge scan a third of its 0.66 s."""
+    found = face.curveOnSurface(edge)
+    first, last = edge.ParameterRange
+    if (found is not None and abs(found[1] - first) <= SAME_PARAMETER * max(1.0, abs(first))
+            and abs(found[2] - last) <= SAME_PARAMETER * max(1.0, abs(last))):
+        on_face = [found[0].value(t) for t in parameters]
+        uv = [(p.x, p.y) for p in on_face]
+    else:
+        uv = [face.Surface.parameter(point) for point in points]
+    return [_vec(face.normalAt(u, v)) for u, v in uv]
 
 
 def into_face(face, point: np.ndarray, tangent: np.ndarray, normal: np.ndarray,
@@ -123,12 +139,12 @@ def _cached_angle(App, edge, face1, face2) -> float:
 def _inner_angle(App, edge, face1, face2) -> float:
     first, last = edge.ParameterRange
     probe = max(PROBE_FRACTION * edge.Length, 1e-5)
-    samples = []
-    for fraction in SAMPLE_FRACTIONS:
-        t = first + fraction * (last - first)
-        point = edge.valueAt(t)
-        samples.append((_vec(point), _vec(edge.tangentAt(t)), _normal_at(face1, point),
-                        _normal_at(face2, point)))
+    parameters = [first + fraction * (last - first) for fraction in SAMPLE_FRACTIONS]
+    points = [edge.valueAt(t) for t in parameters]
+    samples = list(zip([_vec(point) for point in points],
+                       [_vec(edge.tangentAt(t)) for t in parameters],
+                       _normals_along(face1, edge, parameters, points),
+                       _normals_along(face2, edge, parameters, points)))
     # Which side of the edge face 1 lies on holds along the whole edge (n1 × t turns
     # continuously): its orientation in face 1 tells, else probes in the middle do.
     sign = side_in_face(edge, face1)

@@ -103,7 +103,7 @@ def test_an_edges_orientation_tells_the_side_its_face_lies_on(parts_dir, name, A
     two B-spline faces so narrow at the edge that probes 2 µm either side both met them)."""
     import numpy as np
 
-    from freecad_conformal.geometry.concave_edges import _normal_at, _vec
+    from freecad_conformal.geometry.concave_edges import _normals_along, _vec
     from freecad_conformal.geometry.solids import load_shape
 
     read = 0
@@ -119,7 +119,11 @@ def test_an_edges_orientation_tells_the_side_its_face_lies_on(parts_dir, name, A
                 face = faces[index]
                 sign = side_in_face(edge, face)
                 assert sign is not None
-                side = np.cross(_normal_at(face, edge.valueAt(t)), tangent)
+                normal = _normals_along(face, edge, [t], [edge.valueAt(t)])[0]
+                # Read off the edge's curve on the face, as projecting the point reads it.
+                u, v = face.Surface.parameter(edge.valueAt(t))
+                assert np.linalg.norm(normal - _vec(face.normalAt(u, v))) < 1e-4, (name, angle.edge_index)
+                side = np.cross(normal, tangent)
                 side *= 1e-2 / np.linalg.norm(side)
                 ahead, behind = (face.distToShape(Part.Vertex(App.Vector(*(point + s * side))))[0]
                                  for s in (1.0, -1.0))
