@@ -219,7 +219,18 @@ def solids_of(shape, what: str = "shape") -> list:
         solids = [solid for i, solid in enumerate(solids) if i not in empty]
     if not solids:
         kind = shape.ShapeType
-        hint = " (a closed shell can be made a solid with Part.Solid(shell))" if kind == "Shell" else ""
+        if kind == "Shell":
+            hint = " (a closed shell can be made a solid with Part.Solid(shell))"
+        elif kind == "Compound" and shape.Faces:
+            # IGES files often hold a solid's faces only (FreeCAD 0.20's own IGES export
+            # does), and sewing them (`load_shape`) closes no shell where a face's edges
+            # miss its neighbours' (a bore's B-spline circles against the end faces' arcs).
+            hint = (f", only {len(shape.Faces)} faces that do not close into one (a surface "
+                    "model, as IGES files often hold: export the part as STEP, or make it a "
+                    "solid in FreeCAD: Part > Shape builder, shell from faces, then solid "
+                    "from shell)")
+        else:
+            hint = ""
         article = "an" if kind[:1] in "AEIOU" else "a"
         raise GeometryError(f"{what} is not a solid: it is {article} {kind} with no solids{hint}")
     for index, solid in enumerate(solids):

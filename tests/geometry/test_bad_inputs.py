@@ -36,6 +36,7 @@ def folder(tmp_path, Part):
     (tmp_path / "twice.csv").write_text("A,B,A,y\n1,1,1,2\n-1,1,-1,3\n1,-1,1,4\n-1,-1,-1,5\n")
     (tmp_path / "ragged.csv").write_text("A,B,y\n1,1,2,9,9\n-1,1,3\n1,-1,4\n-1,-1,5\n")
     Part.makeBox(10, 10, 10).Edges[0].exportBrep(str(tmp_path / "edge.brep"))
+    Part.makeCompound(Part.makeBox(10, 10, 10).Faces[1:]).exportBrep(str(tmp_path / "open.brep"))
     # files saved in another encoding than UTF-8 (Latin-1, UTF-16 from a spreadsheet)
     (tmp_path / "latin1.csv").write_bytes("A,B,y\n1,1,2\n-1,1,3 \xb5m\n".encode("latin-1"))
     (tmp_path / "utf16.json").write_bytes('{"factors": []}'.encode("utf-16"))
@@ -173,6 +174,8 @@ CASES += [
     (["plan", "face.brep", "-o", "x.ngc"], ["the part 'face' is not a solid: it is a Face"]),
     (["plan", "edge.brep", "-o", "x.ngc"], ["the part 'edge' is not a solid: it is an Edge"]),
     (["decompose", "face.brep"], ["not a solid", "Face"]),
+    (["plan", "open.brep", "-o", "x.ngc"], ["not a solid", "only 5 faces that do not close",
+                                            "export the part as STEP"]),
     # inputs in another encoding than UTF-8
     (["doe", "analyze", "latin1.csv", "--response", "y", "--no-plot"],
      ["latin1.csv is not UTF-8", "byte"]),
