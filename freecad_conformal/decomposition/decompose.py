@@ -58,7 +58,8 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
               root_direction: Sequence[float] | str = (0.0, 0.0, 1.0),
               max_subparts: int = DEFAULT_MAX_SUBPARTS, check_collisions: bool = True,
               axis_step: float | None = None, with_axes: bool = True,
-              early: EarlyTrial | None = None, thorough: bool = False) -> BuildPlan:
+              early: EarlyTrial | None = None, thorough: bool = False,
+              whole_when_support_free: bool = False) -> BuildPlan:
     """Split `shape` into sub-parts that build without support, and order them.
 
     Args:
@@ -84,6 +85,12 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
         thorough: with an auto root, also plan each solid turned over (`_turned_further`)
             where its plan keeps overhang: CrankArm's arm keeps 647 mm² that way against
             1,170, at 10 s more (20 s on FreeCAD 1.0).
+        whole_when_support_free: with an auto root, a solid that stands support-free as
+            placed, or turned whole (`_support_free_whole`), is one sub-part: no members
+            split off (METHODS section 4 makes a table's legs sub-parts of their own, all
+            built the same way: more sub-parts, no overhang saved). The plan job asks it
+            for a part of several solids, as its search builds one solid whole wherever
+            that is support-free.
     Raises:
         GeometryError: the shape is not a valid solid.
         PlanError: bad parameters, or no collision-free order exists.
@@ -134,11 +141,19 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
                 # from it.
                 plan.root_mesh()
                 whole = _support_free_whole(solid, root, overhang_angle)
+                as_placed = (whole is None and whole_when_support_free
+                             and overhang_area(solid, root, overhang_angle) <= MIN_SAVING
+                             and stands(solid, root))
+                if as_placed:
+                    whole = root
                 if whole is not None:
                     # Turned whole it prints without support: one piece beats any split of
                     # the part as placed (a planar slicer would simply turn it over).
-                    axis, refined = plan(whole, notes)
-                    notes.append(f"solid {solid_index + 1}: root built along {_text(whole)}: "
+                    axis, refined = (plan.whole(whole) if whole_when_support_free
+                                     else plan(whole, notes))
+                    notes.append(f"solid {solid_index + 1}: built whole as placed: it is "
+                                 "support-free that way" if as_placed else
+                                 f"solid {solid_index + 1}: root built along {_text(whole)}: "
                                  "the whole solid is support-free that way")
                     if with_axes:
                         axes.append(_label(axis, refined))

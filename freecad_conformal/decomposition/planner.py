@@ -139,6 +139,15 @@ class Planner:
                        deflection=self.deflection or mesh_deflection(self.solid))
         return axis, refine(start, self.angle, axis, budget=self.budget, notes=notes)
 
+    def whole(self, root: np.ndarray):
+        """(axis, [the solid as one piece built along `root`]): no cut, no members."""
+        from freecad_conformal.geometry.surface_mesh import mesh_deflection
+
+        piece = Piece(self.solid, root, [], self.solid_index, "root",
+                      deflection=self.deflection or mesh_deflection(self.solid))
+        piece.overhang = report_of(piece, self.angle).area
+        return self.axis(root), [piece]
+
     def pieces(self, root: np.ndarray) -> tuple[list, list[str]]:
         """(refined pieces, notes) from `root` (the trial's form: the axis stays lazy)."""
         notes: list[str] = []

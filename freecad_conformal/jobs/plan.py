@@ -625,9 +625,12 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
         if split:
             # The job builds the plan; it shows no centroidal axis (the Analysis does).
             begun = {} if early is None else {"early": early}
+            # A part of several solids is not searched (`choose_plan`): a solid of it that
+            # is support-free whole is built whole, as the search builds one solid.
             plan = decompose(placed, tool=tool, root_direction=root,
                              check_collisions=check_collisions, with_axes=False,
-                             thorough=options.root_search == "thorough", **begun)
+                             thorough=options.root_search == "thorough",
+                             whole_when_support_free=len(placed.Solids) > 1, **begun)
         elif not isinstance(root, str):
             plan = single_plan(placed, root)
         else:

@@ -520,3 +520,37 @@ def test_a_thorough_root_search_plans_the_part_turned_over_too(parts_dir):
     assert left[1] < 0.7 * left[0]
     assert any("root built along (-0, -0, -1)" in note for note in thorough.notes)
     assert not any("-1)" in note and "root built along" in note for note in quick.notes)
+
+
+def _seat_down_stool_and_a_block(App, Part):
+    """A 3-legged stool standing on its seat (legs up: support-free as placed) and, beside
+    it, a 10 mm block: two solids."""
+    stool = Part.makeBox(40, 40, 4)
+    for x, y in [(8, 8), (32, 8), (20, 32)]:
+        stool = stool.fuse(Part.makeCylinder(2, 20, App.Vector(x, y, 4)))
+    return Part.makeCompound([stool.removeSplitter(), Part.makeBox(10, 10, 10, App.Vector(60, 0, 0))])
+
+
+def test_a_support_free_solid_of_several_is_one_sub_part_when_asked(App, Part):
+    """METHODS section 4 makes the legs sub-parts of their own (`decompose` as published),
+    built the same way as the seat: more sub-parts, no overhang saved. The plan job asks for
+    a solid that is support-free as placed to stay whole, as its search builds one solid."""
+    part = _seat_down_stool_and_a_block(App, Part)
+    published = decompose(part, root_direction="auto")
+    assert sorted(s.rule for s in published.subparts) == ["member"] * 3 + ["root"] * 2
+    whole = decompose(part, root_direction="auto", whole_when_support_free=True)
+    assert len(whole.subparts) == 2
+    assert sorted(s.volume for s in whole.subparts) == pytest.approx(
+        [1000.0, 40 * 40 * 4 + 3 * math.pi * 4 * 20])
+    assert whole.support_area == pytest.approx(0.0, abs=1e-6)
+    assert any("built whole as placed" in note for note in whole.notes)
+
+
+def test_the_plan_job_builds_a_support_free_solid_of_several_whole(App, Part):
+    from freecad_conformal.jobs.plan import PlanOptions, check_options, choose_plan
+
+    part = _seat_down_stool_and_a_block(App, Part)
+    options = PlanOptions()
+    plan = choose_plan(part, options, check_options(part, options)).plan
+    assert len(plan.subparts) == 2
+    assert all(s.rule == "root" for s in plan.subparts)
