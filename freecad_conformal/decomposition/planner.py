@@ -130,21 +130,21 @@ class Planner:
 
         return surface_mesh(self.solid, mesh_deflection(self.solid))
 
-    def __call__(self, root: np.ndarray, notes: list[str]):
-        """(axis, refined pieces) from `root`."""
+    def _root_piece(self, root: np.ndarray) -> Piece:
         from freecad_conformal.geometry.surface_mesh import mesh_deflection
 
+        return Piece(self.solid, root, [], self.solid_index, "root",
+                     deflection=self.deflection or mesh_deflection(self.solid))
+
+    def __call__(self, root: np.ndarray, notes: list[str]):
+        """(axis, refined pieces) from `root`."""
         axis = self.axis(root)
-        start = Piece(self.solid, root, [], self.solid_index, "root",
-                       deflection=self.deflection or mesh_deflection(self.solid))
-        return axis, refine(start, self.angle, axis, budget=self.budget, notes=notes)
+        return axis, refine(self._root_piece(root), self.angle, axis, budget=self.budget,
+                            notes=notes)
 
     def whole(self, root: np.ndarray):
         """(axis, [the solid as one piece built along `root`]): no cut, no members."""
-        from freecad_conformal.geometry.surface_mesh import mesh_deflection
-
-        piece = Piece(self.solid, root, [], self.solid_index, "root",
-                      deflection=self.deflection or mesh_deflection(self.solid))
+        piece = self._root_piece(root)
         piece.overhang = report_of(piece, self.angle).area
         return self.axis(root), [piece]
 

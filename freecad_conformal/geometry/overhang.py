@@ -150,7 +150,7 @@ def overhang_report(shape, direction: Sequence[float], angle: float = DEFAULT_OV
         index = int(table.indices[row])
         face = all_faces[index]
         areas[index] = float(face.Area) - (_supported_area(
-            face, table.normal_of[index], d, low, None if low is None else bed_level,
+            face, table.normals[row], d, low, None if low is None else bed_level,
             base_faces) if near[row] else 0.0)
     for index in table.curved:
         part = face_part(all_faces[index], deflection)
@@ -172,7 +172,6 @@ class _PlanarTable:
 
     indices: np.ndarray
     normals: np.ndarray
-    normal_of: dict
     curved: list[int]
     #: every planar face's vertex points, one face after another, and where each begins
     vertices: np.ndarray
@@ -198,21 +197,16 @@ _TABLES: ShapeCache[_PlanarTable] = ShapeCache(limit=4096, oriented=True)
 
 def _planar_table(shape) -> _PlanarTable:
     def build() -> _PlanarTable:
-        normal_of = {}
-        curved = []
-        for index, face in enumerate(faces_of(shape)):
-            normal = plane_normal(face)
-            if normal is None:
-                curved.append(index)
-            else:
-                normal_of[index] = normal
-        indices = np.array(sorted(normal_of), dtype=int)
-        normals = (np.array([normal_of[i] for i in indices]) if len(indices)
-                   else np.zeros((0, 3)))
-        points = [vertex_points(faces_of(shape)[i]) for i in indices]
+        faces = faces_of(shape)
+        normals = [plane_normal(face) for face in faces]
+        indices = np.array([i for i, n in enumerate(normals) if n is not None], dtype=int)
+        curved = [i for i, n in enumerate(normals) if n is None]
+        points = [vertex_points(faces[i]) for i in indices]
         starts = np.cumsum([0] + [len(p) for p in points[:-1]]).astype(int)
-        vertices = np.array([p for face in points for p in face]) if points else np.zeros((0, 3))
-        return _PlanarTable(indices, normals, normal_of, curved, vertices, starts)
+        return _PlanarTable(
+            indices, np.array([normals[i] for i in indices]) if len(indices) else np.zeros((0, 3)),
+            curved, np.array([p for face in points for p in face]) if points else np.zeros((0, 3)),
+            starts)
 
     return _TABLES.get((shape,), build)
 
