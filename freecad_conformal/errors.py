@@ -13,6 +13,19 @@ class PlanError(ConformalError):
     """A process plan cannot be made with the given parameters."""
 
 
+class BeyondTravelError(PlanError):
+    """A plan laid out on the platform would leave the machine's travel: `machine` names the
+    machine, `where` says which sub-part leaves it, how and where."""
+
+    REMEDY = "Scale the part down, split it, or choose a machine with more travel"
+
+    def __init__(self, machine: str, where: str, ways: int = 1) -> None:
+        self.machine, self.where = machine, where
+        tried = "" if ways == 1 else f" in any of the {ways} ways tried to build it (the first: "
+        super().__init__(f"the part does not fit the travel of {machine}{tried}{where}"
+                         f"{')' if tried else ''}. {self.REMEDY}")
+
+
 class KinematicsError(ConformalError):
     """A pose cannot be reached by the machine, or a machine definition is invalid."""
 

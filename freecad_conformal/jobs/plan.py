@@ -685,7 +685,49 @@ def _within_travel(plan: BuildPlan, machine: Machine) -> BuildPlan:
         return plan
     why = ("its solids, set side by side, reached outside the machine's X/Y travel" if not inside
            else "building it where it was laid out drove an axis past the machine's travel")
-    return shifted(plan, _platform_centre(machine) - 0.5 * (low + high), why)
+    moved = shifted(plan, _platform_centre(machine) - 0.5 * (low + high), why)
+    _refuse_beyond_travel(moved, machine)
+    return moved
+
+
+#: How far (mm) inside a sub-part's vertices its deposits surely reach: the external loop runs
+#: half a bead inside the faces, and at a corner as sharp as 12° a 0.4 mm bead's loop still
+#: passes within 2 mm of the vertex. A vertex moved this far towards the sub-part's centre
+#: that the machine cannot reach means its paths cannot be posted either.
+DEPOSIT_REACH = 2.0
+
+
+def _refuse_beyond_travel(plan: BuildPlan, machine: Machine) -> None:
+    """Refuse a plan, laid out over the platform's centre, that the machine cannot build
+    there: a point its paths surely reach is out of the travel (checked as the post checks
+    it, `post.kinematics.inverse`). A 700 mm bar on the trunnion's 600 mm of X travel was
+    sliced, filled and posted for 8 s before the post refused its first point."""
+    from freecad_conformal.errors import BeyondTravelError, KinematicsError
+    from freecad_conformal.geometry.shape_parts import vertex_points
+    from freecad_conformal.post.kinematics import inverse
+
+    for sub in plan.subparts:
+        points = np.array(vertex_points(sub.shape))
+        if not len(points):
+            continue
+        inward = np.array(tuple(sub.shape.CenterOfMass)) - points
+        distance = np.linalg.norm(inward, axis=1)
+        step = np.minimum(1.0, DEPOSIT_REACH / np.maximum(distance, DEPOSIT_REACH))
+        inside = points + inward * step[:, None]
+        axis = np.asarray(sub.build_direction, dtype=float)
+        axis = axis / np.linalg.norm(axis)
+        try:
+            inverse(machine, inside, np.repeat(axis.reshape(1, 3), len(inside), axis=0))
+        except KinematicsError as exc:
+            span = points.max(axis=0) - points.min(axis=0)
+            raise BeyondTravelError(
+                machine.name, f"{sub.name}, {span[0]:.1f} x {span[1]:.1f} x {span[2]:.1f} mm as "
+                f"laid out over the platform's centre to be built along {_vector_text(axis)}, "
+                f"would leave it: {exc}") from exc
+
+
+def _vector_text(vector) -> str:
+    return "(" + ", ".join(f"{float(c):+.3g}" for c in vector) + ")"
 
 
 def _travel_reached(plan: BuildPlan, machine: Machine) -> bool:

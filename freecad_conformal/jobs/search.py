@@ -33,7 +33,7 @@ import numpy as np
 
 from freecad_conformal.decomposition.planner import MIN_SAVING
 from freecad_conformal.decomposition.subparts import WHOLE_AFTER_FAILURE, BuildPlan
-from freecad_conformal.errors import GeometryError, PlanError
+from freecad_conformal.errors import BeyondTravelError, GeometryError, PlanError
 from freecad_conformal.geometry.overhang import (MIN_BASE_AREA, base_area, best_single_direction,
                                                  orientation_candidates, overhang_area)
 from freecad_conformal.geometry.sections import extent_along
@@ -373,6 +373,10 @@ def _made(solid, makers: list, make_plan, layer_settings, path_settings: PathSet
     if not candidates:
         if len(failures) == 1:
             raise failures[0][1]
+        if all(isinstance(exc, BeyondTravelError) for _, exc in failures):
+            # Every way out of the travel: one message, not the same one for each.
+            label, first = failures[0]
+            raise BeyondTravelError(first.machine, f"{label}: {first.where}", len(failures))
         raise PlanError("no candidate plan could be made for the part: "
                         + "; ".join(f"{label}: {exc}" for label, exc in failures))
     return candidates

@@ -147,6 +147,31 @@ def test_a_part_that_fits_no_orientation_is_refused_before_any_geometry_work(Par
         jobs_plan.plan_additive(Part.makeBox(1e6, 1e6, 1e6), PlanOptions())
 
 
+def test_a_bar_longer_than_the_travel_is_refused_before_its_layers(Part, monkeypatch):
+    """A 900 mm bar fits the trunnion's 600 mm cube of travel diagonally (so `check_fits`
+    lets it through), but no plan lays it out so: it was sliced, filled and posted for 13 s
+    before the post refused its first point. Each way to build it is refused once laid out,
+    and the error says so once, with the bar's size and the axis it leaves."""
+    from freecad_conformal.errors import BeyondTravelError
+    from freecad_conformal.jobs import plan as jobs_plan
+
+    def must_not_run(*_args, **_kwargs):
+        raise AssertionError("layers were planned for a part that cannot be built")
+
+    monkeypatch.setattr(jobs_plan, "run_job", must_not_run)
+    with pytest.raises(BeyondTravelError) as caught:
+        jobs_plan.plan_additive(Part.makeBox(900, 50, 20), PlanOptions())
+    message = str(caught.value)
+    assert message.startswith("the part does not fit the travel of Table-table A/C trunnion in "
+                              "any of the ")
+    assert "solid 1, 900.0 x 50.0 x 20.0 mm as laid out over the platform's centre" in message
+    assert "X = -448.0036 mm at point 0 is outside the limits [-300.0, 300.0]" in message
+    assert message.count("does not fit") == 1
+    with pytest.raises(BeyondTravelError, match=r"Z = 898\.0036 mm at point \d is outside the "
+                                                r"limits \[-250\.0, 350\.0\]"):
+        jobs_plan.machine_plan(Part.makeBox(20, 50, 900), PlanOptions(decompose=False))
+
+
 def test_a_machine_without_a_platform_is_refused_before_any_geometry_work(tmp_path, capsys,
                                                                           monkeypatch):
     """The mandrel's pivot is its axis: a part set down there left the X travel only when
