@@ -20,10 +20,14 @@ class BeyondTravelError(PlanError):
     REMEDY = "Scale the part down, split it, or choose a machine with more travel"
 
     def __init__(self, machine: str, where: str, ways: int = 1) -> None:
-        self.machine, self.where = machine, where
+        self.machine, self.where, self.ways = machine, where, ways
         tried = "" if ways == 1 else f" in any of the {ways} ways tried to build it (the first: "
         super().__init__(f"the part does not fit the travel of {machine}{tried}{where}"
                          f"{')' if tried else ''}. {self.REMEDY}")
+
+    def __reduce__(self):
+        # Crosses a child Python's pipe (jobs/coarse_child.py) whole.
+        return type(self), (self.machine, self.where, self.ways)
 
 
 class KinematicsError(ConformalError):

@@ -164,6 +164,19 @@ def shifted(plan: BuildPlan, offset, why: str) -> BuildPlan:
                                 f"{why}; its G-code is in that frame"])
 
 
+def turned_about_vertical(plan: BuildPlan, angle: float, pivot, shift, why: str) -> BuildPlan:
+    """A copy of the plan with every solid turned by `angle` (rad, > 0) about the vertical
+    through `pivot` (x, y) and then moved by `shift` (x, y) mm, in one note that says `why`."""
+    centre = np.array([float(pivot[0]), float(pivot[1]), 0.0])
+    move = np.array([float(shift[0]), float(shift[1]), 0.0])
+    moves = {k: SolidMove(k, UP.copy(), float(angle), centre.copy(), move.copy())
+             for k in sorted({sub.solid_index for sub in plan.subparts})}
+    text = ", ".join(f"{c:+.3f}" for c in move)
+    return _moved(plan, moves, [f"the plan turned by {math.degrees(angle):.0f} deg about the "
+                                f"vertical through ({centre[0]:+.3f}, {centre[1]:+.3f}) and "
+                                f"moved by ({text}) mm: {why}; its G-code is in that frame"])
+
+
 #: Sides a solid may be set beside the others: +X, −X, +Y, −Y (the first wins a tie).
 SIDES = (np.array([1.0, 0.0]), np.array([-1.0, 0.0]), np.array([0.0, 1.0]), np.array([0.0, -1.0]))
 

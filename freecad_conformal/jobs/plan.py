@@ -313,6 +313,8 @@ def _centred(shape, machine: Machine):
         return shape, None
     centre = _platform_centre(machine)
     shift = (float(centre[0] - box.Center.x), float(centre[1] - box.Center.y), 0.0)
+    if math.hypot(shift[0], shift[1]) <= ZERO_LENGTH:
+        return shape, None     # centred already (a copy this made, planned again)
     from freecad_conformal.freecad_env import import_freecad
     from freecad_conformal.geometry.solids import moved_rigidly
 
@@ -685,9 +687,55 @@ def _within_travel(plan: BuildPlan, machine: Machine) -> BuildPlan:
         return plan
     why = ("its solids, set side by side, reached outside the machine's X/Y travel" if not inside
            else "building it where it was laid out drove an axis past the machine's travel")
-    moved = shifted(plan, _platform_centre(machine) - 0.5 * (low + high), why)
+    offset = _platform_centre(machine) - 0.5 * (low + high)
+    moved = plan if np.linalg.norm(offset) <= ZERO_LENGTH else shifted(plan, offset, why)
+    moved = _turned_to_fit(moved, machine)
     _refuse_beyond_travel(moved, machine)
     return moved
+
+
+#: Turns (degrees) about the vertical tried, smallest first, for a plan whose footprint is
+#: wider than the X/Y travel: a 700 mm bar fits the trunnion's 600 x 600 mm turned by 34°.
+FIT_TURNS = tuple(range(1, 180))
+
+
+def _turned_to_fit(plan: BuildPlan, machine: Machine) -> BuildPlan:
+    """The plan, laid out over the platform's centre, turned about the vertical by the least
+    of FIT_TURNS that brings its footprint inside the X/Y travel, when it is wider than the
+    travel as laid out and every sub-part is built straight up (a turn about the vertical
+    then changes nothing but where it stands); otherwise the plan as it is. The footprint is
+    read from each sub-part's vertices and box corners (it may only be overstated)."""
+    from freecad_conformal.decomposition.layout import turned_about_vertical
+    from freecad_conformal.geometry.shape_parts import vertex_points
+
+    limits = {axis.name: axis.limits for axis in machine.linear}
+    if "X" not in limits or "Y" not in limits:
+        return plan
+    if not all(np.allclose(sub.build_direction, (0.0, 0.0, 1.0), atol=ZERO_LENGTH)
+               for sub in plan.subparts):
+        return plan
+    widths = np.array([limits["X"][1] - limits["X"][0], limits["Y"][1] - limits["Y"][0]])
+    points = []
+    for sub in plan.subparts:
+        box = sub.shape.BoundBox
+        points += [p[:2] for p in vertex_points(sub.shape)]
+        points += [np.array([x, y]) for x in (box.XMin, box.XMax) for y in (box.YMin, box.YMax)]
+    points = np.array(points)
+    low, high = points.min(axis=0), points.max(axis=0)
+    if np.all(high - low <= widths):
+        return plan
+    pivot = 0.5 * (low + high)
+    for degrees in FIT_TURNS:
+        angle = math.radians(degrees)
+        turn = np.array([[math.cos(angle), -math.sin(angle)], [math.sin(angle), math.cos(angle)]])
+        turned = (points - pivot) @ turn.T + pivot
+        t_low, t_high = turned.min(axis=0), turned.max(axis=0)
+        if np.all(t_high - t_low <= widths):
+            shift = _platform_centre(machine) - 0.5 * (t_low + t_high)
+            return turned_about_vertical(plan, angle, pivot, shift,
+                                         "set straight it was wider than the machine's X/Y "
+                                         "travel")
+    return plan
 
 
 #: How far (mm) inside a sub-part's vertices its deposits surely reach: the external loop runs

@@ -167,9 +167,37 @@ def test_a_bar_longer_than_the_travel_is_refused_before_its_layers(Part, monkeyp
     assert "solid 1, 900.0 x 50.0 x 20.0 mm as laid out over the platform's centre" in message
     assert "X = -448.0036 mm at point 0 is outside the limits [-300.0, 300.0]" in message
     assert message.count("does not fit") == 1
+    # A coarse child's refusal crosses its pipe as a pickle (it broke the answer before).
+    import pickle
+    assert str(pickle.loads(pickle.dumps(caught.value))) == message
     with pytest.raises(BeyondTravelError, match=r"Z = 898\.0036 mm at point \d is outside the "
                                                 r"limits \[-250\.0, 350\.0\]"):
         jobs_plan.machine_plan(Part.makeBox(20, 50, 900), PlanOptions(decompose=False))
+
+
+def test_a_bar_wider_than_the_travel_is_turned_to_fit_it(Part):
+    """650 mm of bar on 600 mm of X travel: laid straight the post refused its first point;
+    turned by 27° about the vertical it stands inside the 600 x 600 mm travel."""
+    from freecad_conformal.jobs.plan import machine_plan
+
+    _, plan = machine_plan(Part.makeBox(650, 40, 15), PlanOptions(decompose=False))
+    assert any(note.startswith("the plan turned by 27 deg about the vertical") for note in plan.notes)
+    (sub,) = plan.subparts
+    assert np.allclose(sub.build_direction, (0.0, 0.0, 1.0))
+    corners = np.array([tuple(v.Point) for v in sub.shape.Vertexes])
+    assert np.all(np.abs(corners[:, :2]) <= 300.0)
+    assert corners[:, 0].max() - corners[:, 0].min() > 580.0     # turned, not shrunk
+    assert sub.shape.Volume == pytest.approx(650 * 40 * 15)
+
+
+@pytest.mark.slow
+def test_a_bar_turned_to_fit_the_travel_is_posted(Part):
+    from freecad_conformal.jobs.plan import plan_additive
+
+    result = plan_additive(Part.makeBox(650, 40, 15), PlanOptions())
+    x, y = (result.post.values[:, result.post.names.index(name)] for name in ("X", "Y"))
+    assert np.abs(x).max() <= 300.0 and np.abs(y).max() <= 300.0
+    assert x.max() - x.min() > 500.0
 
 
 def test_a_machine_without_a_platform_is_refused_before_any_geometry_work(tmp_path, capsys,
