@@ -412,7 +412,13 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
     solids = solids_of(shape)
     warm_workers(shape, options.layers.thickness)
     flat = options.decompose and not machine_tilts(machine)
-    if not (options.decompose and isinstance(options.root, str) and len(solids) == 1):
+    searched = options.decompose and isinstance(options.root, str)
+    if searched and len(solids) > 1:
+        found = _each_solid_searched(shape, solids, options, checked, flat, progress)
+        if found is not None:
+            found.plan.notes[:0] = first_notes
+            return found
+    if not (searched and len(solids) == 1):
         split = options.decompose and not flat
         try:
             placed, plan = machine_plan(shape, options, decompose, split=split, tool=tool,
@@ -476,6 +482,52 @@ def _built_whole_on(machine: Machine, plan: BuildPlan) -> None:
                          "decomposition (each sub-part is built along a direction of its "
                          "own); each solid is built whole, in planar layers")
     plan.support_reason = WHOLE_ON_MACHINE
+
+
+def _each_solid_searched(shape, solids: list, options: PlanOptions, checked, flat: bool,
+                         progress=None) -> Choice | None:
+    """The plan of a part of several solids when each of them builds support-free whole in
+    some direction (on a machine that cannot tilt: in its least overhang): each solid's
+    candidates searched as those of a one-solid part are (`jobs/search.py`, the solid alone
+    on the platform), and the part laid out with each solid along its winner. Two plates
+    modelled standing stood on their edges, 400 layers and 70 min, where one alone is laid
+    flat (15 layers, 18 min). None when a solid needs a decomposition: the part is then
+    decomposed solid by solid (`machine_plan`)."""
+    from freecad_conformal.geometry.overhang import DEFAULT_OVERHANG_ANGLE
+    from freecad_conformal.jobs.search import builds, builds_whole, plan_candidates, ranked
+    from freecad_conformal.paths.cost import Motion
+
+    if not flat and not all(builds_whole(solid, DEFAULT_OVERHANG_ANGLE) for solid in solids):
+        return None
+    tool, _, _, path_settings, machine = checked
+    layer_settings = buildable_layers(options.layers, machine)
+    motion = Motion.of(machine, options.jerk)
+    directions: list[tuple[float, float, float]] = []
+    notes: list[str] = []
+    for number, solid in enumerate(solids, start=1):
+
+        def make_plan(root, split: bool, solid=solid):
+            return machine_plan(solid, dataclasses.replace(options, root=root, decompose=split),
+                                tool=tool, machine=machine)
+
+        candidates = ranked(plan_candidates(solid, make_plan, layer_settings, path_settings,
+                                            motion, DEFAULT_OVERHANG_ANGLE, progress,
+                                            options.objective, split=False),
+                            options.objective)
+        best = candidates[0]
+        if best.direction is None or (not flat and best.overhang > 0.0):
+            return None      # this solid wants a decomposition: plan the part as before
+        directions.append(best.direction)
+        if builds(candidates) > 1:
+            notes.append(f"solid {number}: {best.label} chosen among {builds(candidates)} "
+                         f"candidate plans (least residual overhang, then cheapest: "
+                         f"{options.objective})")
+    placed, plan = machine_plan(shape, options, split=False, tool=tool, machine=machine,
+                                directions=directions)
+    if flat:
+        _built_whole_on(machine, plan)
+    plan.notes.extend(notes)
+    return Choice(placed, plan)
 
 
 def _early_trial(solid):
@@ -590,7 +642,7 @@ MIN_LAYOUT_GAP = 5.0
 
 def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None = None, *,
                  tool=None, machine: Machine | None = None, early=None,
-                 whole_best: bool = False):
+                 whole_best: bool = False, directions=None):
     """(placed shape, BuildPlan) as the machine builds the part: decomposed with each
     solid's root along `options.root` ("auto": as placed unless turning the solid leaves
     less overhang), each solid standing on the platform (`decomposition/layout.py`), and the
@@ -603,7 +655,9 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
     the wedge's 0.14 s choice). `early`: a solid's trial the search began
     (`decomposition/trial.EarlyTrial`), passed on to the decomposition. `whole_best`: built
     whole with the root left to "auto", each solid stands along its own direction of least
-    overhang (a machine that cannot tilt the tool: a planar slicer's best orientation)."""
+    overhang (a machine that cannot tilt the tool: a planar slicer's best orientation).
+    `directions`: built whole (`split` False), each solid along its own direction (part
+    frame, one per solid in `solids_of` order), turned with the part."""
     from freecad_conformal.decomposition.build_order import BlockedOrder, build_order
     from freecad_conformal.decomposition.layout import lay_out
     from freecad_conformal.jobs.placement import reachable_plan
@@ -633,6 +687,9 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
                              check_collisions=check_collisions, with_axes=False,
                              thorough=options.root_search == "thorough",
                              whole_when_support_free=len(placed.Solids) > 1, **begun)
+        elif directions is not None:
+            plan = single_plan(placed, [tuple(float(c) for c in placement.rotate(d))
+                                        for d in directions])
         elif not isinstance(root, str):
             plan = single_plan(placed, root)
         else:
@@ -811,11 +868,19 @@ def _travel_reached(plan: BuildPlan, machine: Machine) -> bool:
 BEST_DIRECTION = "best"
 
 
+def _unit_direction(direction) -> np.ndarray:
+    d = np.asarray(direction, dtype=float)
+    length = float(np.linalg.norm(d)) if d.shape == (3,) else 0.0
+    if not np.isfinite(length) or length < ZERO_LENGTH:
+        raise PlanError(f"build direction must be a non-zero 3-vector, got {list(direction)!r}")
+    return d / length
+
+
 def single_plan(shape, direction=(0.0, 0.0, 1.0)) -> BuildPlan:
     """A plan without splits: each solid of `shape` one sub-part built along `direction`
     (BEST_DIRECTION: each along its own direction of least overhang,
-    `geometry/overhang.best_single_direction`), with the overhang it leaves (what supports
-    would hold) measured."""
+    `geometry/overhang.best_single_direction`; a list: one direction per solid), with the
+    overhang it leaves (what supports would hold) measured."""
     from freecad_conformal.geometry.overhang import best_single_direction, overhang_area
     from freecad_conformal.geometry.solids import solids_of
     from freecad_conformal.decomposition.subparts import SubPart
@@ -823,12 +888,12 @@ def single_plan(shape, direction=(0.0, 0.0, 1.0)) -> BuildPlan:
     solids = solids_of(shape)
     if isinstance(direction, str) and direction == BEST_DIRECTION:
         directions = [best_single_direction(solid)[0] for solid in solids]
+    elif isinstance(direction, list):
+        if len(direction) != len(solids):
+            raise PlanError(f"{len(direction)} build directions given for {len(solids)} solids")
+        directions = [_unit_direction(d) for d in direction]
     else:
-        d = np.asarray(direction, dtype=float)
-        length = float(np.linalg.norm(d)) if d.shape == (3,) else 0.0
-        if not np.isfinite(length) or length < ZERO_LENGTH:
-            raise PlanError(f"build direction must be a non-zero 3-vector, got {list(direction)!r}")
-        directions = [d / length] * len(solids)
+        directions = [_unit_direction(direction)] * len(solids)
     subparts = [SubPart(index=k, shape=solid, build_direction=d, volume=float(solid.Volume),
                         name=f"solid {k + 1}", solid_index=k, overhang_area=overhang_area(solid, d))
                 for k, (solid, d) in enumerate(zip(solids, directions))]

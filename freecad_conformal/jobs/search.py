@@ -224,6 +224,12 @@ def _whole_directions(solid, angle: float) -> list[np.ndarray]:
     return sorted(found, key=height)[:MAX_WHOLE_ORIENTATIONS]
 
 
+def builds_whole(solid, angle: float) -> bool:
+    """Whether some whole orientation leaves the solid support-free on a flat face (the
+    directions `plan_candidates` costs first)."""
+    return bool(_whole_directions(solid, angle))
+
+
 def _text(vector) -> str:
     return "(" + ", ".join(f"{float(c):+.3g}" for c in vector) + ")"
 
