@@ -18,7 +18,7 @@ from typing import Sequence
 import numpy as np
 
 from freecad_conformal.errors import GeometryError, PlanError
-from freecad_conformal.geometry.frames import angle_between
+from freecad_conformal.geometry.frames import angle_between, vector_text
 from freecad_conformal.geometry.occ_binary import to_binary
 from freecad_conformal.geometry.solids import solids_of
 from freecad_conformal.geometry.splitting_faces import SplitCandidate, repaired
@@ -153,7 +153,7 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
                                      else plan(whole, notes))
                     notes.append(f"solid {solid_index + 1}: built whole as placed: it is "
                                  "support-free that way" if as_placed else
-                                 f"solid {solid_index + 1}: root built along {_text(whole)}: "
+                                 f"solid {solid_index + 1}: root built along {vector_text(whole)}: "
                                  "the whole solid is support-free that way")
                     if with_axes:
                         axes.append(_label(axis, refined))
@@ -173,7 +173,7 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
                     # root is the best direction it stands in, axis or face.
                     standing, _ = best_single_direction(solid, overhang_angle, tie=TURN_SAVING)
                     if stands(solid, standing):
-                        forced = (f"solid {solid_index + 1}: root built along {_text(standing)}: "
+                        forced = (f"solid {solid_index + 1}: root built along {vector_text(standing)}: "
                                   f"as placed it would rest on "
                                   f"{footprint_area(solid, root):.1f} mm² of first layer")
                         root = standing
@@ -221,12 +221,12 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
                 except GeometryError as exc:
                     # Only an alternative to the plan as placed, which stands: a Boolean
                     # OCC cannot do there (the bottle along X) must not lose the part.
-                    notes.append(f"solid {solid_index + 1}: planning from {_text(direction)} "
+                    notes.append(f"solid {solid_index + 1}: planning from {vector_text(direction)} "
                                  f"failed ({exc})")
                 if other is not None and _total(other[1]) < _total(refined) - TURN_SAVING:
                     axis, refined = other
                     root_notes = [*trial_notes, f"solid {solid_index + 1}: root built along "
-                                  f"{_text(direction)} (less overhang than as placed)"]
+                                  f"{vector_text(direction)} (less overhang than as placed)"]
             if auto:
                 # Further roots are weighed against the solid as placed, standing or not.
                 (axis, refined), root_notes = _turned_further(
@@ -291,7 +291,7 @@ def _buildable(pieces: list[Piece], parents: list[int | None], angle: float, too
             # Named as first planned: later sub-parts are numbered again after each merge.
             name = first_names[id(pieces[merged])]
             undone.append(name)
-            notes.append(f"{name} (along {_text(pieces[merged].direction)}) would hit "
+            notes.append(f"{name} (along {vector_text(pieces[merged].direction)}) would hit "
                          f"{', '.join(first_names[id(pieces[j])] for j in exc.blocked[merged])}"
                          f": built with {first_names[id(pieces[into])]} instead")
             first_names[id(fused)] = first_names[id(pieces[into])]
@@ -383,12 +383,12 @@ def _kept(plan: Planner, direction: np.ndarray, chosen: tuple, notes: list[str])
     try:
         other = plan(direction, trial_notes)
     except GeometryError as exc:
-        notes.append(f"solid {plan.solid_index + 1}: planning from {_text(direction)} "
+        notes.append(f"solid {plan.solid_index + 1}: planning from {vector_text(direction)} "
                      f"failed ({exc})")
         return chosen
     if _total(other[1]) < _total(chosen[0][1]) - TURN_SAVING:
         return other, [*trial_notes, f"solid {plan.solid_index + 1}: root built along "
-                       f"{_text(direction)} (less overhang than the other roots)"]
+                       f"{vector_text(direction)} (less overhang than the other roots)"]
     return chosen
 
 
@@ -418,9 +418,6 @@ def _label(axis: LazyAxis, pieces: list[Piece]):
 def _total(pieces: list[Piece]) -> float:
     return float(sum(p.overhang for p in pieces))
 
-
-def _text(vector) -> str:
-    return "(" + ", ".join(f"{float(c):+.3g}" for c in vector) + ")"
 
 
 def _best_single(solids: list, angle: float) -> tuple[np.ndarray, float]:

@@ -25,6 +25,11 @@ def unit(vector: Sequence[float], what: str = "direction") -> np.ndarray:
     return array / length
 
 
+def vector_text(vector) -> str:
+    """A direction as notes and labels print it: "(+0, -0.958, -0.287)"."""
+    return "(" + ", ".join(f"{float(c):+.3g}" for c in vector) + ")"
+
+
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """a × b of two 3-vectors, as `np.cross` gives it to the last bit (the same products
     and differences) in a tenth of its time: sections take one or two per face, and

@@ -16,6 +16,7 @@ import numpy as np
 
 from freecad_conformal.errors import KinematicsError, PlanError
 from freecad_conformal.fileio import write_all
+from freecad_conformal.geometry.frames import vector_text
 from freecad_conformal.geometry.shape_cache import ShapeCache
 from freecad_conformal.paths import stack_fill
 from freecad_conformal.paths.bead import bead_area
@@ -510,13 +511,18 @@ def _each_solid_searched(shape, solids: list, options: PlanOptions, checked, fla
             return machine_plan(solid, dataclasses.replace(options, root=root, decompose=split),
                                 tool=tool, machine=machine)
 
-        candidates = ranked(plan_candidates(solid, make_plan, layer_settings, path_settings,
-                                            motion, DEFAULT_OVERHANG_ANGLE, progress,
-                                            options.objective, split=False),
-                            options.objective)
+        def told(text: str, number=number) -> None:
+            if progress is not None:
+                progress(f"solid {number}: {text}")
+
+        try:
+            candidates = ranked(plan_candidates(solid, make_plan, layer_settings, path_settings,
+                                                motion, DEFAULT_OVERHANG_ANGLE, told,
+                                                options.objective, split=False),
+                                options.objective)
+        except PlanError:
+            return None      # no whole build of this solid alone: plan the part as before
         best = candidates[0]
-        if best.direction is None or (not flat and best.overhang > 0.0):
-            return None      # this solid wants a decomposition: plan the part as before
         directions.append(best.direction)
         if builds(candidates) > 1:
             notes.append(f"solid {number}: {best.label} chosen among {builds(candidates)} "
@@ -752,7 +758,7 @@ def _within_travel(plan: BuildPlan, machine: Machine) -> BuildPlan:
 
 
 #: Turns (degrees) about the vertical tried, smallest first, for a plan whose footprint is
-#: wider than the X/Y travel: a 700 mm bar fits the trunnion's 600 x 600 mm turned by 34°.
+#: wider than the X/Y travel: a 650 mm bar fits the trunnion's 600 x 600 mm turned by 27°.
 FIT_TURNS = tuple(range(1, 180))
 
 
@@ -805,8 +811,8 @@ DEPOSIT_REACH = 2.0
 def _refuse_beyond_travel(plan: BuildPlan, machine: Machine) -> None:
     """Refuse a plan, laid out over the platform's centre, that the machine cannot build
     there: a point its paths surely reach is out of the travel (checked as the post checks
-    it, `post.kinematics.inverse`). A 700 mm bar on the trunnion's 600 mm of X travel was
-    sliced, filled and posted for 8 s before the post refused its first point."""
+    it, `post.kinematics.inverse`). A 900 mm bar on the trunnion's 600 mm of X travel was
+    sliced, filled and posted for 13 s before the post refused its first point."""
     from freecad_conformal.errors import BeyondTravelError, KinematicsError
     from freecad_conformal.geometry.shape_parts import vertex_points
     from freecad_conformal.post.kinematics import inverse
@@ -827,12 +833,9 @@ def _refuse_beyond_travel(plan: BuildPlan, machine: Machine) -> None:
             span = points.max(axis=0) - points.min(axis=0)
             raise BeyondTravelError(
                 machine.name, f"{sub.name}, {span[0]:.1f} x {span[1]:.1f} x {span[2]:.1f} mm as "
-                f"laid out over the platform's centre to be built along {_vector_text(axis)}, "
+                f"laid out over the platform's centre to be built along {vector_text(axis)}, "
                 f"would leave it: {exc}") from exc
 
-
-def _vector_text(vector) -> str:
-    return "(" + ", ".join(f"{float(c):+.3g}" for c in vector) + ")"
 
 
 def _travel_reached(plan: BuildPlan, machine: Machine) -> bool:

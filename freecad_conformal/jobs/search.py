@@ -36,6 +36,7 @@ from freecad_conformal.decomposition.subparts import WHOLE_AFTER_FAILURE, BuildP
 from freecad_conformal.errors import BeyondTravelError, GeometryError, PlanError
 from freecad_conformal.geometry.overhang import (MIN_BASE_AREA, base_area, best_single_direction,
                                                  orientation_candidates, overhang_area)
+from freecad_conformal.geometry.frames import vector_text
 from freecad_conformal.geometry.sections import extent_along
 from freecad_conformal.layers.model import Layer
 from freecad_conformal.layers.plan import plan_layers, sampled_layers
@@ -230,9 +231,6 @@ def builds_whole(solid, angle: float) -> bool:
     return bool(_whole_directions(solid, angle))
 
 
-def _text(vector) -> str:
-    return "(" + ", ".join(f"{float(c):+.3g}" for c in vector) + ")"
-
 
 def plan_candidates(solid, make_plan: Callable[[object, bool], tuple], layer_settings,
                     path_settings: PathSettings, motion: Motion, angle: float,
@@ -255,12 +253,12 @@ def plan_candidates(solid, make_plan: Callable[[object, bool], tuple], layer_set
     if directions and early_trial is not None:
         early_trial.stop()
     makers: list[tuple[str, object, bool]] = [
-        (f"whole along {_text(d)}", tuple(float(c) for c in d), False) for d in directions]
+        (f"whole along {vector_text(d)}", tuple(float(c) for c in d), False) for d in directions]
     if not makers and split:
         makers = [("decomposed", "auto", True)]
     elif not makers:
         best, _ = best_single_direction(solid, angle)
-        makers = [(f"whole along {_text(best)}", tuple(float(c) for c in best), False)]
+        makers = [(f"whole along {vector_text(best)}", tuple(float(c) for c in best), False)]
     child = None
     if child_request is not None and len(makers) > 1:
         from freecad_conformal.jobs.coarse_child import start_child
@@ -300,7 +298,7 @@ def _made(solid, makers: list, make_plan, layer_settings, path_settings: PathSet
         # Ties go to the earlier direction (+Z, the part as placed, first): the twin of a
         # decomposition that kept the part as placed and made no cut (a sphere's).
         direction, area = best_single_direction(solid, angle, tie=OVERHANG_TIE)
-        label = f"whole along {_text(direction)}"
+        label = f"whole along {vector_text(direction)}"
         best = min(candidates, key=lambda c: c.overhang, default=None)
         if best is not None and area > best.overhang + OVERHANG_TIE:
             # Residual overhang is ranked first: this build cannot win, and its cost
