@@ -59,7 +59,8 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
               max_subparts: int = DEFAULT_MAX_SUBPARTS, check_collisions: bool = True,
               axis_step: float | None = None, with_axes: bool = True,
               early: EarlyTrial | None = None, thorough: bool = False,
-              whole_when_support_free: bool = False) -> BuildPlan:
+              whole_when_support_free: bool = False,
+              whole_along: dict[int, Sequence[float]] | None = None) -> BuildPlan:
     """Split `shape` into sub-parts that build without support, and order them.
 
     Args:
@@ -91,6 +92,9 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
             built the same way: more sub-parts, no overhang saved). The plan job asks it
             for a part of several solids, as its search builds one solid whole wherever
             that is support-free.
+        whole_along: with an auto root, {solid index: direction} of solids built whole along
+            that direction (one sub-part each, in the shape's frame): the plan job's search
+            chose it among the solid's support-free orientations (`jobs/plan.py`).
     Raises:
         GeometryError: the shape is not a valid solid.
         PlanError: bad parameters, or no collision-free order exists.
@@ -140,8 +144,10 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
                 # Its mesh first: the overhang in every candidate direction reads faces
                 # from it.
                 plan.root_mesh()
-                whole = _support_free_whole(solid, root, overhang_angle)
-                as_placed = (whole is None and whole_when_support_free
+                chosen = (whole_along or {}).get(solid_index)
+                whole = (_support_free_whole(solid, root, overhang_angle) if chosen is None
+                         else np.asarray(chosen, dtype=float))
+                as_placed = (chosen is None and whole is None and whole_when_support_free
                              and overhang_area(solid, root, overhang_angle) <= MIN_SAVING
                              and stands(solid, root))
                 if as_placed:
@@ -149,12 +155,15 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
                 if whole is not None:
                     # Turned whole it prints without support: one piece beats any split of
                     # the part as placed (a planar slicer would simply turn it over).
-                    axis, refined = (plan.whole(whole) if whole_when_support_free
+                    axis, refined = (plan.whole(whole)
+                                     if whole_when_support_free or chosen is not None
                                      else plan(whole, notes))
-                    notes.append(f"solid {solid_index + 1}: built whole as placed: it is "
-                                 "support-free that way" if as_placed else
-                                 f"solid {solid_index + 1}: root built along {vector_text(whole)}: "
-                                 "the whole solid is support-free that way")
+                    if chosen is None:      # the search's own note names its choice
+                        notes.append(f"solid {solid_index + 1}: built whole as placed: it is "
+                                     "support-free that way" if as_placed else
+                                     f"solid {solid_index + 1}: root built along "
+                                     f"{vector_text(whole)}: the whole solid is support-free "
+                                     "that way")
                     if with_axes:
                         axes.append(_label(axis, refined))
                     first = len(pieces)

@@ -415,7 +415,8 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
     flat = options.decompose and not machine_tilts(machine)
     searched = options.decompose and isinstance(options.root, str)
     if searched and len(solids) > 1:
-        found = _each_solid_searched(shape, solids, options, checked, flat, progress)
+        found = _each_solid_searched(shape, solids, options, checked, flat, decompose,
+                                     progress)
         if found is not None:
             found.plan.notes[:0] = first_notes
             return found
@@ -486,26 +487,29 @@ def _built_whole_on(machine: Machine, plan: BuildPlan) -> None:
 
 
 def _each_solid_searched(shape, solids: list, options: PlanOptions, checked, flat: bool,
-                         progress=None) -> Choice | None:
-    """The plan of a part of several solids when each of them builds support-free whole in
-    some direction (on a machine that cannot tilt: in its least overhang): each solid's
-    candidates searched as those of a one-solid part are (`jobs/search.py`, the solid alone
-    on the platform), and the part laid out with each solid along its winner. Two plates
-    modelled standing stood on their edges, 400 layers and 70 min, where one alone is laid
-    flat (15 layers, 18 min). None when a solid needs a decomposition: the part is then
-    decomposed solid by solid (`machine_plan`)."""
+                         decompose=None, progress=None) -> Choice | None:
+    """The plan of a part of several solids, each solid that builds support-free whole in
+    some direction (any, on a machine that cannot tilt) built along the winner of its own
+    search (`jobs/search.py`, the solid alone on the platform, as a one-solid part is
+    searched), the others decomposed as before. Two plates modelled standing stood on their
+    edges, 400 layers and 70 min, where one alone is laid flat (15 layers, 18 min). None
+    when no solid builds whole, or one that should has no whole build alone: the part is
+    then decomposed solid by solid (`machine_plan`)."""
     from freecad_conformal.geometry.overhang import DEFAULT_OVERHANG_ANGLE
     from freecad_conformal.jobs.search import builds, builds_whole, plan_candidates, ranked
     from freecad_conformal.paths.cost import Motion
 
-    if not flat and not all(builds_whole(solid, DEFAULT_OVERHANG_ANGLE) for solid in solids):
+    whole = [flat or builds_whole(solid, DEFAULT_OVERHANG_ANGLE) for solid in solids]
+    if not any(whole):
         return None
     tool, _, _, path_settings, machine = checked
     layer_settings = buildable_layers(options.layers, machine)
     motion = Motion.of(machine, options.jerk)
-    directions: list[tuple[float, float, float]] = []
+    directions: dict[int, tuple[float, float, float]] = {}
     notes: list[str] = []
     for number, solid in enumerate(solids, start=1):
+        if not whole[number - 1]:
+            continue
 
         def make_plan(root, split: bool, solid=solid):
             return machine_plan(solid, dataclasses.replace(options, root=root, decompose=split),
@@ -523,13 +527,18 @@ def _each_solid_searched(shape, solids: list, options: PlanOptions, checked, fla
         except PlanError:
             return None      # no whole build of this solid alone: plan the part as before
         best = candidates[0]
-        directions.append(best.direction)
+        directions[number - 1] = best.direction
         if builds(candidates) > 1:
             notes.append(f"solid {number}: {best.label} chosen among {builds(candidates)} "
                          f"candidate plans (least residual overhang, then cheapest: "
                          f"{options.objective})")
-    placed, plan = machine_plan(shape, options, split=False, tool=tool, machine=machine,
-                                directions=directions)
+    if all(whole):
+        placed, plan = machine_plan(shape, options, split=False, tool=tool, machine=machine,
+                                    directions=[directions[k] for k in range(len(solids))])
+    else:
+        # The others need a decomposition: each is decomposed as before, these built whole.
+        placed, plan = machine_plan(shape, options, decompose, split=True, tool=tool,
+                                    machine=machine, whole_along=directions)
     if flat:
         _built_whole_on(machine, plan)
     plan.notes.extend(notes)
@@ -648,7 +657,7 @@ MIN_LAYOUT_GAP = 5.0
 
 def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None = None, *,
                  tool=None, machine: Machine | None = None, early=None,
-                 whole_best: bool = False, directions=None):
+                 whole_best: bool = False, directions=None, whole_along=None):
     """(placed shape, BuildPlan) as the machine builds the part: decomposed with each
     solid's root along `options.root` ("auto": as placed unless turning the solid leaves
     less overhang), each solid standing on the platform (`decomposition/layout.py`), and the
@@ -663,7 +672,8 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
     whole with the root left to "auto", each solid stands along its own direction of least
     overhang (a machine that cannot tilt the tool: a planar slicer's best orientation).
     `directions`: built whole (`split` False), each solid along its own direction (part
-    frame, one per solid in `solids_of` order), turned with the part."""
+    frame, one per solid in `solids_of` order), turned with the part. `whole_along`:
+    decomposed, but the solids it maps (index: part-frame direction) built whole so."""
     from freecad_conformal.decomposition.build_order import BlockedOrder, build_order
     from freecad_conformal.decomposition.layout import lay_out
     from freecad_conformal.jobs.placement import reachable_plan
@@ -692,7 +702,10 @@ def machine_plan(shape, options: PlanOptions, decompose=None, split: bool | None
             plan = decompose(placed, tool=tool, root_direction=root,
                              check_collisions=check_collisions, with_axes=False,
                              thorough=options.root_search == "thorough",
-                             whole_when_support_free=len(placed.Solids) > 1, **begun)
+                             whole_when_support_free=len(placed.Solids) > 1,
+                             whole_along=None if whole_along is None else {
+                                 k: tuple(float(c) for c in placement.rotate(d))
+                                 for k, d in whole_along.items()}, **begun)
         elif directions is not None:
             plan = single_plan(placed, [tuple(float(c) for c in placement.rotate(d))
                                         for d in directions])

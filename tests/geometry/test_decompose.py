@@ -575,15 +575,21 @@ def test_each_solid_of_several_is_searched_as_one_alone(App, Part):
     assert [note.split(":")[0] for note in chosen] == ["solid 1", "solid 2"]
 
 
-def test_a_part_with_a_solid_to_decompose_is_decomposed_solid_by_solid(App, Part):
-    """The jack needs support in every orientation: the part it belongs to is decomposed
-    solid by solid, the block beside it whole, as before the solids were searched."""
+def test_a_solid_to_decompose_beside_one_searched_keeps_its_decomposition(App, Part):
+    """The jack needs support in every orientation: it is decomposed as alone (its seven
+    sub-parts), while the plate modelled standing beside it is laid flat by its own search
+    (it stood on its edge: 200 layers instead of 15)."""
     from freecad_conformal.geometry import samples
     from freecad_conformal.jobs.plan import PlanOptions, check_options, choose_plan
 
-    part = Part.makeCompound([samples.jack(), Part.makeBox(10, 10, 10, App.Vector(80, 0, 0))])
+    plate = Part.makeBox(60, 3, 40, App.Vector(51, 0, 0))
+    part = Part.makeCompound([samples.jack(), plate])
     options = PlanOptions()
     plan = choose_plan(part, options, check_options(part, options)).plan
-    assert len(plan.subparts) > 2
-    assert not any("chosen among" in note for note in plan.notes)
+    jack = [sub for sub in plan.subparts if sub.solid_index == 0]
+    (flat,) = [sub for sub in plan.subparts if sub.solid_index == 1]
+    assert len(jack) > 2
+    assert flat.shape.BoundBox.ZLength == pytest.approx(3.0)
+    assert np.allclose(flat.build_direction, (0.0, 0.0, 1.0))
     assert plan.support_area == pytest.approx(0.0, abs=1.0)
+    assert [note.split(":")[0] for note in plan.notes if "chosen among" in note] == ["solid 2"]
