@@ -41,6 +41,13 @@ def can_start_child() -> bool:
 #: Bytes of the length that precedes each item `serve_items` sends.
 FRAME_HEADER = 8
 
+#: What unpickling an answer may raise besides the pickle module's own errors: a class the
+#: parent cannot import (ImportError, AttributeError), or one whose pickle does not rebuild
+#: it (TypeError: an exception with arguments of its own and no `__reduce__`). The caller
+#: then computes in place, as when the child died.
+UNREADABLE = (pickle.UnpicklingError, EOFError, AttributeError, ImportError, ValueError,
+              TypeError)
+
 
 def can_stream() -> bool:
     """Whether a child's items can be read without waiting (`ChildPython.received`): a pipe
@@ -110,7 +117,7 @@ class ChildPython:
             return None
         try:
             ok, value = pickle.loads(data)
-        except (pickle.UnpicklingError, EOFError, AttributeError, ImportError, ValueError):
+        except UNREADABLE:
             return None
         return bool(ok), value
 
@@ -140,7 +147,7 @@ class ChildPython:
                 break
             try:
                 items.append(pickle.loads(self._buffer[FRAME_HEADER:FRAME_HEADER + size]))
-            except (pickle.UnpicklingError, EOFError, AttributeError, ImportError, ValueError):
+            except UNREADABLE:
                 self._buffer.clear()  # garbled: nothing after it can be trusted
                 break
             del self._buffer[:FRAME_HEADER + size]
