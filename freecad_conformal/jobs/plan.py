@@ -826,9 +826,8 @@ def _refuse_beyond_travel(plan: BuildPlan, machine: Machine) -> None:
     there: a point its paths surely reach is out of the travel (checked as the post checks
     it, `post.kinematics.inverse`). A 900 mm bar on the trunnion's 600 mm of X travel was
     sliced, filled and posted for 13 s before the post refused its first point."""
-    from freecad_conformal.errors import BeyondTravelError, KinematicsError
+    from freecad_conformal.errors import BeyondTravelError
     from freecad_conformal.geometry.shape_parts import vertex_points
-    from freecad_conformal.post.kinematics import inverse
 
     for sub in plan.subparts:
         points = np.array(vertex_points(sub.shape))
@@ -837,18 +836,27 @@ def _refuse_beyond_travel(plan: BuildPlan, machine: Machine) -> None:
         inward = np.array(tuple(sub.shape.CenterOfMass)) - points
         distance = np.linalg.norm(inward, axis=1)
         step = np.minimum(1.0, DEPOSIT_REACH / np.maximum(distance, DEPOSIT_REACH))
-        inside = points + inward * step[:, None]
-        axis = np.asarray(sub.build_direction, dtype=float)
-        axis = axis / np.linalg.norm(axis)
-        try:
-            inverse(machine, inside, np.repeat(axis.reshape(1, 3), len(inside), axis=0))
-        except KinematicsError as exc:
+        axis, error = _out_of_reach(machine, points + inward * step[:, None], sub)
+        if error is not None:
             span = points.max(axis=0) - points.min(axis=0)
             raise BeyondTravelError(
                 machine.name, f"{sub.name}, {span[0]:.1f} x {span[1]:.1f} x {span[2]:.1f} mm as "
                 f"laid out over the platform's centre to be built along {vector_text(axis)}, "
-                f"would leave it: {exc}") from exc
+                f"would leave it: {error}") from error
 
+
+def _out_of_reach(machine: Machine, points: np.ndarray, sub) -> tuple[np.ndarray, object]:
+    """(the sub-part's unit build direction, the KinematicsError the post would raise for
+    the tool there at `points`, or None when it reaches them all)."""
+    from freecad_conformal.post.kinematics import inverse
+
+    axis = np.asarray(sub.build_direction, dtype=float)
+    axis = axis / np.linalg.norm(axis)
+    try:
+        inverse(machine, points, np.repeat(axis.reshape(1, 3), len(points), axis=0))
+    except KinematicsError as exc:
+        return axis, exc
+    return axis, None
 
 
 def _travel_reached(plan: BuildPlan, machine: Machine) -> bool:
@@ -861,7 +869,6 @@ def _travel_reached(plan: BuildPlan, machine: Machine) -> bool:
     it after 23 s of layers and paths; moved over the table's pivot it is built."""
     from freecad_conformal.geometry.shape_parts import vertex_points
     from freecad_conformal.paths.approach import SAFE_MARGIN, bounding_sphere, exit_distance
-    from freecad_conformal.post.kinematics import inverse
 
     centre, radius = bounding_sphere([sub.shape for sub in plan.subparts])
     for sub in plan.subparts:
@@ -872,10 +879,7 @@ def _travel_reached(plan: BuildPlan, machine: Machine) -> bool:
         axis = axis / np.linalg.norm(axis)
         lifted = np.array([p + exit_distance(p, axis, centre, radius + SAFE_MARGIN) * axis
                            for p in points])
-        both = np.vstack((points, lifted))
-        try:
-            inverse(machine, both, np.repeat(axis.reshape(1, 3), len(both), axis=0))
-        except KinematicsError:
+        if _out_of_reach(machine, np.vstack((points, lifted)), sub)[1] is not None:
             return False
     return True
 
