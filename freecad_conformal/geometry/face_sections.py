@@ -514,9 +514,10 @@ class FaceCutter:
 
         A walked B-spline ends up to ~1e-7 mm off the exact crossing point, more than OCC
         joins edges across: the end poles are set onto the points (a clamped B-spline passes
-        through its end poles). Each piece is built from its image in the plane's (u, v)
-        (exact: a B-spline in a plane maps pole by pole), so the edge carries its curve on
-        the plane; OCC would otherwise project the 3D curve again for every area integral.
+        through its end poles). The pieces are cut from the curve's image in the plane's
+        (u, v) (exact: a B-spline in a plane maps pole by pole), so each edge carries its
+        curve on the plane; OCC would otherwise project the 3D curve again for every area
+        integral.
         """
         knots = np.array(curve.getKnots())
         most = MAX_SPANS_PER_EDGE if curve.Degree <= 3 else MAX_SPANS_ABOVE_CUBIC
@@ -529,22 +530,30 @@ class FaceCutter:
             pieces.extend(zip(cuts, cuts[1:]))
         Part, Vector2d = self._Part, self._App.Base.Vector2d
         frame = PlaneFrame(plane)
+        whole = curve.copy()
+        if whole.isPeriodic():
+            whole.setNotPeriodic()
+        # The image is built once and cut there: segmenting is knot insertion, affine
+        # combinations of poles, so it commutes with the map to (u, v) (poles within 3e-14
+        # mm of those of pieces cut in 3D and mapped one by one, which took 5.7 s of the
+        # pipe elbow's 26 s plan: 16 pieces a loop).
+        relative = points_array(whole.getPoles()) - frame.origin
+        flat = Part.Geom2d.BSplineCurve2d()
+        flat.buildFromPolesMultsKnots(
+            [Vector2d(u, v) for u, v in zip((relative @ frame.x_axis).tolist(),
+                                            (relative @ frame.y_axis).tolist())],
+            whole.getMultiplicities(), whole.getKnots(), False, whole.Degree, whole.getWeights())
+
+        def on_plane(point) -> object:
+            u, v = frame.to_2d(np.asarray(point, dtype=float)).tolist()
+            return Vector2d(u, v)
         edges = []
         for index, (a, b) in enumerate(pieces):
-            piece = curve.copy()
-            if piece.isPeriodic():
-                piece.setNotPeriodic()
+            piece = flat.copy()
             piece.segment(a, b)
-            poles = points_array(piece.getPoles())
             if index == 0 and first is not None:
-                poles[0] = points[first]
+                piece.setPole(1, on_plane(points[first]))
             if index == len(pieces) - 1 and last is not None:
-                poles[-1] = points[last]
-            relative = poles - frame.origin
-            uv = [Vector2d(u, v) for u, v in zip((relative @ frame.x_axis).tolist(),
-                                                  (relative @ frame.y_axis).tolist())]
-            flat = Part.Geom2d.BSplineCurve2d()
-            flat.buildFromPolesMultsKnots(uv, piece.getMultiplicities(), piece.getKnots(), False,
-                                          piece.Degree, piece.getWeights())
-            edges.append(flat.toShape(plane, flat.FirstParameter, flat.LastParameter))
+                piece.setPole(piece.NbPoles, on_plane(points[last]))
+            edges.append(piece.toShape(plane, piece.FirstParameter, piece.LastParameter))
         return edges
