@@ -4,11 +4,13 @@ Candidate planes come ranked by the saving estimated from the piece's faces
 (decomposition/cuts.py). Their regions are tried on the piece's mesh (decomposition/mesh_cut.py), and only the
 cuts the mesh ranks best are made exactly: each is a section Boolean for the region and a
 split, where the mesh trial is a few array operations. A piece without a closed mesh has
-every region cut exactly, as the search did before meshes.
+every region cut exactly, as the search did before meshes. A trial cut whose child the
+tool would build into the piece's side of the faces it divides is not made at all
+(`_tool_blocked`): no order could build it.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable, Iterable, Iterator
 
 import numpy as np
@@ -39,6 +41,12 @@ class CutSearch:
     same_direction: float
     #: the least span (mm) of a cut's pieces along their build directions
     min_thickness: float = 0.0
+    #: the tool's collision envelope (process/tools.Envelope): a trial cut whose child the
+    #: tool cannot build without meeting the piece it is cut from is not made (None: no
+    #: such check, as `decompose(check_collisions=False)`)
+    envelope: object = None
+    #: the overhang (mm², total after the cut) of each trial cut left unmade for that
+    blocked: list = field(default_factory=list)
 
     def needed(self, overhang: float) -> float:
         """The least saving worth a cut of a piece with this much overhang (mm²)."""
@@ -73,7 +81,7 @@ def best_cut(piece, planes: Iterable[PlaneCandidates], angle: float, search: Cut
                                            region.face_index, region.boundary_points())
                 trial = _mesh_trial(piece, mesh, region, angle, search)
                 trials.append((plane.saving, candidate,
-                               None if trial is None else (trial.total, plane, region)))
+                               None if trial is None else (trial.total, plane, region, trial)))
     ordered = axis_first(trials, axis, search.min_saving)
     if mesh is not None:
         ordered = _made_exactly(piece, mesh, ordered, angle, needed, search)
@@ -143,18 +151,46 @@ def _made_exactly(piece, mesh, ordered: list, angle: float, needed: float,
     near = [item for item in valid if item[2][0] <= best + margin]
     rest = sorted((item for item in valid if item[2][0] > best + margin), key=lambda i: i[2][0])
     made = []
-    for saving, candidate, (_, plane, region) in near + rest:
+    for saving, candidate, (total, plane, region, trial) in near + rest:
         if len(made) >= len(near) and any(t is not None and t[0] <= piece.overhang - needed
                                           for _, _, t in made):
             break
         if len(made) >= MAX_EXACT_CUTS and len(made) >= len(near):
             break
+        if _tool_blocked(trial, search):
+            search.blocked.append(total)
+            continue
         exact = _exact_region(plane, region, mesh)
         if exact is None:
             continue
         exact.rule = candidate.rule
         made.append((saving, exact, search.try_cut(piece, exact, angle)))
     return made
+
+
+def _tool_blocked(trial, search: CutSearch) -> bool:
+    """Whether the tool building the trial's child would meet the faces the cut divides,
+    on the piece's side (the child's own faces, carried on where the piece keeps them):
+    a cut into a coil spring's wire, built along −X inside the coil. That cut would be
+    undone once its sub-parts are ordered (`decompose._buildable` fuses a blocked child
+    back into its parent), after its exact split (7 s of the coil's 18 s decomposition),
+    and the part built whole. Only those faces: the rest of the piece may yet be cut off
+    and built after the child (a post's collar beside the arm above it), where the order
+    decides. Read on the mesh's two parts, sampled as `geometry/collision.py` samples
+    sub-parts."""
+    if search.envelope is None or trial.triangles is None:
+        return False
+    from freecad_conformal.geometry.collision import builds_into, sample_spacing, spread_samples
+
+    (keeper, keeper_faces), (child, child_faces) = trial.triangles()
+    divided = np.isin(keeper_faces, child_faces)
+    if not divided.any() or not len(child):
+        return False
+    spacing = sample_spacing(search.envelope)
+    obstacle = keeper[divided]
+    return builds_into(spread_samples(child.reshape(-1, 3), child, spacing),
+                       trial.children[0][0], search.envelope,
+                       spread_samples(obstacle.reshape(-1, 3), obstacle, spacing))
 
 
 def _exact_region(plane: PlaneCandidates, region, mesh) -> SplitCandidate | None:

@@ -116,9 +116,11 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
     pieces: list[Piece] = []
     parents: list[int | None] = []
     axes = []
+    envelope = _envelope(tool) if check_collisions else None
     for solid_index, solid in enumerate(solids):
         budget = max_subparts - len(pieces)
-        plan = Planner(solid, solid_index, overhang_angle, method, axis_step, budget)
+        plan = Planner(solid, solid_index, overhang_angle, method, axis_step, budget,
+                       envelope=envelope)
         trial = None
         worth = auto and worth_a_trial(solid)
         # The solid as given, for the plan from the best single direction wherever it is
@@ -256,9 +258,24 @@ def decompose(shape, *, overhang_angle: float = DEFAULT_OVERHANG_ANGLE, tool="fd
     reason = None if not undone else (
         f"the cut{'s' if len(undone) > 1 else ''} of {', '.join(undone)} undone, as the tool "
         f"would hit the part building {'them' if len(undone) > 1 else 'it'}")
+    if reason is None and any(p.blocked is not None for p in pieces):
+        reason = TOOL_BLOCKED_CUTS
     return BuildPlan(subparts=subparts, order=order, support_area_single_direction=single[1],
                      notes=notes, overhang_angle=overhang_angle, method=method,
                      single_direction=single[0], axes=axes, support_reason=reason)
+
+
+#: `BuildPlan.support_reason` of a plan left with overhang that a cut would have saved,
+#: had the tool been able to build what lay beyond it (`planner.refine`'s note says which).
+TOOL_BLOCKED_CUTS = ("the cuts that would save it were not made: the tool would hit the part "
+                     "building what lies beyond them, as the notes say")
+
+
+def _envelope(tool):
+    """The tool's collision envelope (`build_order.tool_envelope`)."""
+    from freecad_conformal.decomposition.build_order import tool_envelope
+
+    return tool_envelope(tool)
 
 
 def _buildable(pieces: list[Piece], parents: list[int | None], angle: float, tool,

@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import reduce
+from typing import Callable
 
 import numpy as np
 import shapely
@@ -72,6 +73,10 @@ class MeshTrial:
     total: float
     keeper: float
     children: list[tuple[np.ndarray, float]]
+    #: () -> ((corners (T, 3, 3), face index (T,)) of the kept piece's triangles, the same
+    #: of the child's): the parts' surfaces for a collision check, made only when asked
+    triangles: Callable[[], tuple[tuple[np.ndarray, np.ndarray],
+                                  tuple[np.ndarray, np.ndarray]]] | None = None
 
 
 def mesh_overhang(mesh: SurfaceMesh, direction: np.ndarray, threshold: float,
@@ -286,7 +291,13 @@ def mesh_trial(mesh: SurfaceMesh, region: MeshRegion, direction: np.ndarray, thr
     child_normals = np.concatenate([mesh.normals[whole[in_child[:whole_count]]],
                                     sub_normals[in_child[whole_count:]]])
     child_area = float((area[in_child] * below_fraction(child_normals @ child + threshold)).sum())
-    return MeshTrial(keeper_area + child_area, keeper_area, [(child, child_area)])
+
+    def triangles():
+        corners = np.concatenate([mesh.points[mesh.triangles[whole]],
+                                  split.corners[split.sub_tri]])
+        faces = np.concatenate([mesh.faces[whole], mesh.faces[split.sub_source]])
+        return (corners[in_keeper], faces[in_keeper]), (corners[in_child], faces[in_child])
+    return MeshTrial(keeper_area + child_area, keeper_area, [(child, child_area)], triangles)
 
 
 def _overhang(area, normals, mask, d, threshold, factor) -> float:

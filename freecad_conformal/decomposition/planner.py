@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from freecad_conformal.geometry.concave_edges import concave_edges
+from freecad_conformal.geometry.frames import vector_text
 from freecad_conformal.geometry.splitting_faces import SplitCandidate, split_solid
 from freecad_conformal.decomposition.cut_search import CutSearch, best_cut
 from freecad_conformal.decomposition.cuts import (LazyAxis, SavingEstimate, area_jump_candidates,
@@ -65,6 +66,9 @@ class Piece:
     report: object = None
     #: (report, per-face share of its overhang the keeper of a cut has): cut_search's cache
     keeper_factor: tuple | None = None
+    #: the overhang (mm²) the best cut of the piece would have left, where no cut was made
+    #: as the tool would build into the piece (`cut_search._tool_blocked`); None otherwise
+    blocked: float | None = None
 
     def concave(self) -> list:
         """The piece's concave edges (measured once)."""
@@ -87,7 +91,7 @@ class Piece:
         return {"shape": to_binary(self.shape), "direction": self.direction,
                 "base_faces": [to_binary(f) for f in self.base_faces],
                 "solid_index": self.solid_index, "rule": self.rule, "overhang": self.overhang,
-                "report": self.report}
+                "report": self.report, "blocked": self.blocked}
 
     @classmethod
     def from_data(cls, data: dict) -> "Piece":
@@ -100,6 +104,7 @@ class Piece:
                     data["solid_index"], data["rule"])
         piece.overhang = data["overhang"]
         piece.report = data["report"]
+        piece.blocked = data["blocked"]
         return piece
 
 
@@ -116,6 +121,9 @@ class Planner:
     #: the mesh deflection for the solid and its pieces (default: `mesh_deflection` of the
     #: solid when planning starts)
     deflection: float | None = None
+    #: the tool's collision envelope: no cut is made whose child the tool would build into
+    #: its piece (`cut_search._tool_blocked`); None: cuts are not checked
+    envelope: object = None
 
     def axis(self, root: np.ndarray) -> LazyAxis:
         """The solid's centroidal axis from `root`, computed when first needed."""
@@ -140,7 +148,7 @@ class Planner:
         """(axis, refined pieces) from `root`."""
         axis = self.axis(root)
         return axis, refine(self._root_piece(root), self.angle, axis, budget=self.budget,
-                            notes=notes)
+                            notes=notes, envelope=self.envelope)
 
     def whole(self, root: np.ndarray):
         """(axis, [the solid as one piece built along `root`]): no cut, no members."""
@@ -158,16 +166,18 @@ def overhang_of(piece: Piece, angle: float) -> float:
     return report_of(piece, angle).area
 
 
-def refine(piece: Piece, angle: float, axis, budget: int, notes: list[str]) -> list[Piece]:
-    """The piece split (recursively) until no cut saves overhang; at most `budget` pieces."""
+def refine(piece: Piece, angle: float, axis, budget: int, notes: list[str],
+           envelope=None) -> list[Piece]:
+    """The piece split (recursively) until no cut saves overhang; at most `budget` pieces;
+    none whose child the tool (`envelope`) would build into the piece."""
     report = report_of(piece, angle)
     piece.overhang = report.area
     if piece.overhang <= MIN_SAVING or budget <= 1:
         if budget <= 1 and piece.overhang > MIN_SAVING:
             notes.append(f"stopped splitting at the sub-part limit with {piece.overhang:.3f} mm² "
                          "of overhang left")
-        return _members(piece, angle, axis, budget, notes)
-    search = cut_search()
+        return _members(piece, angle, axis, budget, notes, envelope)
+    search = cut_search(envelope)
     needed = search.needed(piece.overhang)
     estimate = SavingEstimate(piece.shape, angle, report)
     best = best_cut(piece, face_candidates(piece.shape, estimate, needed, piece.concave()),
@@ -184,15 +194,25 @@ def refine(piece: Piece, angle: float, axis, budget: int, notes: list[str]) -> l
         best = best_cut(piece, area_jump_candidates(piece.shape, piece.direction, estimate,
                                                     needed), angle, search)
     if best is None:
-        return _members(piece, angle, axis, budget, notes)
+        result = _members(piece, angle, axis, budget, notes, envelope)
+        if search.blocked:
+            least = min(search.blocked)
+            notes.append(f"{len(search.blocked)} cut{'s' if len(search.blocked) > 1 else ''} of "
+                         f"a piece built along {vector_text(piece.direction)} not made: building "
+                         "what lies beyond, the tool would hit the piece (the best would have "
+                         f"left {least:.1f} of its {piece.overhang:.1f} mm² of overhang)")
+            for made in result:
+                made.blocked = least
+        return result
     _, keeper, children = best
-    result = refine(keeper, angle, axis, budget - len(children), notes)
+    result = refine(keeper, angle, axis, budget - len(children), notes, envelope)
     for child in children:
-        result.extend(refine(child, angle, axis, max(budget - len(result), 1), notes))
+        result.extend(refine(child, angle, axis, max(budget - len(result), 1), notes, envelope))
     return result
 
 
-def _members(piece: Piece, angle: float, axis, budget: int, notes: list[str]) -> list[Piece]:
+def _members(piece: Piece, angle: float, axis, budget: int, notes: list[str],
+             envelope=None) -> list[Piece]:
     """The piece, or its base and the members leaving it (see `decomposition/members.py`), each
     refined again."""
     from freecad_conformal.decomposition.members import member_split
@@ -201,18 +221,19 @@ def _members(piece: Piece, angle: float, axis, budget: int, notes: list[str]) ->
     if split is None:
         return [piece]
     keeper, children = split
-    result = refine(keeper, angle, axis, budget - len(children), notes)
+    result = refine(keeper, angle, axis, budget - len(children), notes, envelope)
     for child in children:
-        result.extend(refine(child, angle, axis, max(budget - len(result), 1), notes))
+        result.extend(refine(child, angle, axis, max(budget - len(result), 1), notes, envelope))
     return result
 
 
-def cut_search() -> CutSearch:
+def cut_search(envelope=None) -> CutSearch:
     """How `best_cut` reads and cuts pieces (looked up at each call, so a test may count
-    the exact cuts)."""
+    the exact cuts), with the tool's `envelope` to check cuts against."""
     return CutSearch(try_cut=try_cut, report=report_of, min_saving=MIN_SAVING,
                      min_fraction=MIN_SAVING_FRACTION, level_tolerance=LEVEL_TOLERANCE,
-                     same_direction=SAME_DIRECTION, min_thickness=MIN_SUBPART_THICKNESS)
+                     same_direction=SAME_DIRECTION, min_thickness=MIN_SUBPART_THICKNESS,
+                     envelope=envelope)
 
 
 def report_of(piece: Piece, angle: float):

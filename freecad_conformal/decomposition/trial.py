@@ -12,6 +12,7 @@ the trial runs after the first plan, as before.
 """
 from __future__ import annotations
 
+import dataclasses
 from typing import TYPE_CHECKING
 
 from freecad_conformal.child_python import ChildPython, can_start_child, serve_prepared
@@ -135,7 +136,8 @@ def trial_spec(planner: Planner, direction, written: bytes) -> dict:
     the direction."""
     return {"solid": written, "solid_index": planner.solid_index, "angle": planner.angle,
             "method": planner.method, "axis_step": planner.axis_step,
-            "budget": planner.budget, "direction": [float(c) for c in direction]}
+            "budget": planner.budget, "direction": [float(c) for c in direction],
+            "envelope": None if planner.envelope is None else dataclasses.astuple(planner.envelope)}
 
 
 def prepared(written: bytes) -> tuple[bytes, object, float]:
@@ -160,14 +162,16 @@ def planned(spec: dict, ready: tuple[bytes, object, float] | None = None
 
     from freecad_conformal.decomposition.planner import Planner
     from freecad_conformal.geometry.occ_binary import from_binary
+    from freecad_conformal.process.tools import Envelope
 
     deflection = None
     if ready is not None and ready[0] == spec["solid"]:
         _, solid, deflection = ready
     else:
         solid = from_binary(spec["solid"]).Solids[0]
+    envelope = None if spec["envelope"] is None else Envelope(*spec["envelope"])
     planner = Planner(solid, spec["solid_index"], spec["angle"], spec["method"],
-                      spec["axis_step"], spec["budget"], deflection=deflection)
+                      spec["axis_step"], spec["budget"], deflection=deflection, envelope=envelope)
     pieces, notes = planner.pieces(np.array(spec["direction"]))
     return [p.to_data() for p in pieces], notes
 

@@ -66,11 +66,17 @@ def surface_points(shape, spacing: float = MIN_SPACING) -> np.ndarray:
         tri = index_rows(triangles)
     if not len(tri):
         return np.array([tuple(v.Point) for v in shape.Vertexes], dtype=float).reshape(-1, 3)
-    a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
+    return spread_samples(pts, pts[tri], spacing)
+
+
+def spread_samples(points: np.ndarray, corners: np.ndarray, spacing: float) -> np.ndarray:
+    """`points` and points spread over the triangles `corners` (T, 3, 3) no farther than
+    ~`spacing` apart, one kept per cell of a quarter spacing."""
+    a, b, c = corners[:, 0], corners[:, 1], corners[:, 2]
     longest = np.max([np.linalg.norm(b - a, axis=1), np.linalg.norm(c - b, axis=1),
                       np.linalg.norm(a - c, axis=1)], axis=0)
     levels = np.maximum(1, np.ceil(longest / spacing)).astype(int)
-    samples = [pts]
+    samples = [points]
     for k in np.unique(levels):
         chosen = levels == k
         i, j = np.meshgrid(np.arange(k + 1), np.arange(k + 1), indexing="ij")
@@ -186,6 +192,20 @@ def _inside(obstacle_s, obstacle_uv, tool_s, tool_uv, envelope: Envelope) -> np.
     return inside.any(axis=1)
 
 
+def sample_spacing(envelope: Envelope) -> float:
+    """The spacing (mm) of the surface samples checked against `envelope` (SPACING_FRACTION)."""
+    return max(MIN_SPACING, SPACING_FRACTION * envelope.body_diameter)
+
+
+def builds_into(samples: np.ndarray, direction: np.ndarray, envelope: Envelope,
+                obstacle: np.ndarray, standoff: float = DEFAULT_STANDOFF) -> bool:
+    """Whether the envelope, depositing at the surface `samples` of what is built along
+    `direction` (the tool point `standoff` above each), meets any `obstacle` sample."""
+    d = np.asarray(direction, dtype=float)
+    return bool(envelope_hits(samples + standoff * d, d, envelope, obstacle,
+                              first_only=True).any())
+
+
 def concurrent(d: np.ndarray, level: float, e: np.ndarray, other_level: float) -> bool:
     """Whether sub-parts built along `d` and `e` from base levels `level`, `other_level` are
     one direction from one level: the toolpath lays them together layer by layer
@@ -203,8 +223,7 @@ class CollisionChecker:
                  standoff: float = DEFAULT_STANDOFF, spacing: float | None = None) -> None:
         self.envelope = envelope
         self.directions = [np.asarray(d, dtype=float) for d in directions]
-        step = spacing if spacing is not None else max(MIN_SPACING,
-                                                       SPACING_FRACTION * envelope.body_diameter)
+        step = spacing if spacing is not None else sample_spacing(envelope)
         if not (math.isfinite(step) and step > 0):
             raise ValueError(f"sample spacing must be a positive length, got {step!r}")
         self._shapes, self._step = list(shapes), step
@@ -243,8 +262,6 @@ class CollisionChecker:
         if self.concurrent_with(index, other):
             return False
         if key not in self._cache:
-            d = self.directions[index]
-            tool_points = self.points(index) + self.standoff * d
-            self._cache[key] = bool(envelope_hits(tool_points, d, self.envelope,
-                                                  self.points(other), first_only=True).any())
+            self._cache[key] = builds_into(self.points(index), self.directions[index],
+                                           self.envelope, self.points(other), self.standoff)
         return self._cache[key]

@@ -429,7 +429,10 @@ def _post_with_arms(App, Part, low_arm: bool):
 def test_a_cut_the_tool_cannot_build_is_undone_and_the_others_are_kept(App, Part):
     """The low arm's cut would build it sideways into the foot: that sub-part is fused back
     into the column and the other cuts stay. Before, that one collision left no plan at all
-    (`plan` then built the part whole: 167.3 mm² of overhang against 87.6)."""
+    (`plan` then built the part whole: 167.3 mm² of overhang against 87.6). The high arm
+    built along +Y would meet the collar above it, which its own cut takes off first:
+    checking each trial cut against the whole piece it is cut from (not only the faces it
+    divides) kept two sub-parts of the four here."""
     part = _post_with_arms(App, Part, low_arm=True)
     free = decompose(part, root_direction=(0, 0, 1), check_collisions=False)
     plan = decompose(part, root_direction=(0, 0, 1))
@@ -450,6 +453,46 @@ def test_a_cut_the_tool_cannot_build_is_undone_and_the_others_are_kept(App, Part
     assert free.support_area < plan.support_area < 0.6 * plan.support_area_single_direction
     high_arm = max(plan.subparts, key=lambda s: s.volume if s.parent is not None else 0.0)
     np.testing.assert_allclose(high_arm.build_direction, [0, 1, 0], atol=1e-9)
+
+
+def _coil(App, Part, turns: float = 1.5, pitch: float = 6.0, radius: float = 12.0,
+          wire: float = 1.5):
+    """A round wire coiled along a helix, standing on a disc."""
+    helix = Part.makeHelix(pitch, turns * pitch, radius)
+    edge = helix.Edges[0]
+    start, along = edge.valueAt(edge.FirstParameter), edge.tangentAt(edge.FirstParameter)
+    profile = Part.Wire(Part.Circle(start, along, wire).toShape())
+    coil = Part.Wire(helix.Edges).makePipeShell([profile], True, True)
+    disc = Part.makeCylinder(radius + 2.0, 2.0, App.Vector(0, 0, -2.0))
+    return coil.fuse(disc).removeSplitter().Solids[0]
+
+
+def test_a_cut_the_tool_would_build_into_its_own_wire_is_not_made(App, Part, monkeypatch):
+    """Cut off, a coil's wire is built along the cut's normal inside the coil, where the tool
+    meets the rest of the wire: such a cut is rejected on the mesh, before its exact split
+    (a coil of five turns spent 7 s of its 18 s decomposition making one, then no order
+    could build it and `plan` built the part whole anyway). The notes and the support
+    reason say why the overhang stays."""
+    from freecad_conformal.decomposition import planner
+    from freecad_conformal.decomposition.build_order import BlockedOrder, build_order
+    from freecad_conformal.decomposition.decompose import TOOL_BLOCKED_CUTS
+
+    coil = _coil(App, Part)
+    made: list[int] = []
+    real = planner.try_cut
+    monkeypatch.setattr(planner, "try_cut", lambda *args, **kw: made.append(1) or real(*args, **kw))
+    plan = decompose(coil, root_direction=(0, 0, 1))
+    assert not made
+    assert len(plan.subparts) == 1
+    assert plan.support_area == pytest.approx(plan.support_area_single_direction, rel=1e-9)
+    assert plan.support_reason == TOOL_BLOCKED_CUTS
+    assert any("not made: building what lies beyond, the tool would hit the piece" in note
+               for note in plan.notes)
+    # Unchecked, the cuts are made, and then no order builds them: the check agrees.
+    free = decompose(coil, root_direction=(0, 0, 1), check_collisions=False)
+    assert made and len(free.subparts) > 1
+    with pytest.raises(BlockedOrder):
+        build_order(free.subparts, tool="fdm_0p4")
 
 
 def test_a_plan_whose_only_cut_cannot_be_built_still_says_so(App, Part, monkeypatch):
