@@ -38,3 +38,42 @@ def unwrap_slow_checks() -> int:
                 setattr(owner, name, value.__wrapped__)
                 replaced += 1
     return replaced
+
+
+def _mitred_through_ufunc(ufunc=None):
+    """GEOS's buffer ufunc (`ufunc`, default shapely's) called as `shapely.buffer` calls
+    it, when it answers a probe as that does; None otherwise (a shapely whose internals
+    differ: they are not its promise)."""
+    import numpy as np
+    import shapely
+
+    try:
+        ufunc = shapely.lib.buffer if ufunc is None else ufunc
+        segments = np.intc(8)       # shapely.buffer's defaults: 8 segments a quarter circle,
+        cap = np.intc(shapely.BufferCapStyle.round)     # round caps
+        mitre = np.intc(shapely.BufferJoinStyle.mitre)
+
+        def mitred(geometry, distance: float, limit: float):
+            return ufunc(geometry, distance, segments, cap, mitre, limit, False)
+
+        probe = shapely.Polygon([(0, 0), (10, 0), (10, 8), (3, 10), (0, 6)])
+        for distance in (-0.7, 0.4):
+            if (mitred(probe, distance, 2.0).wkb
+                    != probe.buffer(distance, join_style="mitre", mitre_limit=2.0).wkb):
+                return None
+        return mitred
+    except Exception:       # noqa: BLE001  (any difference in shapely's internals: the public call)
+        return None
+
+
+_MITRED = _mitred_through_ufunc()
+
+
+def mitred_buffer(geometry, distance: float, mitre_limit: float):
+    """`geometry.buffer(distance, join_style="mitre", mitre_limit=mitre_limit)`, the same
+    geometry, without the public call's argument handling: 15 µs of its 27 against GEOS's
+    12 on a small polygon, where the fills and the cost estimate offset every island's
+    loops (the wedge's 800 offsets per plan candidate pass)."""
+    if _MITRED is None:
+        return geometry.buffer(distance, join_style="mitre", mitre_limit=mitre_limit)
+    return _MITRED(geometry, distance, mitre_limit)

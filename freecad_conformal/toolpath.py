@@ -302,10 +302,12 @@ class ToolpathBuilder:
         if len(xyz) == 0:
             raise ToolpathError(f"segment {segment} has no points")
         ijk = np.array(axes, dtype=float)
-        ijk = np.broadcast_to(ijk, xyz.shape).copy() if ijk.shape == (3,) else ijk.reshape(-1, 3)
-        if ijk.shape != xyz.shape:
+        # One axis for every point (most paths): normalised once, as each row would be.
+        one = ijk.shape == (3,)
+        ijk = ijk[None] if one else ijk.reshape(-1, 3)
+        if not one and ijk.shape != xyz.shape:
             raise ToolpathError(f"segment {segment}: {len(ijk)} tool axes for {len(xyz)} points")
-        norms = np.linalg.norm(ijk, axis=1)
+        norms = np.sqrt(np.add.reduce(ijk * ijk, axis=1))     # np.linalg.norm's sum, less its checks
         bad = ~(norms >= MIN_AXIS_NORM)
         if bad.any():
             i = int(np.argmax(bad))
@@ -317,7 +319,8 @@ class ToolpathBuilder:
             raise ToolpathError(f"segment {segment}: unknown interpolation {interpolation!r}; "
                                 f"known: {', '.join(INTERPOLATIONS)}")
         self._points.append(xyz)
-        self._axes.append(ijk / norms[:, None])
+        unit = ijk / norms[:, None]
+        self._axes.append(np.repeat(unit, len(xyz), axis=0) if one else unit)
         self._segments.append((KINDS.index(kind), float(feed), int(tool), float(flow),
                                INTERPOLATIONS.index(interpolation)))
         return segment

@@ -135,7 +135,7 @@ class Layer:
         """Layer coordinates -> tool-tip points on the top plane (projected along its normal)."""
         mid = self.frame.to_3d(np.asarray(uv, dtype=float).reshape(-1, 2), self.section_height)
         lift = (self.top_point - mid) @ self.top_normal
-        return mid + np.outer(lift, self.top_normal)
+        return mid + lift[:, None] * self.top_normal
 
 
 def as_multipolygon(geometry) -> MultiPolygon:

@@ -35,6 +35,7 @@ from freecad_conformal.errors import PlanError
 from freecad_conformal.paths.bead import BEAD_MODELS, bead_spacing
 from freecad_conformal.paths.thin_walls import (MIN_LENGTH_WIDTHS, MIN_WIDTH_SHARE,
                                                  gap_beads, joined_beads, thin_wall_beads)
+from freecad_conformal.shapely_speed import mitred_buffer
 from freecad_conformal.tolerances import COINCIDENT_POINTS
 
 ROLES = ("external_perimeter", "perimeter", "infill", "solid_infill")
@@ -53,7 +54,7 @@ def inset(geometry, distance: float):
     # divide by a zero length and numpy flag it; GEOS bevels that corner and the result is
     # valid (checked on the fan's two such islands), so the flag says nothing to a user.
     with np.errstate(divide="ignore", invalid="ignore"):
-        return geometry.buffer(-distance, join_style="mitre", mitre_limit=MITRE_LIMIT)
+        return mitred_buffer(geometry, -distance, MITRE_LIMIT)
 
 
 #: Angles tried for the fewest-turns infill direction (every 15° over a half turn).
@@ -187,8 +188,7 @@ class Walls:
 def _opened(geometry, distance: float):
     """`geometry` less its parts narrower than twice `distance` (mitred, as `inset`)."""
     with np.errstate(divide="ignore", invalid="ignore"):    # as in `inset`
-        return inset(geometry, distance).buffer(distance, join_style="mitre",
-                                                mitre_limit=MITRE_LIMIT)
+        return mitred_buffer(inset(geometry, distance), distance, MITRE_LIMIT)
 
 
 def perimeter_walls(island: Polygon, width: float, count: int, spacing: float | None = None,
@@ -278,7 +278,7 @@ def _gap(outer, inner, width: float, spacing: float) -> list[Polygon]:
     reach = inset(outer, 0.5 * spacing)
     if not inner.is_empty:
         with np.errstate(divide="ignore", invalid="ignore"):    # as in `inset`
-            covered = inner.buffer(0.5 * spacing, join_style="mitre", mitre_limit=MITRE_LIMIT)
+            covered = mitred_buffer(inner, 0.5 * spacing, MITRE_LIMIT)
         if reach.area - covered.area < smallest:
             # Less than the smallest gap a bead fills is left (most loops: the work of
             # the difference and the opening saved).
@@ -555,9 +555,7 @@ def _seam_index(ring: np.ndarray, seam: str, position: np.ndarray | None) -> int
 
 def start_ring_at(ring: np.ndarray, index: int) -> np.ndarray:
     """The closed ring re-started at vertex `index` (still closed)."""
-    points = ring[:-1]
-    rolled = np.roll(points, -index, axis=0)
-    return np.vstack((rolled, rolled[:1]))
+    return np.concatenate((ring[index:-1], ring[:index + 1]))
 
 
 def _nearest(candidates: list[Path2D], position: np.ndarray, reversible: bool) -> tuple[int, bool]:
@@ -656,7 +654,9 @@ def ordered_fill(filled: list[IslandFill], settings: FillSettings,
     islands = list(filled)
     ordered: list[Path2D] = []
     while islands:
-        k = int(np.argmin([f.island.exterior.distance(shapely.Point(here)) for f in islands]))
+        nozzle = shapely.Point(here)
+        k = 0 if len(islands) == 1 else int(np.argmin([f.island.exterior.distance(nozzle)
+                                                         for f in islands]))
         paths = _island_order(islands.pop(k), settings, here)
         ordered.extend(paths)
         if paths:
@@ -839,7 +839,8 @@ def _island_order(filled: IslandFill, settings: FillSettings, here: np.ndarray) 
         role = "external_perimeter" if depth == 0 else "perimeter"
         rings = list(filled.depths[depth])
         while rings:
-            k = int(np.argmin([np.min(np.linalg.norm(r - here, axis=1)) for r in rings]))
+            k = 0 if len(rings) == 1 else int(np.argmin([np.min(np.linalg.norm(r - here, axis=1))
+                                                         for r in rings]))
             ring = rings.pop(k)
             ring = start_ring_at(ring, _seam_index(ring, settings.seam, here))
             paths.append(Path2D(ring, role, closed=True, width=filled.ring_width))

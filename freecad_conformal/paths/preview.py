@@ -21,6 +21,8 @@ MAX_DRAWN_PATHS = 20000
 
 #: Picture size (pixels) and the margin kept free around the drawing for labels.
 WIDTH, HEIGHT, MARGIN = 880, 770, 90
+#: zlib level of the PNG (see `render_png`).
+PNG_COMPRESSION = 1
 
 #: Viewing direction: matplotlib's default 3D view, which the earlier previews used.
 AZIMUTH, ELEVATION = math.radians(-60.0), math.radians(30.0)
@@ -81,7 +83,9 @@ def render_png(assembly, target: IO[bytes], title: str = "") -> None:
     heading = title + (f" (one layer in {step} drawn)" if step > 1 else "")
     width = draw.textlength(heading, font=_font(ImageFont, 17))
     draw.text(((WIDTH - width) / 2, 18), heading, fill=TEXT, font=_font(ImageFont, 17))
-    image.save(target, format="PNG")
+    # Level 1: a line drawing packs nearly as well (33 KB against 20 KB for the
+    # bracket) in 40 % less time than the default 6 (10 ms of the wedge's 0.5 s plan).
+    image.save(target, format="PNG", compress_level=PNG_COMPRESSION)
 
 
 class _View:

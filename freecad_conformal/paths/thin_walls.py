@@ -23,6 +23,7 @@ import shapely
 from shapely.geometry import LineString, MultiLineString, MultiPoint, Polygon
 
 from freecad_conformal.geometry.loops import grid_key, signed_area
+from freecad_conformal.shapely_speed import mitred_buffer
 from freecad_conformal.tolerances import COINCIDENT_POINTS
 
 #: Narrower than this share of the bead, a feature is left out (PrusaSlicer's Arachne: its
@@ -71,7 +72,7 @@ def thin_features(island: Polygon, width: float, eroded, mitre_limit: float) -> 
         left = island
     else:
         with np.errstate(divide="ignore", invalid="ignore"):    # as the inset: see fill2d
-            grown = eroded.buffer(0.5 * width, join_style="mitre", mitre_limit=mitre_limit)
+            grown = mitred_buffer(eroded, 0.5 * width, mitre_limit)
         if island.area - grown.area < smallest:
             # What the perimeter covers lies inside the island: all it leaves is less
             # than one feature (most islands; the difference was 90 % of this work).

@@ -113,3 +113,58 @@ def test_the_installed_shapely_carries_no_slow_check_once_imported():
     else:
         assert slow == []
         assert shapely.Polygon([(0, 0), (1, 0), (1, 1)]).area == pytest.approx(0.5)
+
+
+def _shapes():
+    """Islands as sections give them: convex and not, with a hole, two islands, a sliver
+    with a spike, a rectangle an offset empties, and nothing."""
+    import shapely
+    from shapely.geometry import MultiPolygon, Polygon
+
+    ring = Polygon([(0, 0), (30, 0), (30, 20), (0, 20)], [[(5, 5), (25, 5), (25, 15), (5, 15)]])
+    return [Polygon([(0, 0), (10, 0), (10, 8), (3, 10), (0, 6)]),
+            Polygon([(0, 0), (20, 0), (20, 20), (10, 2), (0, 20)]),
+            ring,
+            MultiPolygon([ring, Polygon([(40, 0), (45, 0), (45, 5), (40, 5)])]),
+            Polygon([(0, 0), (10, 0), (10, 1), (5, 1.0000001), (5, 6), (4.9999, 1), (0, 1)]),
+            Polygon([(0, 0), (1, 0), (1, 0.5), (0, 0.5)]),
+            shapely.Polygon()]
+
+
+@pytest.mark.parametrize("distance", [-0.6, -0.2, 0.2, 1.5])
+@pytest.mark.parametrize("limit", [1.0, 2.0, 5.0])
+def test_the_mitred_offset_is_the_public_calls_geometry(distance, limit):
+    """Byte for byte: the fills' loops (and so the G-code) must not move."""
+    import numpy as np
+
+    for shape in _shapes():
+        with np.errstate(divide="ignore", invalid="ignore"):
+            expected = shape.buffer(distance, join_style="mitre", mitre_limit=limit)
+            found = shapely_speed.mitred_buffer(shape, distance, limit)
+        assert found.wkb == expected.wkb, (shape.wkt, distance, limit)
+        assert type(found) is type(expected)
+
+
+def test_a_shapely_whose_ufunc_answers_otherwise_gets_the_public_call(monkeypatch):
+    """Its internals are not shapely's promise: a ufunc that takes other arguments, or
+    gives another geometry for these, is not used."""
+    import numpy as np
+    import shapely
+
+    real = shapely.lib.buffer
+
+    def other_joins(geometry, distance, segments, cap, join, *rest):
+        # join styles numbered otherwise: what shapely calls mitre, GEOS bevels
+        return real(geometry, distance, segments, cap,
+                    np.intc(shapely.BufferJoinStyle.bevel), *rest)
+
+    def other_arguments(geometry, distance, segments, cap, join, limit):   # one fewer
+        return real(geometry, distance, segments, cap, join, limit, False)
+
+    assert shapely_speed._mitred_through_ufunc(other_joins) is None
+    assert shapely_speed._mitred_through_ufunc(other_arguments) is None
+    assert shapely_speed._mitred_through_ufunc() is not None
+    probe = shapely.Polygon([(0, 0), (4, 0), (4, 4)])
+    public = probe.buffer(-0.5, join_style="mitre", mitre_limit=2.0).wkb
+    monkeypatch.setattr(shapely_speed, "_MITRED", None)
+    assert shapely_speed.mitred_buffer(probe, -0.5, 2.0).wkb == public
