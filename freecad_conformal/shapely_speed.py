@@ -1,4 +1,4 @@
-"""Shapely 2.1.0's deprecation checks, taken off the hot path.
+"""Shapely's per-call wrappers taken off the hot path, and a direct mitred offset.
 
 Shapely 2.1.0 (Debian 13's, under FreeCAD 1.0) wraps its creation and constructive
 functions (`polygons`, `linearrings`, `buffer`, `simplify`, ...) in a check that inspects
@@ -8,6 +8,13 @@ the geometry methods (`buffer`, `intersection`, `difference`, `simplify`) pay it
 fifth of the jack's plan there, a tenth of the bottle's. Shapely 2.1.1 made the check
 cheap. On 2.1.0 only, the public functions and geometry methods are given back their
 unwrapped selves: the same functions, less the warning.
+
+Shapely 2.0 and 2.1 also wrap every function in `multithreading_enabled`, which marks the
+object arrays passed read-only for the call, against another thread changing them while
+GEOS runs without the GIL. Shapely 2.2 dropped it (shapely #2338: about 1 µs a call, and
+such sharing is the application's to avoid, as with numpy); this package shares no
+geometry array between threads. Where it is still applied it is taken off the same way:
+6 % of the wedge's plan on FreeCAD 1.0.
 """
 from __future__ import annotations
 
@@ -17,16 +24,29 @@ import sys
 SLOW_RELEASE = "2.1.0"
 
 
-def unwrap_slow_checks() -> int:
-    """Replace shapely 2.1.0's checked functions and geometry methods (`Polygon.buffer`,
-    `intersection`, ...) by the functions they wrap, in every shapely module loaded; the
-    count replaced (0 on any other release)."""
+def _wrapper_codes() -> list:
+    """The code objects of the wrappers to take off in the installed shapely."""
     import shapely
     import shapely.decorators
 
-    if shapely.__version__ != SLOW_RELEASE or not hasattr(shapely.decorators, "deprecate_positional"):
+    codes = []
+    if shapely.__version__ == SLOW_RELEASE and hasattr(shapely.decorators, "deprecate_positional"):
+        codes.append(shapely.decorators.deprecate_positional([])(lambda: None).__code__)
+    guard = getattr(shapely.decorators, "multithreading_enabled", None)
+    # Its inner function's code, read without calling it (shapely 2.2 warns when it is).
+    codes += [const for const in getattr(getattr(guard, "__code__", None), "co_consts", ())
+              if getattr(const, "co_name", None) == "wrapped"]
+    return codes
+
+
+def unwrap_slow_checks() -> int:
+    """Replace the wrapped functions and geometry methods (`Polygon.buffer`,
+    `intersection`, ...) of every shapely module loaded by the functions they wrap: shapely
+    2.1.0's positional-argument check and 2.0/2.1's read-only marking (see the module
+    docstring); the count of wrappers taken off (0 where there are none)."""
+    codes = _wrapper_codes()
+    if not codes:
         return 0
-    check = shapely.decorators.deprecate_positional([])(lambda: None).__code__
     modules = [module for name, module in list(sys.modules.items())
                if (name == "shapely" or name.startswith("shapely.")) and module is not None]
     owners = modules + [value for module in modules for value in list(vars(module).values())
@@ -34,9 +54,13 @@ def unwrap_slow_checks() -> int:
     replaced = 0
     for owner in {id(owner): owner for owner in owners}.values():
         for name, value in list(vars(owner).items()):
-            if getattr(value, "__code__", None) is check and hasattr(value, "__wrapped__"):
-                setattr(owner, name, value.__wrapped__)
+            unwrapped = value
+            while (any(getattr(unwrapped, "__code__", None) is code for code in codes)
+                   and hasattr(unwrapped, "__wrapped__")):
+                unwrapped = unwrapped.__wrapped__
                 replaced += 1
+            if unwrapped is not value:
+                setattr(owner, name, unwrapped)
     return replaced
 
 

@@ -83,6 +83,81 @@ def test_the_slow_release_gets_its_functions_unwrapped(monkeypatch):
     assert shapely_speed.unwrap_slow_checks() == 0     # nothing left to unwrap
 
 
+def _guarded(package: types.ModuleType, modules: dict) -> dict:
+    """`package` given shapely 2.0/2.1's read-only marking of object arrays around each
+    call, applied under its checks as shapely applies it; the guarded functions."""
+    import numpy as np
+
+    decorators = modules["shapely.decorators"]
+
+    def multithreading_enabled(func):
+        @functools.wraps(func)
+        def wrapped(*args, **kwargs):
+            arrays = [a for a in args if isinstance(a, np.ndarray) and a.dtype == object]
+            flags = [a.flags.writeable for a in arrays]
+            try:
+                for a in arrays:
+                    a.flags.writeable = False
+                return func(*args, **kwargs)
+            finally:
+                for a, flag in zip(arrays, flags):
+                    a.flags.writeable = flag
+        return wrapped
+
+    decorators.multithreading_enabled = multithreading_enabled
+    creation = modules["shapely.creation"]
+
+    def area(geometry):
+        return ("area", geometry)
+
+    guarded = multithreading_enabled(area)
+    creation.area = package.area = guarded
+    # shapely's order: the check outside, the marking inside
+    checked = decorators.deprecate_positional(["indices"])(multithreading_enabled(
+        creation.polygons.__wrapped__))
+    creation.polygons = package.polygons = checked
+    return {"area": area}
+
+
+@pytest.mark.parametrize("version", ["2.0.7", "2.1.0", "2.1.1"])
+def test_the_read_only_marking_is_taken_off_where_shapely_applies_it(monkeypatch, version):
+    package, modules, originals = _fake_shapely(version)
+    originals.update(_guarded(package, modules))
+    for name, module in modules.items():
+        monkeypatch.setitem(sys.modules, name, module)
+    shapely_speed.unwrap_slow_checks()
+    assert package.area is originals["area"] and package.creation.area is originals["area"]
+    if version == shapely_speed.SLOW_RELEASE:
+        assert package.polygons is originals["polygons"]
+    else:       # the cheap check stays; the marking under it goes only with it
+        assert package.polygons.__wrapped__.__wrapped__ is originals["polygons"]
+    assert package.plain is originals["plain"]
+    assert shapely_speed.unwrap_slow_checks() == 0
+
+
+def test_a_release_without_the_marking_loses_nothing(monkeypatch):
+    """Shapely 2.2 keeps the decorator (deprecated: it warns when applied) but applies it
+    to nothing: reading its code must not apply it, and nothing is replaced."""
+    package, modules, _ = _fake_shapely("2.2.0")
+
+    def multithreading_enabled(func):
+        warnings.warn("multithreading_enabled is deprecated", FutureWarning, stacklevel=2)
+
+        @functools.wraps(func)
+        def wrapped(*args, **kwargs):
+            return func(*args, **kwargs)
+        return wrapped
+
+    modules["shapely.decorators"].multithreading_enabled = multithreading_enabled
+    for name, module in modules.items():
+        monkeypatch.setitem(sys.modules, name, module)
+    checked = package.polygons
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert shapely_speed.unwrap_slow_checks() == 0
+    assert package.polygons is checked
+
+
 @pytest.mark.parametrize("version", ["2.0.7", "2.1.1", "2.2.0"])
 def test_other_releases_are_left_alone(monkeypatch, version):
     package, modules, _ = _fake_shapely(version)
@@ -113,6 +188,11 @@ def test_the_installed_shapely_carries_no_slow_check_once_imported():
     else:
         assert slow == []
         assert shapely.Polygon([(0, 0), (1, 0), (1, 1)]).area == pytest.approx(0.5)
+    guards = shapely_speed._wrapper_codes()
+    guarded = [name for name, value in [*vars(shapely).items(),
+                                        *vars(shapely.geometry.base.BaseGeometry).items()]
+               if any(getattr(value, "__code__", None) is code for code in guards)]
+    assert guarded == []
 
 
 def _shapes():
