@@ -311,3 +311,31 @@ def united_overlaps(shape) -> tuple[object, str]:
 
 def _numbers(indices: list[int]) -> str:
     return ", ".join(str(k + 1) for k in indices)
+
+
+def enclosed_cavities(solid) -> list[float]:
+    """Volumes (mm³) of the closed voids inside `solid`: its shells besides the outer one.
+    A void's highest point faces down whatever the build direction, so its ceiling needs
+    support in every plan, and support inside it could never be taken out."""
+    shells = solid.Shells
+    if len(shells) < 2:
+        return []
+    _, Part = import_freecad()
+    outer = solid.OuterShell
+    return [abs(Part.Solid(shell).Volume) for shell in shells if not shell.isSame(outer)]
+
+
+def cavities_note(solids: list) -> str | None:
+    """What a user should know of the part's closed voids (None when there are none)."""
+    found = [(number, enclosed_cavities(solid)) for number, solid in enumerate(solids, start=1)]
+    found = [(number, volumes) for number, volumes in found if volumes]
+    if not found:
+        return None
+    which = "; ".join(
+        f"solid {number}: {len(volumes)} closed cavit{'y' if len(volumes) == 1 else 'ies'} "
+        f"of {sum(volumes) / 1000:.3g} cm3" for number, volumes in found)
+    return (f"{which}: a closed cavity's ceiling faces down whatever the build direction, "
+            "so no plan builds it support-free and its overhang is left (printed over the "
+            "void, as a bridge if it holds); support inside could not be taken out. Open "
+            "the cavity to the outside, or model the part as two pieces parted at it, to "
+            "build it support-free")

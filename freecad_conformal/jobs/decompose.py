@@ -11,9 +11,10 @@ from freecad_conformal.settings.schema import validate
 
 def decompose_with(shape, values: Mapping[str, Any]):
     """The BuildPlan of `shape` with checked settings (SettingError names a bad one), its
-    overlapping solids fused first as the plan job fuses them (`solids.united_overlaps`)."""
+    overlapping solids fused first as the plan job fuses them (`solids.united_overlaps`),
+    and its closed cavities named as the plan job names them."""
     from freecad_conformal.decomposition.decompose import decompose
-    from freecad_conformal.geometry.solids import united_overlaps
+    from freecad_conformal.geometry.solids import cavities_note, solids_of, united_overlaps
 
     v = validate(DECOMPOSE_SETTINGS, values)
     shape, fused = united_overlaps(shape)
@@ -21,6 +22,5 @@ def decompose_with(shape, values: Mapping[str, Any]):
                      method=v["method"], max_subparts=v["max_subparts"],
                      root_direction=v["root"], check_collisions=v["collision"],
                      thorough=v["root_search"] == "thorough")
-    if fused:
-        plan.notes.insert(0, fused)
+    plan.notes[:0] = [note for note in (fused, cavities_note(solids_of(shape))) if note]
     return plan

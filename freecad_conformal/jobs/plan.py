@@ -401,7 +401,7 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
     `options.objective`, wins; otherwise the one plan of `machine_plan`, or each solid built
     whole when no decomposition can be built. `progress(text)` hears of each candidate."""
     from freecad_conformal.geometry.section_pool import warm_workers
-    from freecad_conformal.geometry.solids import solids_of, united_overlaps
+    from freecad_conformal.geometry.solids import cavities_note, solids_of, united_overlaps
 
     tool, _, _, path_settings, machine = checked
     shape, fused = united_overlaps(shape)
@@ -409,8 +409,8 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
     # in each direction) is measured of the very shape every plan places (Pump_Nut, modelled
     # off the platform, was meshed and scanned twice: 0.2 s of its 0.8 s choice).
     shape, centred = centred_if_off_platform(shape, machine)
-    first_notes = [note for note in (fused, centred) if note]
     solids = solids_of(shape)
+    first_notes = [note for note in (fused, centred, cavities_note(solids)) if note]
     warm_workers(shape, options.layers.thickness)
     flat = options.decompose and not machine_tilts(machine)
     searched = options.decompose and isinstance(options.root, str)

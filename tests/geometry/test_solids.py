@@ -1,6 +1,7 @@
 """load_shape: every supported format, and FCStd documents of PartDesign bodies."""
 from __future__ import annotations
 
+import math
 import subprocess
 import sys
 
@@ -99,3 +100,51 @@ def test_decompose_fuses_overlapping_bodies_as_the_plan_does(App, Part):
                               Part.makeBox(10, 10, 10, App.Vector(5, 5, 0))])
     plan = decompose_with(part, defaults(DECOMPOSE_SETTINGS))
     assert len(plan.subparts) == 1 and "fused into one solid" in plan.notes[0]
+
+
+def _box_with_cavity(App, Part, size: float = 30.0, wall: float = 2.0):
+    inner = size - 2 * wall
+    return Part.makeBox(size, size, size).cut(
+        Part.makeBox(inner, inner, inner, App.Vector(wall, wall, wall))).Solids[0]
+
+
+def test_closed_cavities_are_found_with_their_volumes(App, Part):
+    """A box holding a closed void has two shells; the void's is the cavity. A box open to
+    the outside (a cup) and a plain box have none."""
+    from freecad_conformal.geometry.solids import enclosed_cavities
+
+    assert enclosed_cavities(_box_with_cavity(App, Part)) == [pytest.approx(26.0 ** 3, rel=1e-9)]
+    two = Part.makeBox(40, 40, 40).cut(Part.makeBox(10, 10, 10, App.Vector(5, 5, 5))).cut(
+        Part.makeSphere(3, App.Vector(30, 30, 30))).Solids[0]
+    assert sorted(enclosed_cavities(two)) == pytest.approx([4 / 3 * math.pi * 27, 1000.0],
+                                                           rel=1e-9)
+    cup = Part.makeBox(30, 30, 30).cut(Part.makeBox(26, 26, 30, App.Vector(2, 2, 2))).Solids[0]
+    assert enclosed_cavities(cup) == []
+    assert enclosed_cavities(Part.makeBox(5, 5, 5)) == []
+
+
+def test_a_plan_of_a_part_with_a_closed_cavity_says_why_its_ceiling_is_left(App, Part):
+    """No direction builds a closed void's ceiling support-free: the plan leaves its
+    overhang and its notes say so, naming the solid and the void, instead of leaving the
+    user to hunt for a cut that cannot exist."""
+    from freecad_conformal.jobs.plan import PlanOptions, check_options, choose_plan
+
+    part = Part.makeCompound([Part.makeBox(10, 10, 10, App.Vector(-60, 0, 0)),
+                              _box_with_cavity(App, Part)])
+    options = PlanOptions()
+    plan = choose_plan(part, options, check_options(part, options)).plan
+    assert plan.support_area >= 26.0 ** 2 - 1e-6      # the ceiling, whichever way it stands
+    notes = [note for note in plan.notes if "closed cavit" in note]
+    assert len(notes) == 1
+    assert notes[0].startswith("solid 2: 1 closed cavity of 17.6 cm3")
+
+
+def test_decompose_names_a_closed_cavity_as_the_plan_does(App, Part):
+    from freecad_conformal.jobs.decompose import decompose_with
+    from freecad_conformal.settings.decompose import DECOMPOSE_SETTINGS
+    from freecad_conformal.settings.schema import defaults
+
+    plan = decompose_with(_box_with_cavity(App, Part), defaults(DECOMPOSE_SETTINGS))
+    assert [note for note in plan.notes if "closed cavit" in note] == [
+        note for note in plan.notes if note.startswith("solid 1: 1 closed cavity of 17.6 cm3")]
+    assert any("closed cavit" in note for note in plan.notes)
