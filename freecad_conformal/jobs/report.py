@@ -65,8 +65,11 @@ def support_text(plan, tilted: bool, hybrid: bool) -> str:
                  if hybrid else "")
         return (f"{plan.support_area:.1f} mm2 of overhang beyond the allowed angle as if "
                 f"built in planar layers (the 3-D layers print some of it unsupported{where})")
+    # Conformal generates no support: say what the G-code does there, not only what the
+    # part needs (a user added support to a file that had none, and could not say where).
     return (f"{plan.support_area:.1f} mm2 of overhang beyond the allowed angle left "
-            f"({overhang_reason(plan)}; it needs support)")
+            f"({overhang_reason(plan)}; it needs support, which this G-code does not print: "
+            "those areas are laid over air)")
 
 
 def overhang_reason(plan) -> str | None:

@@ -211,7 +211,10 @@ def test_a_machine_without_tilt_builds_the_part_whole_in_its_best_orientation(Ap
     assert len(plan.subparts) == 1 and plan.support_reason == WHOLE_ON_MACHINE
     assert plan.support_area == pytest.approx(least, rel=1e-6)
     np.testing.assert_allclose(plan.subparts[0].build_direction, (0.0, 0.0, 1.0), atol=1e-9)
-    assert "the machine cannot tilt the tool" in support_text(plan, False, False)
+    said = support_text(plan, False, False)
+    assert "the machine cannot tilt the tool" in said
+    # and that the G-code has none: Conformal prints no support
+    assert "which this G-code does not print" in said
     assert any("cannot tilt the tool off +Z" in note for note in plan.notes)
 
 
