@@ -29,7 +29,7 @@ from freecad_conformal.decomposition.subparts import (WHOLE_AFTER_FAILURE, WHOLE
 from freecad_conformal.post.branches import choose_rotary
 from freecad_conformal.post.kinematics import rotary_candidates
 from freecad_conformal.settings.plan import SPEED_ROLES
-from freecad_conformal.tolerances import ZERO_LENGTH
+from freecad_conformal.tolerances import ROUNDING_SLACK, ZERO_LENGTH
 from freecad_conformal.post.machine import Machine, load_machine
 from freecad_conformal.post.program import PostResult, post_toolpath
 
@@ -378,7 +378,24 @@ def check_options(shape, options: PlanOptions, library=None, part: str | None = 
     path_settings.feeds.validate()
     if width > size:
         raise PlanError(f"bead width {width:g} mm is larger than the part ({size:.3f} mm)")
+    check_layers_fit_bead(options.layers, width, options.tool)
     return tool, material_name, width, path_settings, machine
+
+
+def check_layers_fit_bead(layers: LayerSettings, width: float, tool: str) -> None:
+    """Refuse layers taller than the bead is wide: no nozzle lays such a bead (PrusaSlicer
+    refuses a layer height above the nozzle diameter), and the bead models cap it at a
+    circle's worth, so a 5 mm layer of 0.4 mm beads was planned as a sparse tenth of the
+    part without a word. The maximum of adaptive and 3-D layers is checked where the
+    user set it (left to its default, 1.5 x the layer height, it is theirs to tune)."""
+    given = [("layer height (--layer-height / LayerHeight)", layers.thickness)]
+    if layers.max_thickness is not None:
+        given.append(("maximum layer height (--layer-max / LayerMax)", layers.max_thickness))
+    for name, value in given:
+        if value > width * (1.0 + ROUNDING_SLACK):
+            raise PlanError(f"{name} {value:g} mm is taller than the bead is wide ({width:g} mm, "
+                            f"tool {tool}): a bead cannot be taller than it is wide; use at "
+                            f"most {width:g} mm, or a wider bead (--bead-width / BeadWidth)")
 
 
 @dataclass

@@ -69,6 +69,10 @@ def test_summary_figures_agree_with_the_toolpath():
                         "direction x,y,z (finite, not the zero vector), got '1,0': not three "
                         "numbers"),
     (["--root", "0,0,0"], "got '0,0,0'"),
+    (["--layer-height", "5mm"], "layer height (--layer-height / LayerHeight) 5 mm is taller "
+                                "than the bead is wide (0.4 mm, tool fdm_0p4)"),
+    (["--layer-mode", "adaptive", "--layer-max", "0.6"],
+     "maximum layer height (--layer-max / LayerMax) 0.6 mm is taller than the bead is wide"),
 ])
 def test_bad_input_writes_nothing(tmp_path, capsys, arguments, message):
     out = tmp_path / "x.ngc"
@@ -242,3 +246,21 @@ def test_plan_report_json_names_every_setting_it_used(tmp_path):
     assert data["residual_overhang_reason"] is None
     assert data["material_mm3"] == pytest.approx(sum(s["material_mm3"] for s in data["sub_parts"]))
     assert sum(s["volume_mm3"] for s in data["sub_parts"]) == pytest.approx(samples.t_block().Volume)
+
+
+def test_layers_as_tall_as_the_bead_is_wide_are_the_most_a_plan_takes(Part):
+    """A bead cannot be taller than it is wide (PrusaSlicer refuses layers above the nozzle
+    diameter): up to the bead width is planned, beyond it refused, a defaulted maximum of
+    adaptive layers (1.5 x) left alone."""
+    from freecad_conformal.jobs.plan import check_options
+    from freecad_conformal.layers.model import LayerSettings
+
+    box = Part.makeBox(20, 20, 20)
+    width = check_options(box, PlanOptions())[2]
+    for layers in (LayerSettings(thickness=width), LayerSettings(mode="adaptive", thickness=width)):
+        assert check_options(box, PlanOptions(layers=layers))[2] == width
+    for layers in (LayerSettings(thickness=1.05 * width),
+                   LayerSettings(mode="adaptive", thickness=0.5 * width,
+                                 max_thickness=1.05 * width)):
+        with pytest.raises(PlanError, match="taller than the bead is wide"):
+            check_options(box, PlanOptions(layers=layers))
