@@ -81,7 +81,9 @@ def main() -> int:
     parser.add_argument("--lines", type=int, default=3000, help="streamed lines (default 3000)")
     parser.add_argument("--repeats", type=int, default=3, help="stream repeats (default 3)")
     args = parser.parse_args()
-    options = PlanOptions(layers=LayerSettings(thickness=args.layer))
+    # Beads as wide as the layers are tall: a layer may be no taller (jobs/plan.check_options).
+    options = PlanOptions(layers=LayerSettings(thickness=args.layer),
+                          bead_width=max(args.layer, 0.4))
     with tempfile.TemporaryDirectory(prefix="conformal-batch-bench-") as folder:
         root = Path(folder)
         (root / "parts").mkdir()

@@ -9,8 +9,10 @@ from pathlib import Path
 from freecad_conformal.jobs.batch.fcstd import make_workbench_types_loadable
 from freecad_conformal.freecad_env import import_freecad
 
-#: part name in the report -> layers at --layer 1 (the part's height in mm).
-EXPECTED_LAYERS = {"box.step": 6, "cyl.brep": 5, "two.FCStd#Left": 4, "two.FCStd#Right": 3}
+#: part name in the report -> layers at --layer 1 --bead-width 1 (a layer no taller than
+#: its bead is wide): the part's length in mm along the direction its plan builds it (with
+#: 1 mm beads the plan stands the bodies of two.FCStd, 8 x 6 x 4 and 8 x 6 x 3 mm, on an end).
+EXPECTED_LAYERS = {"box.step": 6, "cyl.brep": 5, "two.FCStd#Left": 8, "two.FCStd#Right": 6}
 
 BROKEN_STEP = "ISO-10303-21;\nthis is not a STEP file\n"
 

@@ -28,7 +28,7 @@ def _csv_rows(path):
 def test_batch_plans_every_part_and_reports_the_broken_one(parts, tmp_path, capsys, workers):
     out = tmp_path / "out"
     inputs = [parts["box"], parts["cyl"], parts["two"], parts["broken"]]
-    code = main(["batch", *map(str, inputs), "--layer", "1", "-o", str(out),
+    code = main(["batch", *map(str, inputs), "--layer", "1", "--bead-width", "1", "-o", str(out),
                  "--workers", str(workers)])
     assert code == 1  # one part failed
     assert "4 ok, 1 failed" in capsys.readouterr().out
@@ -61,8 +61,9 @@ def test_batch_plans_every_part_and_reports_the_broken_one(parts, tmp_path, caps
 @pytest.mark.slow
 def test_batch_gcode_is_what_the_plan_command_writes(parts, tmp_path):
     """Same part, same options: the batch plans exactly as `plan` does."""
-    assert main(["plan", str(parts["cyl"]), "--layer", "1", "-o", str(tmp_path / "plan.gcode")]) == 0
-    assert main(["batch", str(parts["cyl"]), "--layer", "1", "-o", str(tmp_path / "batch"),
+    assert main(["plan", str(parts["cyl"]), "--layer", "1", "--bead-width", "1",
+                 "-o", str(tmp_path / "plan.gcode")]) == 0
+    assert main(["batch", str(parts["cyl"]), "--layer", "1", "--bead-width", "1", "-o", str(tmp_path / "batch"),
                  "--workers", "0"]) == 0
     assert (tmp_path / "batch" / "cyl.gcode").read_text() == (tmp_path / "plan.gcode").read_text()
 
@@ -90,7 +91,7 @@ def test_all_good_parts_exit_zero_and_progress_counts_every_part(parts, tmp_path
         bars.append(_Recorder(total))
         return bars[-1]
 
-    args = _parse(["batch", "x", "-o", str(tmp_path), "--layer", "1"])
+    args = _parse(["batch", "x", "-o", str(tmp_path), "--layer", "1", "--bead-width", "1"])
     result = run_batch([str(parts["box"]), str(parts["two"])], plan_options(args), tmp_path,
                        workers=0, make_progress=make_progress)
     assert result.failed == 0

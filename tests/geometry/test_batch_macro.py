@@ -37,7 +37,7 @@ def _freecadcmd(arguments: list[str], cwd: Path) -> subprocess.CompletedProcess:
 def test_macro_plans_the_parts_and_exits_with_the_batch_code(tmp_path):
     make_parts(tmp_path / "parts")
     run = _freecadcmd(["--", "parts/box.step", "parts/two.FCStd", "parts/broken.step",
-                       "--layer", "1", "-o", "out", "--workers", "2"], tmp_path)
+                       "--layer", "1", "--bead-width", "1", "-o", "out", "--workers", "2"], tmp_path)
     log = run.stdout + run.stderr
     assert run.returncode == 1, log
     assert "3 ok, 1 failed" in run.stdout, log
@@ -56,7 +56,8 @@ def test_spawned_workers_inside_freecadcmd_run_a_real_python(tmp_path):
     """FreeCAD 1.x cannot fork safely (OCCT 7.8's thread pool), so inside FreeCADCmd spawned
     workers must start a Python of FreeCAD's own, not the FreeCADCmd binary."""
     make_parts(tmp_path / "parts")
-    run = _freecadcmd(["--", "parts/box.step", "parts/two.FCStd", "--layer", "1", "-o", "out",
+    run = _freecadcmd(["--", "parts/box.step", "parts/two.FCStd", "--layer", "1",
+                       "--bead-width", "1", "-o", "out",
                        "--workers", "2", "--start-method", "spawn"], tmp_path)
     log = run.stdout + run.stderr
     assert run.returncode == 0, log

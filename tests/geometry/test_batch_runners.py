@@ -89,7 +89,7 @@ def test_dask_local_cluster_runs_the_same_jobs(parts, tmp_path):
                                   dashboard_address=None) as cluster:
         out = tmp_path / "out"
         inputs = [str(parts[name]) for name in ("box", "two", "broken")]
-        code = main(["batch", *inputs, "--layer", "1", "-o", str(out),
+        code = main(["batch", *inputs, "--layer", "1", "--bead-width", "1", "-o", str(out),
                      "--dask", cluster.scheduler_address])
     assert code == 1
     with open(out / "batch-report.csv", newline="", encoding="utf-8") as handle:
