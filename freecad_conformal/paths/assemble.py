@@ -27,7 +27,7 @@ from freecad_conformal.paths.approach import (SAFE_MARGIN, UP, bounding_sphere, 
                                               exit_distance, passes_near_up, transition)
 from freecad_conformal.paths.fill2d import FillSettings, Path2D, ordered_fill
 from freecad_conformal.paths.map3d import Path3D, bridge_regions, map_paths, skin_regions
-from freecad_conformal.paths.stack_fill import StackFill, stack_fills
+from freecad_conformal.paths.stack_fill import StackFill, internal_bridge_area, stack_fills
 from freecad_conformal.layers.model import Layer
 from freecad_conformal.decomposition.subparts import BuildPlan
 from freecad_conformal.toolpath import Toolpath, ToolpathBuilder
@@ -153,8 +153,8 @@ def solid_areas(layers: Sequence[Layer], settings: PathSettings,
     if found is not None:
         return found
     skins = skin_regions(layers, settings.top_layers, settings.bottom_layers, rests_on_parent)
-    bridges = (bridge_regions(layers, skins, settings.fill.solid_below_area)
-               if settings.feeds.bridges_apart else [None] * len(layers))
+    bridges = bridge_regions(layers, skins, internal_bridge_area(settings),
+                             settings.fill.bead_width)
     found = (skins, bridges)
     _keep_areas(layers, settings, rests_on_parent, found)
     return found

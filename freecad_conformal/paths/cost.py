@@ -33,6 +33,7 @@ from freecad_conformal.paths.approach import SAFE_MARGIN, bounding_sphere, trans
 from freecad_conformal.paths.assemble import (PERIMETER_ROLES, SMALL_PERIMETER_LENGTH,
                                               PathSettings, solid_areas, together)
 from freecad_conformal.paths.bead import bead_area, bead_spacing
+from freecad_conformal.paths.map3d import air_at
 from freecad_conformal.paths.stack_fill import SIMPLIFY_FRACTION, fill_key
 from freecad_conformal.paths.fill2d import (Rows, Walls, fill_area, gap_fill, infill_areas,
                                             infill_rows, inset, island_walls, polygons_of,
@@ -226,17 +227,18 @@ def _rows(area, laid: Rows, speed: float, motion: Motion, tally: _Tally) -> None
 
 def _infill(island: Polygon, walls: Walls, filled: list[Polygon], solid,
             settings: PathSettings, spacing: float, layer_index: int, motion: Motion,
-            tally: _Tally, bridge=None) -> None:
+            tally: _Tally, bridge=None, air=None) -> None:
     fill = settings.fill
     width = fill.bead_width
     inner = fill_area(island, len(walls.depths), walls.width, walls.spacing,
                       fill.infill_overlap, filled)
     if inner.is_empty:
         return
-    for area, pitch, role, part in infill_areas(inner, solid, bridge, fill, spacing):
+    for area, pitch, role, part, angle in infill_areas(inner, solid, bridge, fill, spacing,
+                                                       air):
         if area.is_empty or pitch <= 0 or area.area < width * width:
             continue
-        rows = infill_rows(area, pitch, role, part, fill, spacing, layer_index)
+        rows = infill_rows(area, pitch, role, part, fill, spacing, layer_index, angle)
         _rows(area, rows, motion.work_speed(settings.feeds.for_role(role)), motion, tally)
 
 
@@ -247,10 +249,10 @@ def _travel_seconds(length: float, motion: Motion, feed: float) -> float:
 
 
 def layer_cost(layer: Layer, skin, settings: PathSettings, motion: Motion,
-               bridge=None) -> LayerCost:
+               bridge=None, air=None) -> LayerCost:
     """Time and material of one layer filled as `paths.fill2d` fills it (`skin`: its solid
-    area, from `paths.map3d.skin_regions`; `bridge`: the part over sparse infill, from
-    `paths.map3d.bridge_regions`)."""
+    area, from `paths.map3d.skin_regions`; `bridge`: the part filled as bridges, from
+    `paths.map3d.bridge_regions`; `air`: its part over nothing, `paths.map3d.air_at`)."""
     width = settings.fill.bead_width
     spacing = bead_spacing(width, layer.thickness, settings.fill.bead_model)
     region = valid_region(layer.region.simplify(width * SIMPLIFY_FRACTION))
@@ -264,7 +266,7 @@ def layer_cost(layer: Layer, skin, settings: PathSettings, motion: Motion,
             _thin_walls(island, settings, motion, tally, external)
             filled = _gap_fill(walls, settings, spacing, layer.thickness, motion, tally)
             _infill(island, walls, filled, solid, settings, spacing, layer.index, motion,
-                    tally, bridge)
+                    tally, bridge, air)
         except shapely.errors.GEOSException:
             continue   # the fill raises a named error for this island; the estimate skips it
     level = _level(layer)
@@ -305,10 +307,12 @@ def subpart_cost(index: int, layers: Sequence[Layer], settings: PathSettings, mo
         # A prism's layers repeat (the table's legs: one region for hundreds of layers):
         # a layer the same as one costed already, in everything the fill reads, costs the
         # same at its own level.
-        key = fill_key(layer.region, skin, bridge, layer)
+        air = air_at(layers, position, bridge, settings.fill.bead_width)
+        key = fill_key(layer.region, skin, bridge, layer, air)
         same = known.get(key)
         if same is None:
-            costs[position] = known[key] = layer_cost(layer, skin, settings, motion, bridge)
+            costs[position] = known[key] = layer_cost(layer, skin, settings, motion, bridge,
+                                                      air)
         else:
             costs[position] = dataclasses.replace(same, level=_level(layer))
     for position, (before, after) in read_off.items():

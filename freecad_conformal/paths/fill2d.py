@@ -396,6 +396,21 @@ def fewest_turns_angle(area, spacing: float) -> float:
     return CANDIDATE_ANGLES[int(np.argmin(crossings))]
 
 
+def span_angle(area, spacing: float) -> float:
+    """The candidate direction whose lines across `area` are shortest at their longest: a
+    bridge over nothing is laid across its shortest span, each line reaching from one
+    side's wall to the other (a sealed slot's ceiling: 8 mm lines, where the fewest-turns
+    direction ran 30 mm ones lengthwise over the void). Ties go to the first candidate
+    (a square's or a disc's ceiling: the same rows as before on even layers)."""
+    best, angle = math.inf, CANDIDATE_ANGLES[0]
+    for candidate in CANDIDATE_ANGLES:
+        pieces, _ = scan_pieces(area, spacing, candidate)
+        longest = float((pieces[:, 2] - pieces[:, 1]).max()) if len(pieces) else 0.0
+        if longest < best - MIN_PIECE:
+            best, angle = longest, candidate
+    return angle
+
+
 class _Guard:
     """Where straight connectors may run (the area and a slack): whether the connector
     between two row ends stays inside, read for every pair of row ends a zigzag may link
@@ -583,7 +598,7 @@ def _snapped(geometry):
 
 def fill_layer(region, settings: FillSettings, layer_index: int = 0, solid=None,
                position: np.ndarray | None = None, height: float | None = None,
-               bridge=None) -> list[Path2D]:
+               bridge=None, air=None) -> list[Path2D]:
     """Ordered paths of one layer: per island, perimeters (innermost first) then infill.
 
     Args:
@@ -593,10 +608,12 @@ def fill_layer(region, settings: FillSettings, layer_index: int = 0, solid=None,
         solid: area printed at 100 % (skins); None for none.
         position: the nozzle's position before the layer (seams "nearest", ordering).
         height: the layer's (mean) thickness, for the bead spacing; None: beads a width apart.
-        bridge: part of `solid` over sparse infill, filled apart as "bridge_infill"
-            (`paths.map3d.bridge_regions`); None for none.
+        bridge: part of `solid` filled apart as "bridge_infill", over sparse infill or
+            over nothing (`paths.map3d.bridge_regions`); None for none.
+        air: the part of `bridge` over nothing, laid across its shortest span
+            (`span_angle`, `paths.map3d.air_at`); None for none.
     """
-    return ordered_fill(layer_fill(region, settings, layer_index, solid, height, bridge),
+    return ordered_fill(layer_fill(region, settings, layer_index, solid, height, bridge, air),
                         settings, position)
 
 
@@ -616,7 +633,7 @@ class IslandFill:
 
 
 def layer_fill(region, settings: FillSettings, layer_index: int = 0, solid=None,
-               height: float | None = None, bridge=None) -> list[IslandFill]:
+               height: float | None = None, bridge=None, air=None) -> list[IslandFill]:
     """The islands of one layer filled (`fill_layer`'s arguments), not yet ordered."""
     settings.validate()
     spacing = bead_spacing(settings.bead_width, height, settings.bead_model)
@@ -625,16 +642,17 @@ def layer_fill(region, settings: FillSettings, layer_index: int = 0, solid=None,
     islands = polygons_of(valid_region(region))
     solid = None if solid is None else valid_region(solid)
     bridge = None if bridge is None or bridge.is_empty else valid_region(bridge)
+    air = None if air is None or air.is_empty or bridge is None else valid_region(air)
     filled = []
     for island in islands:
         try:
-            fill = _island_fill(island, settings, spacing, layer_index, solid, bridge)
+            fill = _island_fill(island, settings, spacing, layer_index, solid, bridge, air)
         except shapely.errors.GEOSException:
             try:
                 # Nearly coincident edges of the island and its skin (non-noded
                 # intersections): the same on a fixed grid, where GEOS's overlay is robust.
                 fill = _island_fill(_snapped(island), settings, spacing, layer_index,
-                                    _snapped(solid), _snapped(bridge))
+                                    _snapped(solid), _snapped(bridge), _snapped(air))
             except shapely.errors.GEOSException as exc:
                 raise PlanError(f"layer {layer_index}: the island at "
                                 f"{island.representative_point().wkt} ({island.area:.3f} mm²) "
@@ -664,13 +682,14 @@ def ordered_fill(filled: list[IslandFill], settings: FillSettings,
     return ordered
 
 
-def infill_areas(inner, solid, bridge, settings: FillSettings,
-                 spacing: float) -> list[tuple[object, float, str, object]]:
-    """(area the lines fill, row pitch, role, its part of the fill area) of an island's
-    infill inside its perimeters (`inner`, reaching `infill_overlap` into them:
-    `fill_area`): solid where `solid` says
-    and in sparse pieces under `solid_below_area`, the part of the solid over sparse infill
-    (`bridge`) apart, the rest sparse. Each part is then shrunk by `LINE_END_INSET` of a
+def infill_areas(inner, solid, bridge, settings: FillSettings, spacing: float,
+                 air=None) -> list[tuple[object, float, str, object, float | None]]:
+    """(area the lines fill, row pitch, role, its part of the fill area, direction or None
+    for the infill's own) of an island's infill inside its perimeters (`inner`, reaching
+    `infill_overlap` into them: `fill_area`): solid where `solid` says
+    and in sparse pieces under `solid_below_area`, the part of the solid filled as bridges
+    (`bridge`) apart, its part over nothing (`air`) across its shortest span
+    (`span_angle`), the rest sparse. Each part is then shrunk by `LINE_END_INSET` of a
     spacing, where its lines end. Pieces are measured before that shrink, as PrusaSlicer
     measures its fill surfaces against solid_infill_below_area: measured after it, the
     screw head's 70-100 mm² islands turned solid where PrusaSlicer's stay sparse. The fill
@@ -681,15 +700,23 @@ def infill_areas(inner, solid, bridge, settings: FillSettings,
     if small and settings.density < 1.0:
         dense = dense.union(MultiPolygon(small))
         sparse = sparse.difference(MultiPolygon(small))
-    over = Polygon()
+    over = spanned = Polygon()
     if bridge is not None and not bridge.is_empty and not dense.is_empty:
         over = dense.intersection(bridge)
         if not over.is_empty:
             dense = dense.difference(over)
+        if air is not None and not over.is_empty:
+            spanned = over.intersection(air)
+            if not spanned.is_empty:
+                over = over.difference(spanned)
     sparse_pitch = spacing / settings.density if settings.density > 0 else 0.0
-    return [(_line_area(dense, spacing), spacing, "solid_infill", dense),
-            (_line_area(over, spacing), spacing, "bridge_infill", over),
-            (_line_area(sparse, spacing), sparse_pitch, "infill", sparse)]
+    found = [(_line_area(dense, spacing), spacing, "solid_infill", dense, None),
+             (_line_area(over, spacing), spacing, "bridge_infill", over, None)]
+    if not spanned.is_empty:
+        lines = _line_area(spanned, spacing)
+        found.append((lines, spacing, "bridge_infill", spanned,
+                      span_angle(lines, spacing) if not lines.is_empty else None))
+    return found + [(_line_area(sparse, spacing), sparse_pitch, "infill", sparse, None)]
 
 
 #: Solid lines are spread so that whole lines fill their area's width, each up to this much
@@ -710,15 +737,17 @@ class Rows:
 
 
 def infill_rows(area, pitch: float, role: str, fill, settings: FillSettings, spacing: float,
-                layer_index: int) -> Rows:
+                layer_index: int, angle: float | None = None) -> Rows:
     """The rows of one of `infill_areas`' parts (`area` where its lines end, `fill` its part
     of the fill area): the fewest-turns direction (or the given one), turned 90° on odd
     layers; solid and bridge lines, and infill at 100 % (PrusaSlicer's full infill), spread
     over their area (`solid_rows`), sparse lines on the global grid so they stack. The
-    fill and the cost estimate (paths/cost.py) both lay rows by this."""
-    angle = settings.angle if settings.angle is not None else fewest_turns_angle(area, pitch)
-    if settings.alternate and layer_index % 2:
-        angle += math.pi / 2
+    fill and the cost estimate (paths/cost.py) both lay rows by this. `angle`: the
+    direction `infill_areas` gave the part (a bridge over nothing), kept on every layer."""
+    if angle is None:
+        angle = settings.angle if settings.angle is not None else fewest_turns_angle(area, pitch)
+        if settings.alternate and layer_index % 2:
+            angle += math.pi / 2
     if role in SOLID_ROLES or (role == "infill" and settings.density >= 1.0):
         spread, phase = solid_rows(fill, spacing, angle)
         return Rows(angle, spread, phase, spread - spacing)
@@ -778,7 +807,7 @@ def _line_area(area, spacing: float):
 
 
 def _island_fill(island: Polygon, settings: FillSettings, spacing: float, layer_index: int,
-                 solid, bridge=None) -> IslandFill:
+                 solid, bridge=None, air=None) -> IslandFill:
     """Perimeter rings per depth, infill chains and thin-wall and gap-fill beads of one
     island."""
     width = settings.bead_width
@@ -793,10 +822,11 @@ def _island_fill(island: Polygon, settings: FillSettings, spacing: float, layer_
                       filled)
     if inner.is_empty:
         return IslandFill(island, depths, infill, beads, ring_width)
-    for area, pitch, role, fill in infill_areas(inner, solid, bridge, settings, spacing):
+    for area, pitch, role, fill, angle in infill_areas(inner, solid, bridge, settings, spacing,
+                                                       air):
         if area.is_empty or pitch <= 0 or area.area < width * width:
             continue
-        rows = infill_rows(area, pitch, role, fill, settings, spacing, layer_index)
+        rows = infill_rows(area, pitch, role, fill, settings, spacing, layer_index, angle)
         # The bead that fills the wider pitch of spread rows.
         line_width = width + rows.wider if rows.wider else None
         infill += zigzag(area, rows.pitch, rows.angle, width, role, rows.phase, line_width)

@@ -13,6 +13,7 @@ starts the child while it chooses the plan (`prestart`), so that it is ready for
 """
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable, Sequence
@@ -22,7 +23,7 @@ import shapely
 from freecad_conformal.child_python import ChildPython, can_start_child, can_stream, serve_items
 from freecad_conformal.geometry.loops import grid_key
 from freecad_conformal.paths.fill2d import IslandFill, layer_fill
-from freecad_conformal.paths.map3d import bridge_at, skin_at
+from freecad_conformal.paths.map3d import air_at, bridge_at, skin_at
 from freecad_conformal.tolerances import COINCIDENT_POINTS
 
 if TYPE_CHECKING:
@@ -63,6 +64,14 @@ class StackFill:
     fills: list[list[IslandFill]]
 
 
+def internal_bridge_area(settings) -> float:
+    """The least sparse piece below a skin that makes the skin over it a bridge
+    (`map3d.bridge_at`): `solid_below_area` where bridges print at a speed of their own,
+    else none is (the same speed gains nothing from a second zigzag); a bridge over
+    nothing is laid apart either way, across its shortest span."""
+    return settings.fill.solid_below_area if settings.feeds.bridges_apart else math.inf
+
+
 class _Maker:
     """Makes the layers of the stacks one at a time, in either direction: a layer's skin is
     kept for the layer above's bridge, and a fill already made for the same region, skin,
@@ -92,14 +101,16 @@ class _Maker:
         settings, layer = self.settings, layers[i]
         skin = self.skin(stack, i)
         bridge = self.bridges[stack].get(i)
-        if bridge is None and settings.feeds.bridges_apart:
+        if bridge is None:
             bridge = bridge_at(layers, i, skin, self.skin(stack, i - 1) if i else None,
-                               settings.fill.solid_below_area)
+                               internal_bridge_area(settings), settings.fill.bead_width)
+        air = air_at(layers, i, bridge, settings.fill.bead_width)
         region = self.simplified_region(layer.region)
-        key = fill_key(region, skin, bridge, layer)
+        key = fill_key(region, skin, bridge, layer, air)
         fill = self.made.get(key)
         if fill is None:
-            fill = layer_fill(region, settings.fill, layer.index, skin, layer.thickness, bridge)
+            fill = layer_fill(region, settings.fill, layer.index, skin, layer.thickness, bridge,
+                              air)
             self.made[key] = fill
         self.put(stack, i, skin, bridge, fill)
         return skin, bridge, fill, key
@@ -136,11 +147,11 @@ class _Maker:
 SAME_FILL = COINCIDENT_POINTS
 
 
-def fill_key(region, skin, bridge, layer: Layer) -> tuple:
-    """What a layer's fill depends on, as a dictionary key: its (simplified) region, skin
-    and bridge and its thickness, each to `SAME_FILL`, and its parity (the infill's
-    angle)."""
-    return (_grid_key(region), _grid_key(skin), _grid_key(bridge),
+def fill_key(region, skin, bridge, layer: Layer, air=None) -> tuple:
+    """What a layer's fill depends on, as a dictionary key: its (simplified) region, skin,
+    bridge and the bridge's part over nothing and its thickness, each to `SAME_FILL`, and
+    its parity (the infill's angle)."""
+    return (_grid_key(region), _grid_key(skin), _grid_key(bridge), _grid_key(air),
             round(layer.thickness / SAME_FILL), layer.index % 2)
 
 

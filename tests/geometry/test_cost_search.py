@@ -329,6 +329,61 @@ def test_bridges_are_the_first_solid_layer_over_sparse_infill():
     assert all(b.area == 0 for b in bridge_regions(layers, skins, solid_below_area=500.0))
 
 
+def test_a_skin_over_nothing_is_a_bridge_and_a_slope_is_not():
+    """A slot's ceiling (walls below, nothing between them) is a bridge, whatever the
+    speeds; the steps of a wall leaning within the overhang angle (0.2 mm a layer) are
+    not, nor is anything without a bead width to measure it by."""
+    from freecad_conformal.paths.map3d import AIR_MIN_WIDTHS, air_at, bridge_regions
+
+    block = Polygon([(0, 0), (40, 0), (40, 20), (0, 20)])
+    slot = Polygon([(5, 6), (35, 6), (35, 14), (5, 14)])
+    layers = [_flat_layer(k, MultiPolygon([block.difference(slot) if k < 4 else block]))
+              for k in range(7)]
+    skins = skin_regions(layers, 3, 3, rests_on_parent=False)
+    bridges = bridge_regions(layers, skins, solid_below_area=float("inf"), bead_width=0.4)
+    assert [round(b.area, 6) for b in bridges] == [0, 0, 0, 0, 240.0, 0, 0]
+    assert bridges[4].equals(MultiPolygon([slot]))
+    assert air_at(layers, 4, bridges[4], 0.4).equals(MultiPolygon([slot]))
+    assert air_at(layers, 5, bridges[5], 0.4) is None
+    assert all(b.is_empty for b in bridge_regions(layers, skins, float("inf")))
+    leaning = [_flat_layer(k, MultiPolygon([Polygon([(0.2 * k, 0), (20 + 0.2 * k, 0),
+                                                     (20 + 0.2 * k, 20), (0.2 * k, 20)])]))
+               for k in range(8)]
+    leaning_skins = skin_regions(leaning, 3, 3, rests_on_parent=False)
+    assert all(b.is_empty for b in bridge_regions(leaning, leaning_skins, float("inf"), 0.4))
+    # a step just wide enough is a bridge
+    step = AIR_MIN_WIDTHS * 0.4 + 0.01
+    ledge = [_flat_layer(k, MultiPolygon([Polygon([(0, 0), (20 + (step if k >= 4 else 0), 0),
+                                                   (20 + (step if k >= 4 else 0), 20),
+                                                   (0, 20)])])) for k in range(8)]
+    ledge_bridges = bridge_regions(ledge, skin_regions(ledge, 3, 3, False), float("inf"), 0.4)
+    assert ledge_bridges[4].area == pytest.approx(step * 20.0)
+
+
+def test_a_bridge_over_nothing_is_laid_across_its_shortest_span():
+    """Where the fewest-turns direction lays the slot's ceiling in 30 mm lines over the
+    void, each line anchored at its ends only, the bridge over nothing runs across the
+    8 mm between its walls, on every layer."""
+    from freecad_conformal.paths.fill2d import FillSettings, fill_layer
+
+    block = MultiPolygon([Polygon([(0, 0), (40, 0), (40, 20), (0, 20)])])
+    slot = MultiPolygon([Polygon([(5, 6), (35, 6), (35, 14), (5, 14)])])
+    settings = FillSettings(bead_width=0.4)
+
+    def rows(air, layer_index=0):
+        paths = [p for p in fill_layer(block, settings, layer_index, solid=block, height=0.2,
+                                       bridge=slot, air=air) if p.role == "bridge_infill"]
+        assert paths
+        steps = np.concatenate([np.diff(p.points, axis=0) for p in paths])
+        lengths = np.linalg.norm(steps, axis=1)
+        return lengths[lengths > 1.0]          # the rows, not the links between them
+
+    assert rows(None).max() > 25.0                              # along the slot
+    for layer_index in (0, 1):                                  # no alternation
+        across = rows(slot, layer_index)
+        assert across.max() < 8.0 and len(across) > 50
+
+
 def test_speeds_are_plan_settings_and_bridges_fill_apart_only_at_their_own_speed():
     default = plan_options({})
     assert default.paths.feeds.for_role("bridge_infill") == default.paths.feeds.solid_infill
@@ -398,6 +453,7 @@ def test_repeated_layers_are_costed_once_and_cost_the_same(monkeypatch):
     levels)."""
     from freecad_conformal.paths import cost as cost_module
     from freecad_conformal.paths.assemble import solid_areas
+    from freecad_conformal.paths.map3d import air_at
 
     plan = single_plan(samples.t_block())
     sub = plan.subparts[0]
@@ -416,8 +472,9 @@ def test_repeated_layers_are_costed_once_and_cost_the_same(monkeypatch):
     memo = cost_module.subpart_cost(sub.index, layers, settings, motion, False)
     assert len(calls) < len(layers) // 4
     skins, bridges = solid_areas(layers, settings, False)
-    each = [original(layer, skin, settings, motion, bridge)
-            for layer, skin, bridge in zip(layers, skins, bridges)]
+    each = [original(layer, skin, settings, motion, bridge,
+                     air_at(layers, i, bridge, settings.fill.bead_width))
+            for i, (layer, skin, bridge) in enumerate(zip(layers, skins, bridges))]
     assert [c.level for c in memo.layers] == [c.level for c in each]
     assert all(dataclasses.astuple(a) == pytest.approx(dataclasses.astuple(b), rel=1e-12)
                for a, b in zip(memo.layers, each))
