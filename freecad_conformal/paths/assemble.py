@@ -145,9 +145,10 @@ SOLID_AREAS_KEPT = 4
 
 def solid_areas(layers: Sequence[Layer], settings: PathSettings,
                 rests_on_parent: bool) -> tuple[list, list]:
-    """Per layer, its skin (the solid area) and the part of it over sparse infill filled
-    apart as bridge infill (None where bridges are not filled apart): the fill's and the
-    cost estimate's one reading of a stack (`paths.map3d`). Read once for the same layer
+    """Per layer, its skin (the solid area) and the part of it filled apart as bridge
+    infill (over sparse infill where bridges print at a speed of their own, and over
+    nothing: `stack_fill.internal_bridge_area`): the fill's and the cost estimate's one
+    reading of a stack (`paths.map3d`). Read once for the same layer
     objects and settings (callers do not change the lists returned)."""
     found = _known_areas(layers, settings, rests_on_parent)
     if found is not None:
