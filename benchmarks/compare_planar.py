@@ -19,8 +19,9 @@ sparse pieces under 70 mm² printed solid, three solid top/bottom layers, no ski
 role (external perimeter 30, perimeters 60, perimeter loops up to 2π·6.5 mm 15, sparse
 infill 80, solid and top infill 20, travel 130 mm/s, the first layer at the same speeds), the time estimate's limits
 (acceleration 1500 mm/s², jerk 10 mm/s) and the cooling slowdown (layers under 5 s, not
-below 10 mm/s). What only PrusaSlicer does: bridges over unsupported areas (supports off),
-retraction (its estimate counts it; our toolpath has none). Where a perimeter loop has no
+below 10 mm/s). Bridges over unsupported areas: both lay them apart, ours across their
+shortest span (`fill2d.span_angle`), PrusaSlicer's by its anchoring detector with thick round
+beads. What only PrusaSlicer does: retraction (its estimate counts it; our toolpath has none). Where a perimeter loop has no
 room we lay gap fill, as PrusaSlicer's classic perimeter generator does; its default one
 (Arachne, used here) widens the loops instead.
 
