@@ -57,6 +57,7 @@ def main(params):
     FreeCADGui.ActiveDocument.ActiveView.viewIsometric()
     FreeCADGui.SendMsgToActiveView("ViewFit")
     panel.set_field("LayerHeight", params["layer"])
+    panel.set_field("BeadWidth", params["layer"])    # no layer taller than its bead
     out["job_fields_uniform"] = panel.visible_fields()
     panel.set_field("LayerMode", "cusp")
     gui_support.settle()
@@ -127,6 +128,7 @@ def main(params):
 
     panel = run_command("Conformal_Plan", body)
     panel.set_field("LayerHeight", params["layer"])
+    panel.set_field("BeadWidth", params["layer"])    # no layer taller than its bead
     name = panel.obj.Name
     panel.accept()
     pid = panel.worker.process.pid
