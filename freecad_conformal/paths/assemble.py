@@ -49,7 +49,8 @@ class Feeds:
     travel: float = 150.0 * 60
     #: perimeter loops no longer than SMALL_PERIMETER_LENGTH (PrusaSlicer's small_perimeter_speed)
     small_perimeter: float = 15.0 * 60
-    #: solid infill over sparse infill (an internal bridge); None: the solid infill feed
+    #: solid infill over sparse infill (an internal bridge) or over nothing; None: the solid
+    #: infill feed
     bridge_infill: float | None = None
 
     def for_role(self, role: str) -> float:
@@ -59,8 +60,9 @@ class Feeds:
 
     @property
     def bridges_apart(self) -> bool:
-        """Whether bridge infill is filled apart from the other solid infill: only when it
-        is printed at another speed (the same speed gains nothing from a second zigzag)."""
+        """Whether internal bridges (over sparse infill) are filled apart from the other
+        solid infill: only when printed at another speed (the same speed gains nothing from
+        a second zigzag). Bridges over nothing are always apart: their direction differs."""
         return self.for_role("bridge_infill") != self.for_role("solid_infill")
 
     def for_path(self, path: Path3D | Path2D) -> float:

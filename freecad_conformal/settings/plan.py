@@ -138,7 +138,8 @@ PLAN_SETTINGS: tuple[Setting, ...] = (
           ("solid_infill", 60.0, "solid infill", "solid infill (skins, small pieces)", ""),
           ("bridge_infill", None, "bridge infill",
            "solid infill laid directly over sparse infill (an internal bridge across its "
-           "rows), filled apart when its speed differs", "the solid infill speed"),
+           "rows), filled apart when its speed differs, and over nothing (always apart, "
+           "across its shortest span)", "the solid infill speed"),
           ("travel", None, "travel", "moves without deposition",
            "the material's travel feed (150 mm/s without one)"))),
     Setting("jerk", "speed", 10.0, "jerk",
