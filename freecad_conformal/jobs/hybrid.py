@@ -221,7 +221,7 @@ def _additive_plan(solid_filled, options: PlanOptions, root: np.ndarray, checked
             notes.append(f"the chosen plan ({exc}) is not followed: the part is planned as "
                          "modelled, along +Z")
         else:
-            layers = _sliced(choice.plan, options, choice.layers)
+            layers = _sliced(choice.plan, options, checked[2], choice.layers)
             if np.allclose(rotation, np.eye(3)):
                 return choice.plan, layers, rotation, shift, notes
             return _or_as_modelled(solid_filled, choice.plan, layers, rotation, shift, fixed,
@@ -229,7 +229,7 @@ def _additive_plan(solid_filled, options: PlanOptions, root: np.ndarray, checked
     _, plan = machine_plan(solid_filled, fixed)
     check_reach(checked[4], plan)
     rotation, shift = placed_like(solid_filled, plan)
-    return plan, _sliced(plan, options), rotation, shift, notes
+    return plan, _sliced(plan, options, checked[2]), rotation, shift, notes
 
 
 def _finishing_hints(check: MaterialCheck, mills: list[MillTool], part, plan,
@@ -251,11 +251,12 @@ def _finishing_hints(check: MaterialCheck, mills: list[MillTool], part, plan,
     return hints
 
 
-def _sliced(plan, options: PlanOptions, known: dict | None = None) -> dict:
-    """Every sub-part's layers: those the plan search sliced already (`known`), the
-    others now."""
+def _sliced(plan, options: PlanOptions, width: float, known: dict | None = None) -> dict:
+    """Every sub-part's layers for beads `width` wide: those the plan search sliced already
+    (`known`), the others now."""
     known = known or {}
-    return {sub.index: known[sub.index] if sub.index in known else plan_layers(sub, options.layers)
+    settings = options.layers.within_bead(width)
+    return {sub.index: known[sub.index] if sub.index in known else plan_layers(sub, settings)
             for sub in plan.ordered()}
 
 
@@ -273,7 +274,7 @@ def _or_as_modelled(solid_filled, plan, layers, rotation, shift, fixed, options,
     try:
         _, other = machine_plan(solid_filled, fixed)
         check_reach(checked[4], other)
-        other_layers = _sliced(other, options)
+        other_layers = _sliced(other, options, checked[2])
     except PlanError:
         return plan, layers, rotation, shift, notes
     if not any(layer.tilted for stack in other_layers.values() for layer in stack):
@@ -314,7 +315,7 @@ def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
             check_thickness(layers[sub.index], options.layers)
             # the mill only removes: deposit all the part holds, sloped tops included
             layers[sub.index] = covering_stack(sub, layers[sub.index], options.layers.workers)
-    d_max = options.layers.bounds[1]
+    d_max = options.layers.within_bead(width).bounds[1]
     faces, grouped = {}, []
     for sub in plan.ordered():
         if not any(layer.tilted for layer in layers[sub.index]):

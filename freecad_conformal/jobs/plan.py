@@ -245,10 +245,12 @@ def reach_by_tilt(machine: Machine) -> bool:
     return True
 
 
-def buildable_layers(settings: LayerSettings, machine: Machine) -> LayerSettings:
-    """`settings` as the machine can build them: planar layers only where it cannot tilt
-    the tool, as 3-D layers tilt it (the pipe elbow's bend on the 3-axis printer: its
-    post refused the first tilted layer after 19 s of planning)."""
+def buildable_layers(settings: LayerSettings, machine: Machine, width: float) -> LayerSettings:
+    """`settings` as the machine can build them with beads `width` wide: planar layers only
+    where it cannot tilt the tool, as 3-D layers tilt it (the pipe elbow's bend on the
+    3-axis printer: its post refused the first tilted layer after 19 s of planning), and
+    none taller than the bead is wide (`LayerSettings.within_bead`)."""
+    settings = settings.within_bead(width)
     if settings.tilt and not machine_tilts(machine):
         return dataclasses.replace(settings, tilt=False)
     return settings
@@ -386,11 +388,14 @@ def check_layers_fit_bead(layers: LayerSettings, width: float, tool: str) -> Non
     """Refuse layers taller than the bead is wide: no nozzle lays such a bead (PrusaSlicer
     refuses a layer height above the nozzle diameter), and the bead models cap it at a
     circle's worth, so a 5 mm layer of 0.4 mm beads was planned as a sparse tenth of the
-    part without a word. The maximum of adaptive and 3-D layers is checked where the
-    user set it (left to its default, 1.5 x the layer height, it is theirs to tune)."""
+    part without a word. The bounds of adaptive and 3-D layers are checked where the
+    user set them; a maximum left to its default is taken down to the bead width
+    (`buildable_layers`)."""
     given = [("layer height (--layer-height / LayerHeight)", layers.thickness)]
     if layers.max_thickness is not None:
         given.append(("maximum layer height (--layer-max / LayerMax)", layers.max_thickness))
+    if layers.min_thickness is not None:
+        given.append(("minimum layer height (--layer-min / LayerMin)", layers.min_thickness))
     for name, value in given:
         if value > width * (1.0 + ROUNDING_SLACK):
             raise PlanError(f"{name} {value:g} mm is taller than the bead is wide ({width:g} mm, "
@@ -475,7 +480,9 @@ def choose_plan(shape, options: PlanOptions, checked, decompose=None,
     # it would import itself (a caller's own cannot cross).
     try:
         candidates = ranked(plan_candidates(solids[0], make_plan,
-                                            buildable_layers(options.layers, machine), path_settings,
+                                            buildable_layers(options.layers, machine,
+                                                             path_settings.fill.bead_width),
+                                            path_settings,
                                             Motion.of(machine, options.jerk),
                                             DEFAULT_OVERHANG_ANGLE, progress, options.objective,
                                             child_request if decompose is None else None,
@@ -519,8 +526,8 @@ def _each_solid_searched(shape, solids: list, options: PlanOptions, checked, fla
     whole = [flat or builds_whole(solid, DEFAULT_OVERHANG_ANGLE) for solid in solids]
     if not any(whole):
         return None
-    tool, _, _, path_settings, machine = checked
-    layer_settings = buildable_layers(options.layers, machine)
+    tool, _, width, path_settings, machine = checked
+    layer_settings = buildable_layers(options.layers, machine, width)
     motion = Motion.of(machine, options.jerk)
     directions: dict[int, tuple[float, float, float]] = {}
     notes: list[str] = []
@@ -610,7 +617,7 @@ def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
     sliced = layers or {}
     layers = {}
     notes: list[str] = []
-    layer_settings = buildable_layers(options.layers, machine)
+    layer_settings = buildable_layers(options.layers, machine, width)
     for sub in plan.ordered():
         layers[sub.index] = (sliced[sub.index] if sub.index in sliced
                              else plan_layers(sub, layer_settings))

@@ -7,6 +7,7 @@ slab's *top* plane with the tool axis along the top plane's normal.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Sequence
@@ -61,6 +62,17 @@ class LayerSettings:
         low = self.min_thickness if self.min_thickness is not None else 0.5 * self.thickness
         high = self.max_thickness if self.max_thickness is not None else 1.5 * self.thickness
         return float(low), float(high)
+
+    def within_bead(self, width: float) -> "LayerSettings":
+        """These settings for beads `width` wide: a maximum left to its default (1.5 x the
+        layer height) is taken down to the bead width where it exceeds it, as no bead is
+        taller than it is wide (0.3 mm adaptive layers of 0.4 mm beads reached 0.45 mm,
+        and the bead model capped each such bead at a circle: a sparse print, silently).
+        A maximum the user set is theirs (`jobs/plan.check_layers_fit_bead` refuses one
+        above the bead); the minimum is never raised past it."""
+        if self.max_thickness is not None or 1.5 * self.thickness <= width:
+            return self
+        return dataclasses.replace(self, max_thickness=max(width, self.bounds[0]))
 
     def validate(self, part_size: float | None = None) -> None:
         """Raise PlanError for thicknesses that are not positive, inverted or larger than the part."""

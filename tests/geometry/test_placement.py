@@ -258,4 +258,4 @@ def test_a_machine_without_tilt_gets_planar_layers_where_a_bend_would_tilt_them(
         assert result.post.text
     assert tilted["trunnion_ac"] > 10 and tilted["three_axis"] == 0
     settings = PlanOptions().layers
-    assert buildable_layers(settings, load_machine("trunnion_ac")) is settings
+    assert buildable_layers(settings, load_machine("trunnion_ac"), 0.4) is settings

@@ -250,8 +250,8 @@ def test_plan_report_json_names_every_setting_it_used(tmp_path):
 
 def test_layers_as_tall_as_the_bead_is_wide_are_the_most_a_plan_takes(Part):
     """A bead cannot be taller than it is wide (PrusaSlicer refuses layers above the nozzle
-    diameter): up to the bead width is planned, beyond it refused, a defaulted maximum of
-    adaptive layers (1.5 x) left alone."""
+    diameter): up to the bead width is planned, beyond it refused (a defaulted maximum of
+    adaptive layers, 1.5 x, is taken down to the bead: the test below)."""
     from freecad_conformal.jobs.plan import check_options
     from freecad_conformal.layers.model import LayerSettings
 
@@ -264,3 +264,23 @@ def test_layers_as_tall_as_the_bead_is_wide_are_the_most_a_plan_takes(Part):
                                  max_thickness=1.05 * width)):
         with pytest.raises(PlanError, match="taller than the bead is wide"):
             check_options(box, PlanOptions(layers=layers))
+
+
+def test_adaptive_layers_left_to_their_default_maximum_are_no_taller_than_the_bead(Part):
+    """0.3 mm adaptive layers of 0.4 mm beads: the default maximum (1.5 x, 0.45 mm) would
+    let the cone's steep flank take layers taller than the bead is wide; it is taken down
+    to the bead width, and a minimum set above the bead is refused."""
+    from freecad_conformal.jobs.plan import check_options, plan_additive
+    from freecad_conformal.layers.model import LayerSettings
+
+    cone = Part.makeCone(12, 2, 14)
+    width = check_options(cone, PlanOptions())[2]
+    layers = LayerSettings(mode="adaptive", thickness=0.75 * width)
+    assert layers.bounds[1] > width * 1.1           # the case: 1.5 x above the bead
+    result = plan_additive(cone, PlanOptions(layers=layers, root=(0.0, 0.0, 1.0),
+                                             decompose=False))
+    tallest = max(layer.thickness_max for stack in result.layers.values() for layer in stack)
+    assert width * 0.9 < tallest <= width * (1 + 1e-9)
+    with pytest.raises(PlanError, match=r"minimum layer height \(--layer-min / LayerMin\)"):
+        check_options(cone, PlanOptions(layers=LayerSettings(
+            mode="adaptive", thickness=width, min_thickness=1.05 * width)))
