@@ -294,6 +294,10 @@ def plan_hybrid(shape, options: PlanOptions, part: str = "part", library=None,
     from freecad_conformal.geometry.solids import solids_of
     from freecad_conformal.process.library import ToolLibrary
 
+    if options.paths.support.enabled:
+        raise PlanError("support (--support / PrintSupport) is printed by additive plans only: "
+                        "a hybrid plan reports the support its layers need (and what milling "
+                        "saves) but prints none; plan without --support, or --process additive")
     library = library if library is not None else ToolLibrary.load()
     checked = check_options(shape, options, library)
     tool, material_name, width, path_settings, machine = checked

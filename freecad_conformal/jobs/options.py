@@ -9,6 +9,7 @@ from freecad_conformal.jobs.plan import HybridOptions, PlanOptions
 from freecad_conformal.layers.model import LayerSettings
 from freecad_conformal.paths.assemble import Feeds, PathSettings
 from freecad_conformal.paths.fill2d import FillSettings
+from freecad_conformal.paths.support import SupportSettings
 from freecad_conformal.settings.plan import PLAN_SETTINGS, SPEED_ROLES
 from freecad_conformal.settings.schema import validate
 
@@ -37,7 +38,10 @@ def plan_options(values: Mapping[str, Any]) -> PlanOptions:
              if v[f"{role}_speed"] is not None}
     paths = PathSettings(fill=fill, feeds=Feeds(**given), top_layers=v["solid_layers"],
                          bottom_layers=v["solid_layers"], min_layer_time=v["min_layer_time"],
-                         min_speed=v["min_speed"] * SECONDS_PER_MINUTE, alternate=v["alternate"])
+                         min_speed=v["min_speed"] * SECONDS_PER_MINUTE, alternate=v["alternate"],
+                         support=SupportSettings(enabled=v["support"],
+                                                 spacing=v["support_spacing"],
+                                                 interface_layers=v["support_interface_layers"]))
     return PlanOptions(machine=v["machine"], tool=v["tool"], material=v["material"],
                        layers=layers, paths=paths, bead_width=v["bead_width"],
                        dialect=v["dialect"], root=v["root"], decompose=v["decompose"],

@@ -21,6 +21,7 @@ from freecad_conformal.geometry.shape_cache import ShapeCache
 from freecad_conformal.paths import stack_fill
 from freecad_conformal.paths.bead import bead_area
 from freecad_conformal.paths.assemble import Assembly, PathSettings, assemble
+from freecad_conformal.paths.support import SUPPORT_ROLES
 from freecad_conformal.paths.timing import DEFAULT_JERK, estimate_time, jerk_record
 from freecad_conformal.layers.model import Layer, LayerSettings, check_thickness
 from freecad_conformal.layers.plan import plan_layers
@@ -130,6 +131,13 @@ class JobResult:
     @property
     def deposit_length(self) -> float:
         return float(sum(s.deposit_length for s in self.subparts))
+
+    @property
+    def support_volume(self) -> float:
+        """Material (mm³) of the support printed (`--support`), part of `material_volume`."""
+        return float(sum(p.length * bead_area(p.width or self.bead_width, p.thickness,
+                                              self.settings.get("bead_model", "rounded"))
+                         for p in self.assembly.paths if p.role in SUPPORT_ROLES))
 
     @property
     def travel_length(self) -> float:
@@ -634,6 +642,7 @@ def run_job(shape, plan: BuildPlan, options: PlanOptions, part: str = "part",
     notes.extend(f"sub-parts {', '.join(map(str, run))} laid in turn, a layer of each per "
                  "round: each cools while the others are built, instead of slowing down"
                  for run in assembly.alternated)
+    notes.extend(assembly.support_notes)
     seconds = estimate_time(assembly.toolpath, machine.acceleration, options.jerk,
                             max_feed=machine.max_feed, rapid_feed=machine.rapid_feed)
     # The program's header says the time the summary and report say.

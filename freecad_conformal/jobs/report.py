@@ -33,7 +33,7 @@ def summary_text(result) -> str:
                      f"{sub.tilted_layers:>6} {sub.deposit_length / 1000:>8.2f} {sub.material / 1000:>8.3f}")
     plan = result.plan
     support = support_text(plan, any(sub.tilted_layers for sub in result.subparts),
-                           result.hybrid is not None)
+                           result.hybrid is not None, result.support_volume)
     lines += [
         "",
         f"build order: {' -> '.join(str(i) for i in plan.order)}",
@@ -54,11 +54,16 @@ def summary_text(result) -> str:
     return "\n".join(lines) + "\n"
 
 
-def support_text(plan, tilted: bool, hybrid: bool) -> str:
+def support_text(plan, tilted: bool, hybrid: bool, printed: float = 0.0) -> str:
     """What the summary says of the overhang `plan` leaves: how much, and why it is left.
-    `tilted`: some layers are 3-D; `hybrid`: the plan mills too."""
+    `tilted`: some layers are 3-D; `hybrid`: the plan mills too; `printed`: the support
+    material (mm³) the G-code prints under it (`--support`)."""
     if plan.support_area <= 0:
         return "none"
+    if printed > 0:
+        return (f"{plan.support_area:.1f} mm2 of overhang beyond the allowed angle left "
+                f"({overhang_reason(plan)}), printed on {printed / 1000:.3f} cm3 of support "
+                "(part of the material above)")
     if tilted:
         # the decomposition measures its sub-parts as built in planar layers
         where = ("; the hybrid support line below has what the deposited layers need"
@@ -69,7 +74,7 @@ def support_text(plan, tilted: bool, hybrid: bool) -> str:
     # part needs (a user added support to a file that had none, and could not say where).
     return (f"{plan.support_area:.1f} mm2 of overhang beyond the allowed angle left "
             f"({overhang_reason(plan)}; it needs support, which this G-code does not print: "
-            "those areas are laid over air)")
+            "those areas are laid over air; --support prints it)")
 
 
 def overhang_reason(plan) -> str | None:
@@ -193,6 +198,8 @@ def report_data(result) -> dict:
         "time_s": result.time_s,
         "residual_overhang_mm2": plan.support_area,
         "residual_overhang_reason": overhang_reason(plan),
+        # the support printed under it (plan --support), part of material_mm3
+        "support_mm3": result.support_volume,
         "single_direction_overhang_mm2": plan.support_area_single_direction,
         "build_order": list(plan.order),
         "sub_parts": sub_parts,

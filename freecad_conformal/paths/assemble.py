@@ -19,15 +19,18 @@ from dataclasses import dataclass, field
 from typing import Sequence
 
 import numpy as np
+import shapely
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.paths import alternate
 from freecad_conformal.paths.bead import bead_area
 from freecad_conformal.paths.approach import (SAFE_MARGIN, UP, bounding_sphere, check_clearance,
                                               exit_distance, passes_near_up, transition)
-from freecad_conformal.paths.fill2d import FillSettings, Path2D, ordered_fill
+from freecad_conformal.paths.fill2d import FillSettings, Path2D, nearest_first, ordered_fill
 from freecad_conformal.paths.map3d import Path3D, bridge_regions, map_paths, skin_regions
 from freecad_conformal.paths.stack_fill import StackFill, internal_bridge_area, stack_fills
+from freecad_conformal.paths.support import (StackSupport, SupportSettings, stack_support,
+                                             support_paths, supportable)
 from freecad_conformal.layers.model import Layer
 from freecad_conformal.decomposition.subparts import BuildPlan
 from freecad_conformal.toolpath import Toolpath, ToolpathBuilder
@@ -52,10 +55,14 @@ class Feeds:
     #: solid infill over sparse infill (an internal bridge) or over nothing; None: the solid
     #: infill feed
     bridge_infill: float | None = None
+    #: support and its interface (PrusaSlicer's 60 mm/s, the interface at 100 % of it)
+    support: float = 60.0 * 60
 
     def for_role(self, role: str) -> float:
         if role == "bridge_infill" and self.bridge_infill is None:
             return float(self.solid_infill)
+        if role == "support_interface":
+            return float(self.support)
         return float(getattr(self, role))
 
     @property
@@ -75,7 +82,7 @@ class Feeds:
 
     def validate(self) -> None:
         for name in ("external_perimeter", "perimeter", "infill", "solid_infill", "travel",
-                     "small_perimeter", "bridge_infill"):
+                     "small_perimeter", "bridge_infill", "support"):
             value = self.for_role(name)
             if not (np.isfinite(value) and value > 0):
                 raise PlanError(f"{name} feed must be > 0 mm/min, got {value!r}")
@@ -94,6 +101,8 @@ class PathSettings:
     tool_number: int = 1
     #: lay the layers of sub-parts ready together in turn where that beats slowing down
     alternate: bool = True
+    #: support under the overhang a plan leaves (`paths.support`)
+    support: SupportSettings = field(default_factory=SupportSettings)
 
 
 @dataclass
@@ -108,6 +117,8 @@ class Assembly:
     cuts: list[np.ndarray] = field(default_factory=list)
     #: sub-part indices of each run laid in turn to cool (`alternation_sets`)
     alternated: list[list[int]] = field(default_factory=list)
+    #: what became of the support asked for (`supports_of`), for the plan's notes
+    support_notes: list[str] = field(default_factory=list)
 
 
 def in_layer_travel(position: np.ndarray, start: np.ndarray, axis: np.ndarray,
@@ -191,19 +202,103 @@ def stacks_filled(stacks: Sequence[tuple[Sequence[Layer], bool]],
 
 
 def plan_paths(layers: Sequence[Layer], settings: PathSettings, rests_on_parent: bool,
-               position: np.ndarray | None, filled: StackFill | None = None) -> list[list[Path3D]]:
+               position: np.ndarray | None, filled: StackFill | None = None,
+               support: StackSupport | None = None) -> list[list[Path3D]]:
     """Ordered 3D paths per layer of one sub-part, starting near `position`; `filled`: its
-    stack's fills where already made (`stacks_filled`)."""
+    stack's fills where already made (`stacks_filled`); `support`: its support areas, laid
+    first on each layer (as PrusaSlicer does), nearest first."""
     if filled is None:
         filled = stacks_filled([(layers, rests_on_parent)], settings)[0]
     result = []
-    for layer, fill in zip(layers, filled.fills):
+    for i, (layer, fill) in enumerate(zip(layers, filled.fills)):
         here = layer.frame.to_2d(position[None])[0] if position is not None else None
-        paths = map_paths(layer, ordered_fill(fill, settings.fill, here))
+        below = []
+        if support is not None and not (support.base[i].is_empty
+                                        and support.interface[i].is_empty):
+            below = nearest_first(support_paths(support.base[i], support.interface[i],
+                                                settings.support, settings.fill.bead_width,
+                                                layer.thickness, settings.fill.bead_model), here)
+            here = below[-1].points[-1] if below else here
+        paths = map_paths(layer, below + ordered_fill(fill, settings.fill, here))
         if paths:
             position = paths[-1].points[-1]
         result.append(paths)
     return result
+
+
+def supports_of(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSettings,
+                envelope) -> tuple[dict[int, StackSupport], list[str]]:
+    """Each sub-part's support (`paths.support`; none where support is off), and notes on
+    what was left out: columns that would stand on nothing known, and the support of a
+    sub-part that the tool building a later one would meet (support is an obstacle until
+    it is broken away: the build order's collision check knew only the sub-parts)."""
+    if not settings.support.enabled:
+        return {}, []
+    width = settings.fill.bead_width
+    found: dict[int, StackSupport] = {}
+    notes: list[str] = []
+    for sub in plan.ordered():
+        stack = layers.get(sub.index) or []
+        if not stack:
+            continue
+        if not supportable(stack):
+            if sub.overhang_area > 0:
+                notes.append(f"sub-part {sub.index}: no support in its 3-D layers (tilted "
+                             "layers take no columns)")
+            continue
+        support = stack_support(stack, settings.support, width, on_platform=sub.parent is None)
+        if support.dropped_area > 0:
+            notes.append(f"sub-part {sub.index}: {support.dropped_area:.1f} mm2 of overhang "
+                         "left without support: its columns would stand below the sub-part's "
+                         "base, beside its parent")
+        if support.empty:
+            continue
+        blocker = _support_blocked_by(plan, layers, sub, support, envelope)
+        if blocker is not None:
+            notes.append(f"sub-part {sub.index}: its support is not printed: the tool "
+                         f"building sub-part {blocker} later would meet it")
+            continue
+        found[sub.index] = support
+    return found, notes
+
+
+def _support_blocked_by(plan: BuildPlan, layers: dict[int, list[Layer]], sub, support: StackSupport,
+                        envelope) -> int | None:
+    """A sub-part built after `sub`, not layer by layer with it, whose tool would meet
+    `sub`'s support (the collision check's samples), else None."""
+    from freecad_conformal.geometry.collision import (builds_into, concurrent, sample_spacing,
+                                                      surface_points)
+
+    order = [s.index for s in plan.ordered()]
+    later = [s for s in plan.ordered()[order.index(sub.index) + 1:] if layers.get(s.index)]
+    if not later:
+        return None
+    spacing = sample_spacing(envelope)
+    stack = layers[sub.index]
+    obstacle = support_samples(stack, support, spacing)
+    for other in later:
+        if concurrent(sub.build_direction, _base(stack), other.build_direction,
+                      _base(layers[other.index])):
+            continue
+        if builds_into(surface_points(other.shape, spacing), other.build_direction, envelope,
+                       obstacle):
+            return other.index
+    return None
+
+
+def support_samples(stack: Sequence[Layer], support: StackSupport, spacing: float) -> np.ndarray:
+    """Points (N, 3) on the outlines of a stack's support, on layers about `spacing` apart
+    and on each outline at most `spacing` apart (the collision check's sampling)."""
+    stride = max(1, int(spacing / max(stack[0].thickness, 1e-9)))
+    points = [np.zeros((0, 3))]
+    for i, layer in enumerate(stack):
+        area = support.base[i].union(support.interface[i])
+        if area.is_empty or (i % stride and i != len(stack) - 1):
+            continue
+        rings = shapely.get_coordinates(shapely.segmentize(area.boundary, spacing))
+        if len(rings):
+            points.append(layer.to_3d(rings))
+    return np.vstack(points)
 
 
 #: Two layer tops closer than this (mm) along the build direction are one level.
@@ -474,10 +569,12 @@ def assemble(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSett
     # child that shares them is started once for the plan.
     filled = iter(stacks_filled([(layers[sub.index], sub.parent is not None)
                                  for group in groups for sub in group], settings))
+    supports, support_notes = supports_of(plan, layers, settings, envelope)
     per_group = []
     for group in groups:
         per_group.append(_levels([plan_paths(layers[sub.index], settings, sub.parent is not None,
-                                             position, next(filled)) for sub in group],
+                                             position, next(filled), supports.get(sub.index))
+                                  for sub in group],
                                  [layers[sub.index] for sub in group]))
         ends = [paths for paths in per_group[-1] if paths]
         if ends:
@@ -525,5 +622,6 @@ def assemble(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSett
     centre, radius = bounding_sphere(built)
     retract = position + (exit_distance(position, axis, centre, radius + SAFE_MARGIN) + 1.0) * axis
     travel(retract[None], axis[None])
-    return Assembly(builder.build(), all_paths, travels, checked, alternated=alternated)
+    return Assembly(builder.build(), all_paths, travels, checked, alternated=alternated,
+                    support_notes=support_notes)
 

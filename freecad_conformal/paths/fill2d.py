@@ -584,6 +584,22 @@ def _nearest(candidates: list[Path2D], position: np.ndarray, reversible: bool) -
     return int(np.argmin(gaps)), False
 
 
+def nearest_first(paths: list[Path2D], here: np.ndarray | None) -> list[Path2D]:
+    """Open paths in the order a nozzle at `here` (None: the first path's start) reaches
+    them, each entered from its nearer end."""
+    left, ordered = list(paths), []
+    while left:
+        if here is None:
+            path = left.pop(0)
+        else:
+            k, flip = _nearest(left, here, reversible=True)
+            path = left.pop(k)
+            path = path.reversed() if flip else path
+        ordered.append(path)
+        here = path.points[-1]
+    return ordered
+
+
 #: Grid (mm) a region is snapped to when GEOS finds non-noded intersections in its
 #: Booleans: a hundred-thousandth of a millimetre moves no bead, and on a fixed-precision
 #: grid the overlay nodes every crossing.

@@ -141,6 +141,7 @@ PLAN_SETTINGS: tuple[Setting, ...] = (
            "solid infill laid directly over sparse infill (an internal bridge across its "
            "rows), filled apart when its speed differs, and over nothing (always apart, "
            "across its shortest span)", "the solid infill speed"),
+          ("support", 60.0, "support", "support and its interface (--support)", ""),
           ("travel", None, "travel", "moves without deposition",
            "the material's travel feed (150 mm/s without one)"))),
     Setting("jerk", "speed", 10.0, "jerk",
@@ -157,6 +158,15 @@ PLAN_SETTINGS: tuple[Setting, ...] = (
             "where sub-parts ready together would be slowed down to cool, lay their layers in "
             "turn instead, the table turning between them, when that is quicker",
             group="cooling", prop="AlternateSubParts"),
+    Setting("support", "bool", False, "support",
+            "print support under the overhang the plan leaves (none where it leaves none), "
+            "in the sub-part's own planar layers", group="support", prop="PrintSupport"),
+    Setting("support_spacing", "length", 2.5, "support spacing",
+            "distance between support lines (PrusaSlicer's default)", group="support",
+            minimum=0.0, open_minimum=True),
+    Setting("support_interface_layers", "int", 3, "support interface layers",
+            "solid layers on top of the support, under the overhang", group="support",
+            minimum=0),
 )
 
 #: Print roles with a `<role>_speed` setting (fields of paths/assemble.Feeds).

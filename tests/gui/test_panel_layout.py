@@ -27,7 +27,9 @@ def test_job_labels_are_words_with_units_in_schema_groups():
     assert fields["TiltLayers"].label == "3-D layers"
     assert fields["Machine"].group == "Machine" and fields["Seam"].group == "Paths"
     groups = [name for name, _ in grouped(list(fields.values()))]
-    assert groups == ["Machine", "Hybrid", "Layers", "Paths", "Speeds", "Cooling"]
+    assert groups == ["Machine", "Hybrid", "Layers", "Paths", "Speeds", "Cooling", "Support"]
+    assert fields["PrintSupport"].label == "Support" and fields["PrintSupport"].group == "Support"
+    assert fields["SupportSpacing"].label == "Support spacing [mm]"
     assert fields["StockAllowance"].label == "Stock allowance [mm]"
     additive, hybrid = {"Process": "additive"}, {"Process": "hybrid"}
     assert not fields["MillTool"].shown(additive) and fields["MillTool"].shown(hybrid)

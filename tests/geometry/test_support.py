@@ -1,0 +1,164 @@
+"""Support printed under what a plan leaves overhanging (`plan --support`, paths/support.py)."""
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from freecad_conformal.jobs.options import plan_options
+from freecad_conformal.paths.support import (CONTACT_LAYERS, SUPPORT_ROLES, SupportSettings,
+                                             stack_support)
+
+LAYER = 0.2
+
+
+def _shelf(App, Part, lower_shelf: bool = False):
+    """A 10 x 10 x 20 mm post with a 20 mm shelf at its top (3 mm thick, along +X); with
+    `lower_shelf`, a second one reaching half as far (x 10..20) from z 8 to 10, so columns
+    under the top shelf's near half land on it."""
+    part = Part.makeBox(10, 10, 20).fuse(Part.makeBox(30, 10, 3, App.Vector(0, 0, 20)))
+    if lower_shelf:
+        part = part.fuse(Part.makeBox(20, 10, 2, App.Vector(0, 0, 8)))
+    return part.removeSplitter()
+
+
+def _planned(shape, **values):
+    from freecad_conformal.jobs.plan import plan_additive
+
+    given = {"root": (0.0, 0.0, 1.0), "decompose": False, "layer_height": LAYER, **values}
+    return plan_additive(shape, plan_options(given), part="shelf")
+
+
+def _support_points(result, step: float = 0.25) -> np.ndarray:
+    """Points along the support's deposits, at most `step` apart (a line has only its ends)."""
+    found = [np.zeros((0, 3))]
+    for path in result.assembly.paths:
+        if path.role not in SUPPORT_ROLES:
+            continue
+        for a, b in zip(path.points, path.points[1:]):
+            count = max(1, int(np.ceil(np.linalg.norm(b - a) / step)))
+            found.append(a + np.linspace(0.0, 1.0, count + 1)[:, None] * (b - a))
+    return np.vstack(found)
+
+
+def test_support_stands_under_the_shelf_and_nowhere_else(App, Part):
+    """The shelf leaves 200 mm² over air along +Z: with --support, columns from the platform
+    to one contact layer under the shelf, beside the post (half a bead clear of it) and
+    within the shelf's outline; without it, none, and the summary says the G-code lays that
+    area over air."""
+    shelf = _shelf(App, Part)
+    bare = _planned(shelf)
+    result = _planned(shelf, support=True)
+    assert not len(_support_points(bare)) and bare.support_volume == 0.0
+    assert "does not print" in bare.summary() and "--support prints it" in bare.summary()
+    points = _support_points(result)
+    x, y, z = points.T
+    half_bead = 0.5 * result.bead_width
+    assert x.min() >= 10.0 + half_bead - 1e-6 and x.max() <= 30.0 + 1e-6
+    assert y.min() >= -1e-6 and y.max() <= 10.0 + 1e-6
+    assert z.min() <= LAYER + 1e-6          # on the platform
+    assert z.max() <= 20.0 - CONTACT_LAYERS * LAYER + 1e-6
+    assert z.max() >= 20.0 - (CONTACT_LAYERS + 1) * LAYER - 1e-6
+    # The interface is the solid top of the columns; the sparse lines below it.
+    interface = np.vstack([p.points for p in result.assembly.paths
+                           if p.role == "support_interface"])
+    assert interface[:, 2].min() > 20.0 - 5 * LAYER
+    # It is part of the material, and both the summary and the report say how much.
+    assert result.support_volume > 0
+    assert result.material_volume == pytest.approx(bare.material_volume + result.support_volume,
+                                                   rel=0.02)
+    assert "printed on" in result.summary() and "cm3 of support" in result.summary()
+
+
+def test_support_stops_where_it_lands_on_the_part(App, Part):
+    """A lower shelf (x 10..20, z 8..10) under the top one's near half: columns there stand
+    on it, one contact layer above it, and none runs through it; the far half's columns and
+    the lower shelf's own stand on the platform."""
+    result = _planned(_shelf(App, Part, lower_shelf=True), support=True)
+    assert len(result.layers) == 1          # one solid, the lower shelf joined to the post
+    points = _support_points(result)
+    near = points[(points[:, 0] > 10.5) & (points[:, 0] < 19.5)]
+    far = points[points[:, 0] > 20.5]
+    assert len(near) and len(far)
+    through = near[(near[:, 2] > 8.0 - CONTACT_LAYERS * LAYER + 1e-6)
+                   & (near[:, 2] < 10.0 + (CONTACT_LAYERS + 1) * LAYER - 1e-6)]
+    assert not len(through)
+    assert near[near[:, 2] > 10.0][:, 2].min() <= 10.0 + (CONTACT_LAYERS + 2) * LAYER + 1e-6
+    assert near[:, 2].min() <= LAYER + 1e-6 and far[:, 2].min() <= LAYER + 1e-6
+    assert far[:, 2].max() >= 19.0
+
+
+def test_columns_of_a_sub_part_resting_on_its_parent_are_dropped_and_counted(App, Part):
+    """Resting on a parent, the sub-part's layers do not know what lies below its base: the
+    shelf's columns, which all reach it, are dropped and their area counted; a column that
+    lands on the sub-part's own step is kept."""
+    shelf = _planned(_shelf(App, Part))
+    layers = shelf.layers[0]
+    width = shelf.bead_width
+    on = stack_support(layers, SupportSettings(enabled=True), width, on_platform=True)
+    off = stack_support(layers, SupportSettings(enabled=True), width, on_platform=False)
+    assert not on.empty and on.dropped_area == 0.0
+    assert off.empty and 150.0 < off.dropped_area < 200.0
+    stepped = _planned(_shelf(App, Part, lower_shelf=True))
+    kept = stack_support(stepped.layers[0], SupportSettings(enabled=True), width,
+                         on_platform=False)
+    assert not kept.empty and kept.dropped_area > 0.0
+    for base, interface in zip(kept.base, kept.interface):
+        if not (base.is_empty and interface.is_empty):
+            columns = base.union(interface).bounds
+            assert columns[0] >= 10.0 and columns[2] <= 20.0      # only those on the shelf
+    assert stack_support(layers, SupportSettings(enabled=False), width, True).empty
+
+
+def test_support_in_the_way_of_a_later_sub_part_is_not_printed(App, Part):
+    """A block built after the shelf along +X from beside the post: the tool's body reaches
+    over the post into the columns under the shelf, so the shelf's support is left out
+    (support stays until it is broken away); built along -X it points away and the
+    support is kept."""
+    from freecad_conformal.decomposition.build_order import tool_envelope
+    from freecad_conformal.decomposition.subparts import BuildPlan, SubPart
+    from freecad_conformal.paths.assemble import PathSettings, supports_of
+
+    shelf = _planned(_shelf(App, Part))
+    envelope = tool_envelope("fdm_0p4")
+    block = Part.makeBox(4, 10, 5, App.Vector(-14, 0, 5))
+    settings = PathSettings()
+    settings.support = SupportSettings(enabled=True)
+    settings.fill.bead_width = shelf.bead_width
+    for direction, blocked in ((np.array([1.0, 0.0, 0.0]), True),
+                               (np.array([-1.0, 0.0, 0.0]), False)):
+        plan = BuildPlan([SubPart(0, shelf.plan.subparts[0].shape, np.array([0.0, 0.0, 1.0]),
+                                  overhang_area=200.0),
+                          SubPart(1, block, direction)], order=[0, 1])
+        sideways = shelf.layers[0][0]
+        found, notes = supports_of(plan, {0: shelf.layers[0], 1: [sideways]}, settings,
+                                   envelope)
+        assert (0 not in found) is blocked, notes
+        assert any("building sub-part 1" in note for note in notes) is blocked
+
+
+def test_report_names_the_support_printed(App, Part, tmp_path):
+    from freecad_conformal.cli import main
+
+    path = tmp_path / "shelf.brep"
+    _shelf(App, Part).exportBrep(str(path))
+    out = tmp_path / "shelf.ngc"
+    assert main(["plan", str(path), "--root", "0,0,1", "--no-decompose", "--support",
+                 "-o", str(out), "--report", str(tmp_path / "plan.json")]) == 0
+    data = json.loads((tmp_path / "plan.json").read_text())
+    assert data["support_mm3"] > 0 and data["residual_overhang_mm2"] == pytest.approx(200.0)
+    assert data["settings"]["support"]["value"] is True
+    assert data["material_mm3"] == pytest.approx(sum(s["material_mm3"] for s in data["sub_parts"]))
+
+
+def test_a_hybrid_plan_refuses_support_before_any_geometry_work(Part):
+    """The hybrid job lays its own paths and prints no support: asked for some, it says so
+    rather than ignore the setting."""
+    from freecad_conformal.errors import PlanError
+    from freecad_conformal.jobs.hybrid import plan_hybrid
+
+    options = plan_options({"support": True, "process": "hybrid", "tool": "laser_powder",
+                            "machine": "hybrid_ac", "mill_tool": "endmill_6mm"})
+    with pytest.raises(PlanError, match=r"support \(--support / PrintSupport\)"):
+        plan_hybrid(Part.makeBox(10, 10, 10), options)
