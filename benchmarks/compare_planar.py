@@ -19,7 +19,8 @@ sparse pieces under 70 mm² printed solid, three solid top/bottom layers, no ski
 role (external perimeter 30, perimeters 60, perimeter loops up to 2π·6.5 mm 15, sparse
 infill 80, solid and top infill 20, travel 130 mm/s, the first layer at the same speeds), the time estimate's limits
 (acceleration 1500 mm/s², jerk 10 mm/s) and the cooling slowdown (layers under 5 s, not
-below 10 mm/s). Bridges over unsupported areas: both lay them apart, ours across their
+below 10 mm/s), support where a print leaves overhang (lines 2.5 mm apart, three interface
+layers, 60 mm/s, a 0.2 mm contact gap: `plan --support` on ours). Bridges over unsupported areas: both lay them apart, ours across their
 shortest span (`fill2d.span_angle`), PrusaSlicer's by its anchoring detector with thick round
 beads. What only PrusaSlicer does: retraction (its estimate counts it; our toolpath has none). Where a perimeter loop has no
 room we lay gap fill, as PrusaSlicer's classic perimeter generator does; its default one
@@ -63,7 +64,10 @@ PARTS_DIR = ROOT.parent / "shared" / "parts"
 LAYER, NOZZLE, PERIMETERS, INFILL, BEAD = 0.2, 0.4, 2, 0.20, 0.45
 #: PrusaSlicer 2.5 defaults (mm/s) and its time-estimate machine limits.
 SPEEDS = {"external_perimeter": 30.0, "perimeter": 60.0, "infill": 80.0, "solid_infill": 20.0,
-          "travel": 130.0, "small_perimeter": 15.0, "bridge_infill": 60.0}
+          "travel": 130.0, "small_perimeter": 15.0, "bridge_infill": 60.0, "support": 60.0}
+#: Support where a print needs it (PrusaSlicer's defaults, stated): lines 2.5 mm apart, three
+#: solid interface layers at the support's speed, a 0.2 mm contact gap (`paths.support`).
+SUPPORT_SPACING, SUPPORT_INTERFACE_LAYERS = 2.5, 3
 ACCELERATION, JERK = 1500.0, 10.0
 INFILL_OVERLAP, SOLID_BELOW_AREA, SOLID_LAYERS, MIN_LAYER_TIME, MIN_SPEED = 0.25, 70.0, 3, 5.0, 10.0
 #: Every PrusaSlicer setting that the comparison depends on, stated rather than defaulted.
@@ -71,7 +75,8 @@ PRUSA_SETTINGS = [
     "--layer-height", str(LAYER), "--first-layer-height", str(LAYER),
     "--nozzle-diameter", str(NOZZLE), "--extrusion-width", str(BEAD),
     *[arg for role in ("first-layer", "external-perimeter", "perimeter", "infill", "solid-infill",
-                       "top-infill") for arg in (f"--{role}-extrusion-width", str(BEAD))],
+                       "top-infill", "support-material")
+      for arg in (f"--{role}-extrusion-width", str(BEAD))],
     "--perimeters", str(PERIMETERS), "--top-solid-layers", str(SOLID_LAYERS),
     "--bottom-solid-layers", str(SOLID_LAYERS), "--fill-density", f"{INFILL * 100:g}%",
     "--fill-pattern", "rectilinear", "--infill-overlap", f"{INFILL_OVERLAP * 100:g}%",
@@ -82,6 +87,11 @@ PRUSA_SETTINGS = [
     "--solid-infill-speed", f"{SPEEDS['solid_infill']:g}",
     "--top-solid-infill-speed", f"{SPEEDS['solid_infill']:g}", "--travel-speed", f"{SPEEDS['travel']:g}",
     "--bridge-speed", f"{SPEEDS['bridge_infill']:g}",
+    "--support-material-speed", f"{SPEEDS['support']:g}",
+    "--support-material-interface-speed", "100%",
+    "--support-material-spacing", f"{SUPPORT_SPACING:g}",
+    "--support-material-interface-layers", str(SUPPORT_INTERFACE_LAYERS),
+    "--support-material-contact-distance", str(LAYER),
     "--first-layer-speed", "100%", "--slowdown-below-layer-time", f"{MIN_LAYER_TIME:g}",
     "--min-print-speed", f"{MIN_SPEED:g}", "--use-relative-e-distances"]
 ORIENTATIONS = {"as modelled": [], "rotate-x 90": ["--rotate-x", "90"],
@@ -299,7 +309,9 @@ def plan_options() -> PlanOptions:
               "infill": INFILL * 100.0, "bead_model": "rounded",
               "infill_overlap": INFILL_OVERLAP * 100.0, "solid_below_area": SOLID_BELOW_AREA,
               "solid_layers": SOLID_LAYERS, "min_layer_time": MIN_LAYER_TIME,
-              "min_speed": MIN_SPEED, "jerk": JERK,
+              "min_speed": MIN_SPEED, "jerk": JERK, "support": True,
+              "support_spacing": SUPPORT_SPACING,
+              "support_interface_layers": SUPPORT_INTERFACE_LAYERS,
               **{f"{role}_speed": speed for role, speed in SPEEDS.items()}}
     return from_settings(values)
 
@@ -328,9 +340,9 @@ def goal_verdict(best: Slice, bare: Slice | None, support_free: bool, ours_cm3: 
     """Which of issue 16's goals applies to the part, and whether our plan meets it. For a part
     that needs support, also the support's share of PrusaSlicer's material and the ratios of
     its own print with the support taken away: how far removing the support, and nothing
-    else, goes toward the goal. The goals weigh a support-free plan: one that leaves
-    overhang (`our_overhang`, mm²) to support misses them, whatever its ratios (our
-    material and time count no support under it, PrusaSlicer's do)."""
+    else, goes toward the goal. A plan that leaves overhang without support under it
+    (`our_overhang`, mm²) misses them, whatever its ratios (PrusaSlicer's count its
+    support); where the plan prints support (`--support`), its material and time count it."""
     if support_free and bare is not None:
         material, seconds = ours_cm3 / bare.volume_cm3, our_seconds / bare.seconds
         goal, against = SUPPORT_FREE_GOAL, f"PS support-free ({bare.orientation})"
@@ -341,12 +353,26 @@ def goal_verdict(best: Slice, bare: Slice | None, support_free: bool, ours_cm3: 
     text = (f"vs {against}: material {material:.3f} (goal {goal[0]:.2f}), time {seconds:.3f} "
             f"(goal {goal[1]:.2f}): {'met' if met else 'missed'}")
     if our_overhang > OUR_SUPPORT_FREE:
-        text += f" (our plan leaves {our_overhang:.0f} mm² of overhang to support)"
+        text += f" (our plan leaves {our_overhang:.0f} mm² of overhang without support)"
     if not support_free and bare is not None:
         text += (f"; support is {best.support_cm3 / best.volume_cm3:.0%} of its material; "
                  f"its print without the support: {bare.volume_cm3 / best.volume_cm3:.3f}, "
                  f"{bare.seconds / best.seconds:.3f}")
     return text
+
+
+def unsupported(result) -> float:
+    """The overhang (mm²) our plan leaves with no support printed under it: all it leaves
+    where it prints none (a note names any columns `plan --support` had to leave out)."""
+    return result.plan.support_area if result.support_volume <= 0 else 0.0
+
+
+def _our_support(result) -> str:
+    area = result.plan.support_area
+    if area <= 0:
+        return "none"
+    return (f"{area:.0f} mm2 on {result.support_volume / 1000:.2f} cm3" if result.support_volume > 0
+            else f"{area:.0f} mm2 bare")
 
 
 def hms(seconds: float) -> str:
@@ -388,7 +414,6 @@ def main(names: list[str], roles: bool = False) -> int:
           f"{'our support':>11}")
     for name, best, bare, result, our_time, *_ in rows:
         ours_cm3 = result.material_volume / 1000.0
-        support = result.plan.support_area
         free_orientation = bare.orientation if bare is not None else "(refused)"
         free_cm3 = f"{bare.volume_cm3:>10.2f}" if bare is not None else f"{'-':>10}"
         free_ratio = f"{ours_cm3 / bare.volume_cm3:>11.3f}" if bare is not None else f"{'-':>11}"
@@ -398,7 +423,7 @@ def main(names: list[str], roles: bool = False) -> int:
               f"{best.support_cm3:>8.2f} {free_cm3} {ours_cm3:>9.2f} {free_ratio} "
               f"{ours_cm3 / best.volume_cm3:>11.3f} | {hms(best.seconds):>7} {free_t} "
               f"{hms(our_time):>7} {free_t_ratio} {our_time / best.seconds:>8.3f} | "
-              f"{'none' if support <= 0 else f'{support:.0f} mm2':>11}")
+              f"{_our_support(result):>11}")
     print("\nPrusaSlicer without supports on each of our sub-parts, stood on its base (the same "
           "support-free geometry under the same rules; the difference is path planning):")
     print(f"{'part':<10} {'sub-parts':>9} {'PS cm3':>10} {'ours/PS':>8} | {'PS t':>7} {'t ours/PS':>9}")
@@ -414,7 +439,7 @@ def main(names: list[str], roles: bool = False) -> int:
     for name, best, bare, result, our_time, _, support_free in rows:
         print(f"{name:<14} " + goal_verdict(best, bare, support_free,
                                             result.material_volume / 1000.0, our_time,
-                                            result.plan.support_area))
+                                            unsupported(result)))
     print("\nPS = PrusaSlicer (its estimate); ours = plan material (rounded bead x length) and the "
           "same time model (trapezoids, jerk 10 mm/s, acceleration 1500 mm/s2, 5 s layer cooling)")
     return 0

@@ -8,7 +8,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from compare_planar import Slice, goal_verdict  # noqa: E402
+from compare_planar import Slice, goal_verdict, unsupported  # noqa: E402
 
 SUPPORTED = Slice("as modelled", 17.0, 10.5, 5700.0, Path("a.gcode"))
 BARE = Slice("as modelled", 7.5, 0.0, 3840.0, Path("b.gcode"))
@@ -34,10 +34,26 @@ def test_a_part_that_needs_support_names_what_the_support_alone_weighs():
     assert "its print without the support: 0.441, 0.674" in verdict
 
 
-def test_a_plan_that_leaves_overhang_to_support_meets_no_goal():
-    """Our material and time count no support under the overhang a plan leaves, where
-    PrusaSlicer's count its support: such a plan is not the support-free plan the goals
-    weigh (CrankArm's arm stood on its large boss leaves 1170 mm², 0.558 and 0.630)."""
+def test_a_plan_that_leaves_overhang_without_support_meets_no_goal():
+    """Without support under the overhang a plan leaves, our material and time count none
+    where PrusaSlicer's count its support (CrankArm's arm stood on its large boss leaves
+    1170 mm², 0.558 and 0.630 without support): such a plan misses the goals."""
     verdict = goal_verdict(SUPPORTED, BARE, False, 0.5 * 17.0, 0.5 * 5700.0, 1170.2)
-    assert ": missed" in verdict and "leaves 1170 mm² of overhang to support" in verdict
+    assert ": missed" in verdict and "leaves 1170 mm² of overhang without support" in verdict
     assert ": met" in goal_verdict(SUPPORTED, BARE, False, 0.5 * 17.0, 0.5 * 5700.0, 0.4)
+
+
+class _Result:
+    """What `unsupported` reads of a job's result."""
+
+    def __init__(self, area: float, support: float) -> None:
+        self.plan = type("Plan", (), {"support_area": area})()
+        self.support_volume = support
+
+
+def test_overhang_printed_on_support_is_not_left_unsupported():
+    """With `--support` the plan's material and time count the support it prints, so the
+    overhang under it no longer misses the goals by itself; without, it does."""
+    assert unsupported(_Result(1170.2, 0.0)) == 1170.2
+    assert unsupported(_Result(1170.2, 640.0)) == 0.0
+    assert unsupported(_Result(0.0, 0.0)) == 0.0
