@@ -162,3 +162,21 @@ def test_a_hybrid_plan_refuses_support_before_any_geometry_work(Part):
                             "machine": "hybrid_ac", "mill_tool": "endmill_6mm"})
     with pytest.raises(PlanError, match=r"support \(--support / PrintSupport\)"):
         plan_hybrid(Part.makeBox(10, 10, 10), options)
+
+
+def test_the_preview_draws_support_in_its_own_colour(App, Part):
+    """Support is drawn dark grey with a legend entry, not in its sub-part's colour: a user
+    sees what breaks away."""
+    import io
+
+    from PIL import Image
+
+    from freecad_conformal.paths.preview import SUPPORT, render_png
+
+    def grey(result) -> int:
+        out = io.BytesIO()
+        render_png(result.assembly, out, "shelf")
+        return list(Image.open(io.BytesIO(out.getvalue())).convert("RGB").getdata()).count(SUPPORT)
+
+    # A few grey pixels are the text's anti-aliasing; the columns are thousands.
+    assert grey(_planned(_shelf(App, Part), support=True)) > 20 * grey(_planned(_shelf(App, Part)))

@@ -16,7 +16,8 @@ Image = pytest.importorskip("PIL.Image")
 def _assembly(layers: int = 3):
     """Two sub-parts of square loops, one above the other, and a travel between them."""
     square = np.array([[0, 0, 0], [20, 0, 0], [20, 20, 0], [0, 20, 0], [0, 0, 0]], dtype=float)
-    paths = [SimpleNamespace(points=square + [0, 0, z + 10 * sub], subpart=sub, layer=k)
+    paths = [SimpleNamespace(points=square + [0, 0, z + 10 * sub], subpart=sub, layer=k,
+                             role="perimeter")
              for sub in (0, 1) for k, z in enumerate(np.arange(layers) * 0.2)]
     travels = [np.array([[0, 0, 1.0], [40, 40, 30.0]])]
     return SimpleNamespace(paths=paths, travels=travels)
