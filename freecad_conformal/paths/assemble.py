@@ -230,8 +230,11 @@ def supports_of(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathS
                 envelope) -> tuple[dict[int, StackSupport], list[str]]:
     """Each sub-part's support (`paths.support`; none where support is off), and notes on
     what was left out: columns that would stand on nothing known, and the support of a
-    sub-part that the tool building a later one would meet (support is an obstacle until
-    it is broken away: the build order's collision check knew only the sub-parts)."""
+    sub-part that would stand in another sub-part built before it or beside it, or that
+    the tool building a later one would meet (support is an obstacle until it is broken
+    away: the build order's collision check knew only the sub-parts)."""
+    from freecad_conformal.geometry.collision import sample_spacing
+
     if not settings.support.enabled:
         return {}, []
     width = settings.fill.bead_width
@@ -253,7 +256,13 @@ def supports_of(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathS
                          "base, beside its parent")
         if support.empty:
             continue
-        blocker = _support_blocked_by(plan, layers, sub, support, envelope)
+        samples = support_samples(layers[sub.index], support, sample_spacing(envelope))
+        occupied = _support_inside(plan, layers, sub, samples)
+        if occupied is not None:
+            notes.append(f"sub-part {sub.index}: its support is not printed: it would stand "
+                         f"in sub-part {occupied}, built before it or beside it")
+            continue
+        blocker = _support_blocked_by(plan, layers, sub, samples, envelope)
         if blocker is not None:
             notes.append(f"sub-part {sub.index}: its support is not printed: the tool "
                          f"building sub-part {blocker} later would meet it")
@@ -262,10 +271,38 @@ def supports_of(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathS
     return found, notes
 
 
-def _support_blocked_by(plan: BuildPlan, layers: dict[int, list[Layer]], sub, support: StackSupport,
-                        envelope) -> int | None:
+def _support_inside(plan: BuildPlan, layers: dict[int, list[Layer]], sub,
+                    samples: np.ndarray) -> int | None:
+    """Another sub-part, built before `sub` or layer by layer with it, that holds some of
+    `sub`'s support samples (its columns would be printed into it), else None."""
+    from freecad_conformal.geometry.collision import concurrent
+    from freecad_conformal.geometry.inside import inside_test
+
+    if not len(samples):
+        return None
+    order = [s.index for s in plan.ordered()]
+    stack = layers[sub.index]
+    low, high = samples.min(axis=0), samples.max(axis=0)
+    for other in plan.ordered():
+        if other.index == sub.index or not layers.get(other.index):
+            continue
+        after = order.index(other.index) > order.index(sub.index)
+        if after and not concurrent(sub.build_direction, _base(stack), other.build_direction,
+                                    _base(layers[other.index])):
+            continue        # a later sub-part's tool: `_support_blocked_by`
+        box = other.shape.BoundBox
+        if (box.XMin > high[0] or box.XMax < low[0] or box.YMin > high[1] or box.YMax < low[1]
+                or box.ZMin > high[2] or box.ZMax < low[2]):
+            continue
+        if inside_test(other.shape)(samples, False).any():
+            return other.index
+    return None
+
+
+def _support_blocked_by(plan: BuildPlan, layers: dict[int, list[Layer]], sub,
+                        obstacle: np.ndarray, envelope) -> int | None:
     """A sub-part built after `sub`, not layer by layer with it, whose tool would meet
-    `sub`'s support (the collision check's samples), else None."""
+    `sub`'s support (`obstacle`: its samples, as the collision check samples), else None."""
     from freecad_conformal.geometry.collision import (builds_into, concurrent, sample_spacing,
                                                       surface_points)
 
@@ -275,7 +312,6 @@ def _support_blocked_by(plan: BuildPlan, layers: dict[int, list[Layer]], sub, su
         return None
     spacing = sample_spacing(envelope)
     stack = layers[sub.index]
-    obstacle = support_samples(stack, support, spacing)
     for other in later:
         if concurrent(sub.build_direction, _base(stack), other.build_direction,
                       _base(layers[other.index])):
@@ -287,8 +323,9 @@ def _support_blocked_by(plan: BuildPlan, layers: dict[int, list[Layer]], sub, su
 
 
 def support_samples(stack: Sequence[Layer], support: StackSupport, spacing: float) -> np.ndarray:
-    """Points (N, 3) on the outlines of a stack's support, on layers about `spacing` apart
-    and on each outline at most `spacing` apart (the collision check's sampling)."""
+    """Points (N, 3) of a stack's support, on layers about `spacing` apart: on its outlines
+    at most `spacing` apart and inside on a grid of that pitch (the collision check's
+    sampling; a block standing inside a column's outline must be seen too)."""
     stride = max(1, int(spacing / max(stack[0].thickness, 1e-9)))
     points = [np.zeros((0, 3))]
     for i, layer in enumerate(stack):
@@ -296,8 +333,13 @@ def support_samples(stack: Sequence[Layer], support: StackSupport, spacing: floa
         if area.is_empty or (i % stride and i != len(stack) - 1):
             continue
         rings = shapely.get_coordinates(shapely.segmentize(area.boundary, spacing))
-        if len(rings):
-            points.append(layer.to_3d(rings))
+        x0, y0, x1, y1 = area.bounds
+        u, v = np.meshgrid(np.arange(x0, x1, spacing), np.arange(y0, y1, spacing))
+        grid = np.column_stack((u.ravel(), v.ravel()))
+        grid = grid[shapely.contains_xy(area, grid[:, 0], grid[:, 1])]
+        found = np.vstack((rings, grid))
+        if len(found):
+            points.append(layer.to_3d(found))
     return np.vstack(points)
 
 

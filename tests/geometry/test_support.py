@@ -180,3 +180,27 @@ def test_the_preview_draws_support_in_its_own_colour(App, Part):
 
     # A few grey pixels are the text's anti-aliasing; the columns are thousands.
     assert grey(_planned(_shelf(App, Part), support=True)) > 20 * grey(_planned(_shelf(App, Part)))
+
+
+def test_support_that_would_stand_in_another_sub_part_is_not_printed(App, Part):
+    """A block built before the shelf, standing where the shelf's columns would go: they
+    would be printed into it, so the shelf's support is left out with a note; the block
+    set beside the shelf instead leaves it."""
+    from freecad_conformal.decomposition.build_order import tool_envelope
+    from freecad_conformal.decomposition.subparts import BuildPlan, SubPart
+    from freecad_conformal.paths.assemble import PathSettings, supports_of
+
+    shelf = _planned(_shelf(App, Part))
+    settings = PathSettings()
+    settings.support = SupportSettings(enabled=True)
+    settings.fill.bead_width = shelf.bead_width
+    up = np.array([0.0, 0.0, 1.0])
+    for corner, inside in ((App.Vector(22, 2, 0), True), (App.Vector(40, 2, 0), False)):
+        block = Part.makeBox(5, 5, 8, corner)
+        plan = BuildPlan([SubPart(0, block, up),
+                          SubPart(1, shelf.plan.subparts[0].shape, up, overhang_area=200.0)],
+                         order=[0, 1])
+        found, notes = supports_of(plan, {0: shelf.layers[0][:40], 1: shelf.layers[0]},
+                                   settings, tool_envelope("fdm_0p4"))
+        assert (1 not in found) is inside, notes
+        assert any("stand in sub-part 0" in note for note in notes) is inside
