@@ -162,6 +162,12 @@ def as_multipolygon(geometry) -> MultiPolygon:
     return MultiPolygon(polygons)
 
 
+def base_level(layers: Sequence[Layer]) -> float:
+    """Level of a stack's first layer's bottom along its normal."""
+    first = layers[0]
+    return float(first.top_point @ first.top_normal) - first.thickness_min
+
+
 def thickness_report(layers: Sequence[Layer]) -> tuple[float, float]:
     """(thinnest, thickest) slab thickness over all layers."""
     return (min(layer.thickness_min for layer in layers), max(layer.thickness_max for layer in layers))

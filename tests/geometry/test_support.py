@@ -118,7 +118,8 @@ def test_support_in_the_way_of_a_later_sub_part_is_not_printed(App, Part):
     support is kept."""
     from freecad_conformal.decomposition.build_order import tool_envelope
     from freecad_conformal.decomposition.subparts import BuildPlan, SubPart
-    from freecad_conformal.paths.assemble import PathSettings, supports_of
+    from freecad_conformal.paths.assemble import PathSettings
+    from freecad_conformal.paths.support_plan import supports_of
 
     shelf = _planned(_shelf(App, Part))
     envelope = tool_envelope("fdm_0p4")
@@ -188,7 +189,8 @@ def test_support_that_would_stand_in_another_sub_part_is_not_printed(App, Part):
     set beside the shelf instead leaves it."""
     from freecad_conformal.decomposition.build_order import tool_envelope
     from freecad_conformal.decomposition.subparts import BuildPlan, SubPart
-    from freecad_conformal.paths.assemble import PathSettings, supports_of
+    from freecad_conformal.paths.assemble import PathSettings
+    from freecad_conformal.paths.support_plan import supports_of
 
     shelf = _planned(_shelf(App, Part))
     settings = PathSettings()
