@@ -487,7 +487,8 @@ def assemble(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSett
     # child that shares them is started once for the plan.
     filled = iter(stacks_filled([(layers[sub.index], sub.parent is not None)
                                  for group in groups for sub in group], settings))
-    supports, support_notes = supports_of(plan, layers, settings, envelope)
+    supports, support_notes = supports_of(plan, layers, settings.support,
+                                          settings.fill.bead_width, envelope)
     per_group = []
     for group in groups:
         per_group.append(_levels([plan_paths(layers[sub.index], settings, sub.parent is not None,

@@ -7,21 +7,19 @@ tool building a later sub-part would meet it (sampled as that check samples sub-
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Sequence
+from typing import Sequence
 
 import numpy as np
 import shapely
 
 from freecad_conformal.decomposition.subparts import BuildPlan
 from freecad_conformal.layers.model import Layer, base_level
-from freecad_conformal.paths.support import StackSupport, stack_support, supportable
-
-if TYPE_CHECKING:
-    from freecad_conformal.paths.assemble import PathSettings
+from freecad_conformal.paths.support import (StackSupport, SupportSettings, stack_support,
+                                             supportable)
 
 
-def supports_of(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSettings,
-                envelope) -> tuple[dict[int, StackSupport], list[str]]:
+def supports_of(plan: BuildPlan, layers: dict[int, list[Layer]], settings: SupportSettings,
+                width: float, envelope) -> tuple[dict[int, StackSupport], list[str]]:
     """Each sub-part's support (`paths.support`; none where support is off), and notes on
     what was left out: columns that would stand on nothing known, and the support of a
     sub-part that would stand in another sub-part built before it or beside it, or that
@@ -29,9 +27,8 @@ def supports_of(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathS
     away: the build order's collision check knew only the sub-parts)."""
     from freecad_conformal.geometry.collision import sample_spacing
 
-    if not settings.support.enabled:
+    if not settings.enabled:
         return {}, []
-    width = settings.fill.bead_width
     found: dict[int, StackSupport] = {}
     notes: list[str] = []
     for sub in plan.ordered():
@@ -43,7 +40,7 @@ def supports_of(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathS
                 notes.append(f"sub-part {sub.index}: no support in its 3-D layers (tilted "
                              "layers take no columns)")
             continue
-        support = stack_support(stack, settings.support, width, on_platform=sub.parent is None)
+        support = stack_support(stack, settings, width, on_platform=sub.parent is None)
         if support.dropped_area > 0:
             notes.append(f"sub-part {sub.index}: {support.dropped_area:.1f} mm2 of overhang "
                          "left without support: its columns would stand below the sub-part's "

@@ -133,8 +133,8 @@ def test_support_in_the_way_of_a_later_sub_part_is_not_printed(App, Part):
                                   overhang_area=200.0),
                           SubPart(1, block, direction)], order=[0, 1])
         sideways = shelf.layers[0][0]
-        found, notes = supports_of(plan, {0: shelf.layers[0], 1: [sideways]}, settings,
-                                   envelope)
+        found, notes = supports_of(plan, {0: shelf.layers[0], 1: [sideways]},
+                                   settings.support, settings.fill.bead_width, envelope)
         assert (0 not in found) is blocked, notes
         assert any("building sub-part 1" in note for note in notes) is blocked
 
@@ -203,6 +203,7 @@ def test_support_that_would_stand_in_another_sub_part_is_not_printed(App, Part):
                           SubPart(1, shelf.plan.subparts[0].shape, up, overhang_area=200.0)],
                          order=[0, 1])
         found, notes = supports_of(plan, {0: shelf.layers[0][:40], 1: shelf.layers[0]},
-                                   settings, tool_envelope("fdm_0p4"))
+                                   settings.support, settings.fill.bead_width,
+                                   tool_envelope("fdm_0p4"))
         assert (1 not in found) is inside, notes
         assert any("stand in sub-part 0" in note for note in notes) is inside
