@@ -207,3 +207,21 @@ def test_support_that_would_stand_in_another_sub_part_is_not_printed(App, Part):
                                    tool_envelope("fdm_0p4"))
         assert (1 not in found) is inside, notes
         assert any("stand in sub-part 0" in note for note in notes) is inside
+
+
+def test_a_job_in_freecad_prints_the_support_the_command_line_prints(App, Part):
+    """The Job object's PrintSupport reaches the plan as `--support` does: the same G-code."""
+    from freecad_conformal.jobs.job import plan_job
+    from freecad_conformal.objects.computed import shape_to_bytes
+    from freecad_conformal.objects.job_feature import compute_job
+    from freecad_conformal.settings.plan import PLAN_SETTINGS
+    from freecad_conformal.settings.schema import defaults
+
+    shelf = _shelf(App, Part)
+    values = {**defaults(PLAN_SETTINGS), "support": True, "root": (0.0, 0.0, 1.0),
+              "decompose": False}
+    job = compute_job({"brep": shape_to_bytes(shelf), "part": "shelf", "values": values},
+                      lambda *_: None)
+    command_line = plan_job(shelf, plan_options(values), part="shelf")
+    assert command_line.support_volume > 0
+    assert job["gcode"] == command_line.post.text
