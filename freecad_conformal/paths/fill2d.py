@@ -894,14 +894,7 @@ def _island_order(filled: IslandFill, settings: FillSettings, here: np.ndarray) 
     for path in _ordered_beads(filled.beads, here):
         paths.append(path)
         here = path.points[-1]
-    infill = list(filled.infill)
-    while infill:
-        k, flip = _nearest(infill, here, reversible=True)
-        path = infill.pop(k)
-        path = path.reversed() if flip else path
-        paths.append(path)
-        here = path.points[-1]
-    return paths
+    return paths + nearest_first(filled.infill, here)
 
 
 def _ordered_beads(beads: list[Path2D], here: np.ndarray) -> list[Path2D]:
