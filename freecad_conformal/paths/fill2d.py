@@ -33,6 +33,8 @@ from shapely.geometry import LineString, MultiPolygon, Polygon
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.paths.bead import BEAD_MODELS, bead_spacing
+from freecad_conformal.paths.scan import (CANDIDATE_ANGLES, MIN_PIECE, boundary_edges,  # noqa: F401
+                                          bridge_angle, polygons_of, scan_pieces, span_angle)
 from freecad_conformal.paths.thin_walls import (MIN_LENGTH_WIDTHS, MIN_WIDTH_SHARE,
                                                  gap_beads, joined_beads, thin_wall_beads)
 from freecad_conformal.shapely_speed import mitred_buffer
@@ -56,9 +58,6 @@ def inset(geometry, distance: float):
     with np.errstate(divide="ignore", invalid="ignore"):
         return mitred_buffer(geometry, -distance, MITRE_LIMIT)
 
-
-#: Angles tried for the fewest-turns infill direction (every 15° over a half turn).
-CANDIDATE_ANGLES = tuple(math.radians(a) for a in range(0, 180, 15))
 
 #: Zigzag rows are linked along the area's boundary when the way round is at most this many
 #: line spacings (a boundary slanting 15° to the lines): longer, a travel is shorter.
@@ -160,14 +159,6 @@ def valid_region(geometry):
     if geometry is None or geometry.is_empty or geometry.is_valid:
         return geometry
     return shapely.make_valid(geometry)
-
-
-def polygons_of(geometry) -> list[Polygon]:
-    if geometry.is_empty:
-        return []
-    if geometry.geom_type == "Polygon":
-        return [geometry]
-    return [g for g in getattr(geometry, "geoms", []) if g.geom_type == "Polygon" and not g.is_empty]
 
 
 @dataclass
@@ -296,66 +287,6 @@ def perimeter_rings(island: Polygon, width: float, count: int,
     return perimeter_walls(island, width, count, spacing, external).depths
 
 
-#: Scan-line pieces shorter than this (mm) are dropped: a line grazing a vertex leaves a
-#: piece of no length, which no bead can lay.
-MIN_PIECE = 1e-6
-
-
-def _boundary_edges(area) -> tuple[np.ndarray, np.ndarray] | None:
-    """Start and end points (N, 2) of every edge of the area's rings; None when empty."""
-    rings = [np.asarray(ring.coords) for poly in polygons_of(area)
-             for ring in (poly.exterior, *poly.interiors)]
-    if not rings:
-        return None
-    return (np.concatenate([ring[:-1] for ring in rings]),
-            np.concatenate([ring[1:] for ring in rings]))
-
-
-def scan_pieces(area, spacing: float, angle: float,
-                phase: float = 0.5) -> tuple[np.ndarray, float]:
-    """The pieces scan lines leave inside `area` (rotated frame, lines along x) as an (N, 3)
-    array of (row, x0, x1), unsorted, and the first row's grid offset. Lines sit on a global
-    grid, at (k + `phase`) spacings, so sparse lines stack from layer to layer.
-
-    The crossings of every boundary edge with every grid line, in numpy, paired along each
-    line by the even-odd rule (an edge spans the lines at low <= y < high, so a vertex on a
-    line counts once). GEOS's polygon ∩ lines cost 2.3 s on sliced_cylinder where this
-    takes 0.3, and on a ring that turning made self-intersecting it returned the pieces
-    outside the area instead."""
-    edges = _boundary_edges(area)
-    if edges is None:
-        return np.empty((0, 3)), 0.5
-    cos, sin = math.cos(angle), math.sin(angle)
-    turn = np.array([[cos, -sin], [sin, cos]])       # row vectors times this: rotate by -angle
-    starts, ends = edges[0] @ turn, edges[1] @ turn
-    miny = float(min(starts[:, 1].min(), ends[:, 1].min()))
-    maxy = float(max(starts[:, 1].max(), ends[:, 1].max()))
-    first = math.floor(miny / spacing - phase) + phase
-    low, high = np.minimum(starts[:, 1], ends[:, 1]), np.maximum(starts[:, 1], ends[:, 1])
-    row_from = np.ceil(low / spacing - first).astype(np.int64)
-    counts = np.maximum(np.ceil(high / spacing - first).astype(np.int64) - row_from, 0)
-    total = int(counts.sum())
-    if total == 0:
-        return np.empty((0, 3)), first
-    edge = np.repeat(np.arange(len(starts)), counts)
-    rows = row_from[edge] + np.arange(total) - np.repeat(np.cumsum(counts) - counts, counts)
-    y = (first + rows) * spacing
-    a, b = starts[edge], ends[edge]
-    x = a[:, 0] + (y - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1])
-    inside = (y > miny) & (y < maxy)
-    rows, x = rows[inside], x[inside]
-    order = np.lexsort((x, rows))
-    rows, x = rows[order], x[order]
-    # Each line crosses closed rings an even number of times; a row that does not (a
-    # ring left open by rounding) cannot be paired and is left out.
-    _, crossings = np.unique(rows, return_counts=True)
-    if np.any(crossings % 2):
-        keep = np.repeat(crossings % 2 == 0, crossings)
-        rows, x = rows[keep], x[keep]
-    pieces = np.column_stack((rows[0::2].astype(float), x[0::2], x[1::2]))
-    return pieces[pieces[:, 2] - pieces[:, 1] >= MIN_PIECE], first
-
-
 def _scan_segments(area, spacing: float, angle: float,
                    phase: float = 0.5) -> list[list[tuple[float, float, float]]]:
     """Per scan line, in order, the (x0, x1, y) pieces inside `area`, sorted along the line."""
@@ -381,7 +312,7 @@ def fewest_turns_angle(area, spacing: float) -> float:
     exactly on a grid line can make this count differ from GEOS's by a piece, so where
     directions tie the choice may differ from counting GEOS pieces (CrankArm: 2 of 1,558
     layers, each with the same number of pieces either way)."""
-    edges = _boundary_edges(area)
+    edges = boundary_edges(area)
     if edges is None:
         return CANDIDATE_ANGLES[0]
     starts, ends = edges
@@ -394,21 +325,6 @@ def fewest_turns_angle(area, spacing: float) -> float:
     # line is counted once, by the edge that leaves it upwards)
     crossings = (np.ceil(high / spacing - 0.5) - np.ceil(low / spacing - 0.5)).sum(axis=0)
     return CANDIDATE_ANGLES[int(np.argmin(crossings))]
-
-
-def span_angle(area, spacing: float) -> float:
-    """The candidate direction whose lines across `area` are shortest at their longest: a
-    bridge over nothing is laid across its shortest span, each line reaching from one
-    side's wall to the other (a sealed slot's ceiling: 8 mm lines, where the fewest-turns
-    direction ran 30 mm ones lengthwise over the void). Ties go to the first candidate
-    (a square's or a disc's ceiling: the same rows as before on even layers)."""
-    best, angle = math.inf, CANDIDATE_ANGLES[0]
-    for candidate in CANDIDATE_ANGLES:
-        pieces, _ = scan_pieces(area, spacing, candidate)
-        longest = float((pieces[:, 2] - pieces[:, 1]).max()) if len(pieces) else 0.0
-        if longest < best - MIN_PIECE:
-            best, angle = longest, candidate
-    return angle
 
 
 class _Guard:
@@ -614,7 +530,7 @@ def _snapped(geometry):
 
 def fill_layer(region, settings: FillSettings, layer_index: int = 0, solid=None,
                position: np.ndarray | None = None, height: float | None = None,
-               bridge=None, air=None) -> list[Path2D]:
+               bridge=None, air=None, anchors=None) -> list[Path2D]:
     """Ordered paths of one layer: per island, perimeters (innermost first) then infill.
 
     Args:
@@ -626,11 +542,12 @@ def fill_layer(region, settings: FillSettings, layer_index: int = 0, solid=None,
         height: the layer's (mean) thickness, for the bead spacing; None: beads a width apart.
         bridge: part of `solid` filled apart as "bridge_infill", over sparse infill or
             over nothing (`paths.map3d.bridge_regions`); None for none.
-        air: the part of `bridge` over nothing, laid across its shortest span
-            (`span_angle`, `paths.map3d.air_at`); None for none.
+        air: the part of `bridge` over nothing (`paths.map3d.air_at`), laid from anchor to
+            anchor (`bridge_angle`); None for none.
+        anchors: what carries its ends (the layer below); None: across its shortest span.
     """
-    return ordered_fill(layer_fill(region, settings, layer_index, solid, height, bridge, air),
-                        settings, position)
+    return ordered_fill(layer_fill(region, settings, layer_index, solid, height, bridge, air,
+                                   anchors), settings, position)
 
 
 @dataclass
@@ -649,7 +566,8 @@ class IslandFill:
 
 
 def layer_fill(region, settings: FillSettings, layer_index: int = 0, solid=None,
-               height: float | None = None, bridge=None, air=None) -> list[IslandFill]:
+               height: float | None = None, bridge=None, air=None,
+               anchors=None) -> list[IslandFill]:
     """The islands of one layer filled (`fill_layer`'s arguments), not yet ordered."""
     settings.validate()
     spacing = bead_spacing(settings.bead_width, height, settings.bead_model)
@@ -662,13 +580,14 @@ def layer_fill(region, settings: FillSettings, layer_index: int = 0, solid=None,
     filled = []
     for island in islands:
         try:
-            fill = _island_fill(island, settings, spacing, layer_index, solid, bridge, air)
+            fill = _island_fill(island, settings, spacing, layer_index, solid, bridge, air,
+                                anchors)
         except shapely.errors.GEOSException:
             try:
                 # Nearly coincident edges of the island and its skin (non-noded
                 # intersections): the same on a fixed grid, where GEOS's overlay is robust.
                 fill = _island_fill(_snapped(island), settings, spacing, layer_index,
-                                    _snapped(solid), _snapped(bridge), _snapped(air))
+                                    _snapped(solid), _snapped(bridge), _snapped(air), anchors)
             except shapely.errors.GEOSException as exc:
                 raise PlanError(f"layer {layer_index}: the island at "
                                 f"{island.representative_point().wkt} ({island.area:.3f} mm²) "
@@ -699,13 +618,13 @@ def ordered_fill(filled: list[IslandFill], settings: FillSettings,
 
 
 def infill_areas(inner, solid, bridge, settings: FillSettings, spacing: float,
-                 air=None) -> list[tuple[object, float, str, object, float | None]]:
+                 air=None, anchors=None) -> list[tuple[object, float, str, object, float | None]]:
     """(area the lines fill, row pitch, role, its part of the fill area, direction or None
     for the infill's own) of an island's infill inside its perimeters (`inner`, reaching
     `infill_overlap` into them: `fill_area`): solid where `solid` says
     and in sparse pieces under `solid_below_area`, the part of the solid filled as bridges
-    (`bridge`) apart, its part over nothing (`air`) across its shortest span
-    (`span_angle`), the rest sparse. Each part is then shrunk by `LINE_END_INSET` of a
+    (`bridge`) apart, its part over nothing (`air`) from anchor to anchor (`bridge_angle`
+    with `anchors`, the layer below; else across its shortest span), the rest sparse. Each part is then shrunk by `LINE_END_INSET` of a
     spacing, where its lines end. Pieces are measured before that shrink, as PrusaSlicer
     measures its fill surfaces against solid_infill_below_area: measured after it, the
     screw head's 70-100 mm² islands turned solid where PrusaSlicer's stay sparse. The fill
@@ -730,8 +649,11 @@ def infill_areas(inner, solid, bridge, settings: FillSettings, spacing: float,
              (_line_area(over, spacing), spacing, "bridge_infill", over, None)]
     if not spanned.is_empty:
         lines = _line_area(spanned, spacing)
-        found.append((lines, spacing, "bridge_infill", spanned,
-                      span_angle(lines, spacing) if not lines.is_empty else None))
+        angle = None
+        if not lines.is_empty:
+            angle = (span_angle(lines, spacing) if anchors is None
+                     else bridge_angle(lines, spacing, anchors, spacing))
+        found.append((lines, spacing, "bridge_infill", spanned, angle))
     return found + [(_line_area(sparse, spacing), sparse_pitch, "infill", sparse, None)]
 
 
@@ -785,7 +707,7 @@ def solid_rows(fill, spacing: float, angle: float) -> tuple[float, float]:
 
 def _extent_across(area, angle: float) -> tuple[float, float]:
     """(min, max) of `area` across scan lines along `angle` (the rotated frame's y)."""
-    starts, _ = _boundary_edges(area)
+    starts, _ = boundary_edges(area)
     y = -starts[:, 0] * math.sin(angle) + starts[:, 1] * math.cos(angle)
     return float(y.min()), float(y.max())
 
@@ -823,7 +745,7 @@ def _line_area(area, spacing: float):
 
 
 def _island_fill(island: Polygon, settings: FillSettings, spacing: float, layer_index: int,
-                 solid, bridge=None, air=None) -> IslandFill:
+                 solid, bridge=None, air=None, anchors=None) -> IslandFill:
     """Perimeter rings per depth, infill chains and thin-wall and gap-fill beads of one
     island."""
     width = settings.bead_width
@@ -839,7 +761,7 @@ def _island_fill(island: Polygon, settings: FillSettings, spacing: float, layer_
     if inner.is_empty:
         return IslandFill(island, depths, infill, beads, ring_width)
     for area, pitch, role, fill, angle in infill_areas(inner, solid, bridge, settings, spacing,
-                                                       air):
+                                                       air, anchors):
         if area.is_empty or pitch <= 0 or area.area < width * width:
             continue
         rows = infill_rows(area, pitch, role, fill, settings, spacing, layer_index, angle)

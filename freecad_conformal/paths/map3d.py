@@ -207,7 +207,7 @@ def _over_air(layer: Layer, below: Layer, skin: MultiPolygon, bead_width: float)
 def air_at(layers: Sequence[Layer], i: int, bridge,
            bead_width: float | None) -> MultiPolygon | None:
     """The part of layer i's bridge over nothing (the layer below holds no material
-    there): laid across its shortest span (`fill2d.span_angle`), where the internal
+    there): laid from anchor to anchor (`scan.bridge_angle`), where the internal
     bridges keep the infill's direction. None when it has none."""
     if bridge is None or i == 0 or bridge.is_empty or bead_width is None:
         return None

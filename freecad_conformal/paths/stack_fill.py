@@ -23,7 +23,7 @@ import shapely
 from freecad_conformal.child_python import ChildPython, can_start_child, can_stream, serve_items
 from freecad_conformal.geometry.loops import grid_key
 from freecad_conformal.paths.fill2d import IslandFill, layer_fill
-from freecad_conformal.paths.map3d import air_at, bridge_at, skin_at
+from freecad_conformal.paths.map3d import air_at, bridge_at, region_in, skin_at
 from freecad_conformal.tolerances import COINCIDENT_POINTS
 
 if TYPE_CHECKING:
@@ -68,7 +68,7 @@ def internal_bridge_area(settings) -> float:
     """The least sparse piece below a skin that makes the skin over it a bridge
     (`map3d.bridge_at`): `solid_below_area` where bridges print at a speed of their own,
     else none is (the same speed gains nothing from a second zigzag); a bridge over
-    nothing is laid apart either way, across its shortest span."""
+    nothing is laid apart either way, from anchor to anchor."""
     return settings.fill.solid_below_area if settings.feeds.bridges_apart else math.inf
 
 
@@ -106,11 +106,12 @@ class _Maker:
                                internal_bridge_area(settings), settings.fill.bead_width)
         air = air_at(layers, i, bridge, settings.fill.bead_width)
         region = self.simplified_region(layer.region)
-        key = fill_key(region, skin, bridge, layer, air)
+        anchors = None if air is None else region_in(layer, layers[i - 1])
+        key = fill_key(region, skin, bridge, layer, air, anchors)
         fill = self.made.get(key)
         if fill is None:
             fill = layer_fill(region, settings.fill, layer.index, skin, layer.thickness, bridge,
-                              air)
+                              air, anchors)
             self.made[key] = fill
         self.put(stack, i, skin, bridge, fill)
         return skin, bridge, fill, key
@@ -147,12 +148,12 @@ class _Maker:
 SAME_FILL = COINCIDENT_POINTS
 
 
-def fill_key(region, skin, bridge, layer: Layer, air=None) -> tuple:
+def fill_key(region, skin, bridge, layer: Layer, air=None, anchors=None) -> tuple:
     """What a layer's fill depends on, as a dictionary key: its (simplified) region, skin,
-    bridge and the bridge's part over nothing and its thickness, each to `SAME_FILL`, and
-    its parity (the infill's angle)."""
+    bridge, the bridge's part over nothing and what anchors it, and its thickness, each to
+    `SAME_FILL`, and its parity (the infill's angle)."""
     return (_grid_key(region), _grid_key(skin), _grid_key(bridge), _grid_key(air),
-            round(layer.thickness / SAME_FILL), layer.index % 2)
+            _grid_key(anchors), round(layer.thickness / SAME_FILL), layer.index % 2)
 
 
 def _grid_key(geometry) -> bytes | None:

@@ -290,3 +290,25 @@ def test_connectors_never_cross_a_hole_whatever_the_direction(degrees):
     segments = [LineString([a, b]) for p in paths for a, b in zip(p.points[:-1], p.points[1:])]
     assert len(segments) > 100
     assert all(inside.covers(segment) for segment in segments)
+
+
+def test_a_bridge_is_laid_from_anchor_to_anchor_else_across_its_shortest_span():
+    """A 20 x 10 mm gap: between two pillars at its short ends its rows run along the 20 mm
+    (the only rows with both ends carried); walled all round, or carried on one side only
+    (a cantilever), across the 10 mm."""
+    import math
+
+    from shapely.geometry import MultiPolygon, box
+
+    from freecad_conformal.paths.scan import anchored_cover, bridge_angle
+
+    gap = box(10, 0, 30, 10)
+    pillars = MultiPolygon([box(0, 0, 10, 10), box(30, 0, 40, 10)])
+    walls = box(0, -10, 40, 20).difference(gap)
+    one_side = box(0, 0, 10, 10)
+    assert bridge_angle(gap, 0.4, pillars, 0.2) == 0.0
+    assert bridge_angle(gap, 0.4, walls, 0.2) == pytest.approx(0.5 * math.pi)
+    assert bridge_angle(gap, 0.4, one_side, 0.2) == pytest.approx(0.5 * math.pi)
+    assert anchored_cover(gap, 0.4, 0.0, pillars, 0.2).area == pytest.approx(200.0)
+    # across, only the rows beside the pillars' faces rest on them
+    assert anchored_cover(gap, 0.4, 0.5 * math.pi, pillars, 0.2).area <= 2 * 0.4 * 10 + 1e-9
