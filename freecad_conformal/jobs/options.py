@@ -41,7 +41,8 @@ def plan_options(values: Mapping[str, Any]) -> PlanOptions:
                          min_speed=v["min_speed"] * SECONDS_PER_MINUTE, alternate=v["alternate"],
                          support=SupportSettings(enabled=v["support"],
                                                  spacing=v["support_spacing"],
-                                                 interface_layers=v["support_interface_layers"]))
+                                                 interface_layers=v["support_interface_layers"],
+                                                 bridges=v["support_bridges"]))
     return PlanOptions(machine=v["machine"], tool=v["tool"], material=v["material"],
                        layers=layers, paths=paths, bead_width=v["bead_width"],
                        dialect=v["dialect"], root=v["root"], decompose=v["decompose"],

@@ -33,7 +33,8 @@ def summary_text(result) -> str:
                      f"{sub.tilted_layers:>6} {sub.deposit_length / 1000:>8.2f} {sub.material / 1000:>8.3f}")
     plan = result.plan
     support = support_text(plan, any(sub.tilted_layers for sub in result.subparts),
-                           result.hybrid is not None, result.support_volume)
+                           result.hybrid is not None, result.support_volume,
+                           bool(result.settings.get("support")))
     lines += [
         "",
         f"build order: {' -> '.join(str(i) for i in plan.order)}",
@@ -54,10 +55,11 @@ def summary_text(result) -> str:
     return "\n".join(lines) + "\n"
 
 
-def support_text(plan, tilted: bool, hybrid: bool, printed: float = 0.0) -> str:
+def support_text(plan, tilted: bool, hybrid: bool, printed: float = 0.0,
+                 asked: bool = False) -> str:
     """What the summary says of the overhang `plan` leaves: how much, and why it is left.
     `tilted`: some layers are 3-D; `hybrid`: the plan mills too; `printed`: the support
-    material (mm³) the G-code prints under it (`--support`)."""
+    material (mm³) the G-code prints under it; `asked`: support was on (`--support`)."""
     if plan.support_area <= 0:
         return "none"
     if printed > 0:
@@ -70,8 +72,12 @@ def support_text(plan, tilted: bool, hybrid: bool, printed: float = 0.0) -> str:
                  if hybrid else "")
         return (f"{plan.support_area:.1f} mm2 of overhang beyond the allowed angle as if "
                 f"built in planar layers (the 3-D layers print some of it unsupported{where})")
-    # Conformal generates no support: say what the G-code does there, not only what the
-    # part needs (a user added support to a file that had none, and could not say where).
+    if asked:
+        return (f"{plan.support_area:.1f} mm2 of overhang beyond the allowed angle left "
+                f"({overhang_reason(plan)}); no support printed under it: the notes below "
+                "say why (bridges laid from wall to wall, or columns left out)")
+    # Without --support no support is made: say what the G-code does there, not only what
+    # the part needs (a user added support to a file that had none, and could not say where).
     return (f"{plan.support_area:.1f} mm2 of overhang beyond the allowed angle left "
             f"({overhang_reason(plan)}; it needs support, which this G-code does not print: "
             "those areas are laid over air; --support prints it)")

@@ -13,6 +13,9 @@ part (a layer holding it: it stands on the part there, one contact layer above i
 slope a little past the angle overhangs by a sliver on each layer, a comb of them one step
 apart: the columns are closed over `CLOSING_RADIUS` into one band before the part and its
 clearance are taken out.
+What a bridge spans from wall to wall (`bridged`: the fill's rows with both ends on the
+layer below) gets no columns, as PrusaSlicer's default "Don't support bridges";
+`SupportSettings.bridges` supports it too.
 Columns still open at the first layer stand on the platform where the sub-part does; on a
 sub-part resting on its parent they would stand on whatever lies below its base, which
 its own layers do not know, so only what stands on the sub-part itself is kept and the
@@ -34,7 +37,8 @@ from freecad_conformal.geometry.overhang import DEFAULT_OVERHANG_ANGLE
 from freecad_conformal.layers.model import Layer, as_multipolygon
 from freecad_conformal.paths.bead import bead_spacing
 from freecad_conformal.paths.fill2d import Path2D, zigzag
-from freecad_conformal.paths.map3d import SAME_REGION, region_in
+from freecad_conformal.paths.map3d import AIR_MIN_WIDTHS, SAME_REGION, region_in
+from freecad_conformal.paths.scan import anchored_cover, bridge_angle, polygons_of
 
 #: Roles of the paths support is printed in.
 SUPPORT_ROLES = ("support", "support_interface")
@@ -67,6 +71,8 @@ class SupportSettings:
     enabled: bool = False
     spacing: float = 2.5
     interface_layers: int = 3
+    #: also under what a bridge spans (PrusaSlicer's "Don't support bridges" is on)
+    bridges: bool = False
 
 
 @dataclass
@@ -77,6 +83,8 @@ class StackSupport:
     base: list[MultiPolygon]
     interface: list[MultiPolygon]
     dropped_area: float = 0.0
+    #: overhang (mm², summed over layers) left to bridges laid from wall to wall (`bridged`)
+    bridged_area: float = 0.0
 
     @property
     def empty(self) -> bool:
@@ -107,6 +115,33 @@ def overhangs(layers: Sequence[Layer], bead_width: float,
     return found
 
 
+#: A bridge row's end within this many bead widths of the layer below rests on it: an end
+#: on the piece's edge along a wall lies on it (the layer below reaches the wall), one on a
+#: free edge a bead or more away.
+ANCHOR_BEADS = 0.5
+
+
+def bridged(layer: Layer, under: MultiPolygon, bead_width: float) -> MultiPolygon:
+    """What of `layer` over nothing (beyond `under`, the layer below in its frame) a bridge
+    spans: in each piece at least `AIR_MIN_WIDTHS` beads wide, the rows laid from anchor
+    to anchor (`scan.bridge_angle`, as the fill lays them) whose ends both rest on `under`.
+    PrusaSlicer leaves that unsupported by default ("Don't support bridges": its bridge
+    detector's coverage); a cantilever's rows end over air, so it stays supported."""
+    if under.is_empty:
+        return MultiPolygon()
+    reach = ANCHOR_BEADS * bead_width
+    half = 0.5 * AIR_MIN_WIDTHS * bead_width
+    spans = []
+    for piece in polygons_of(layer.region.difference(under)):
+        if piece.buffer(-half).is_empty:
+            continue
+        angle = bridge_angle(piece, bead_width, under, reach)
+        cover = anchored_cover(piece, bead_width, angle, under, reach)
+        if not cover.is_empty:
+            spans.append(cover)
+    return as_multipolygon(shapely.union_all(spans)) if spans else MultiPolygon()
+
+
 def stack_support(layers: Sequence[Layer], settings: SupportSettings, bead_width: float,
                   on_platform: bool, angle: float = DEFAULT_OVERHANG_ANGLE) -> StackSupport:
     """The support areas of one stack (see the module); none where support is off or the
@@ -116,6 +151,18 @@ def stack_support(layers: Sequence[Layer], settings: SupportSettings, bead_width
     if not settings.enabled or not supportable(layers):
         return none
     hang = overhangs(layers, bead_width, angle)
+    bridged_area = 0.0
+    if not settings.bridges:
+        before = sum(h.area for h in hang)
+        # On the grid: the bridge's rows and the overhang meet along the same edges, and
+        # the difference left slivers 1e-13 mm² in area that became columns.
+        hang = [h if h.is_empty else
+                as_multipolygon(shapely.difference(
+                    h, bridged(layers[i], region_in(layers[i], layers[i - 1]), bead_width),
+                    grid_size=SUPPORT_GRID))
+                for i, h in enumerate(hang)]
+        bridged_area = before - sum(h.area for h in hang)
+        none.bridged_area = bridged_area
     if all(h.is_empty for h in hang):
         return none
     gap = XY_GAP_BEADS * bead_width
@@ -151,7 +198,7 @@ def stack_support(layers: Sequence[Layer], settings: SupportSettings, bead_width
         interface[i] = as_multipolygon(shapely.difference(area, continuing,
                                                           grid_size=SUPPORT_GRID))
     if on_platform or pending.is_empty:
-        return StackSupport(base, interface)
+        return StackSupport(base, interface, 0.0, bridged_area)
     # Columns open at the base of a sub-part resting on its parent stand on nothing known:
     # going up, only what stands on the part (or on a column that does) is kept.
     grounded = MultiPolygon()
@@ -163,7 +210,7 @@ def stack_support(layers: Sequence[Layer], settings: SupportSettings, bead_width
         grounded = as_multipolygon(passing[i].intersection(grounded.union(under)))
         base[i] = as_multipolygon(base[i].intersection(grounded))
         interface[i] = as_multipolygon(interface[i].intersection(grounded))
-    return StackSupport(base, interface, float(pending.area))
+    return StackSupport(base, interface, float(pending.area), bridged_area)
 
 
 #: Grid (mm) the split of a column into its sparse body and solid top is made on: the

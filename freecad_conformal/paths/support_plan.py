@@ -41,6 +41,10 @@ def supports_of(plan: BuildPlan, layers: dict[int, list[Layer]], settings: Suppo
                              "layers take no columns)")
             continue
         support = stack_support(stack, settings, width, on_platform=sub.parent is None)
+        if support.bridged_area > 0:
+            notes.append(f"sub-part {sub.index}: {support.bridged_area:.1f} mm2 of overhang "
+                         "laid as bridges from wall to wall, without support, as PrusaSlicer "
+                         "does (--support-bridges supports them)")
         if support.dropped_area > 0:
             notes.append(f"sub-part {sub.index}: {support.dropped_area:.1f} mm2 of overhang "
                          "left without support: its columns would stand below the sub-part's "

@@ -167,6 +167,10 @@ PLAN_SETTINGS: tuple[Setting, ...] = (
     Setting("support_interface_layers", "int", 3, "support interface layers",
             "solid layers on top of the support, under the overhang", group="support",
             minimum=0),
+    Setting("support_bridges", "bool", False, "support bridges",
+            "also support what a bridge spans, from wall to wall (off, as PrusaSlicer's "
+            "'Don't support bridges' is on: the bridge is laid over the gap)",
+            group="support"),
 )
 
 #: Print roles with a `<role>_speed` setting (fields of paths/assemble.Feeds).

@@ -225,3 +225,35 @@ def test_a_job_in_freecad_prints_the_support_the_command_line_prints(App, Part):
     command_line = plan_job(shelf, plan_options(values), part="shelf")
     assert command_line.support_volume > 0
     assert job["gcode"] == command_line.post.text
+
+
+def _gate(App, Part):
+    """Two 10 x 10 x 20 mm pillars 20 mm apart under a 4 mm beam that reaches 15 mm past
+    the second one: a bridge (x 10..30) and a cantilever (x 40..55) at z = 20."""
+    V = App.Vector
+    return Part.makeBox(10, 10, 20).fuse([Part.makeBox(10, 10, 20, V(30, 0, 0)),
+                                          Part.makeBox(55, 10, 4, V(0, 0, 20))]).removeSplitter()
+
+
+def test_a_bridge_from_pillar_to_pillar_gets_no_support_a_cantilever_does(App, Part):
+    """As PrusaSlicer by default ("Don't support bridges"): the beam between the pillars is
+    laid from one to the other over the gap, without columns; the end past the second
+    pillar, anchored on one side only, stands on columns; `support_bridges` supports both.
+    The summary's notes say what was bridged."""
+    gate = _gate(App, Part)
+    result = _planned(gate, support=True)
+    points = _support_points(result)
+    assert len(points) and points[:, 0].min() >= 40.0        # under the cantilever only
+    assert "laid as bridges from wall to wall" in result.summary()
+    both = _support_points(_planned(gate, support=True, support_bridges=True))
+    assert len(both[(both[:, 0] > 11.0) & (both[:, 0] < 29.0)])
+    assert len(both[both[:, 0] > 41.0])
+    # The bridge's beads run from pillar to pillar (along x), not across the 10 mm width
+    # with both ends over air.
+    first = [p for p in result.assembly.paths if p.role == "bridge_infill"
+             and abs(p.points[0, 2] - 20.0 - LAYER) < 1e-6
+             and 10.0 < p.points[:, 0].mean() < 30.0]
+    assert first
+    steps = np.vstack([np.diff(p.points, axis=0) for p in first])
+    longest = steps[np.argmax(np.linalg.norm(steps, axis=1))]
+    assert abs(longest[0]) > 15.0 and abs(longest[1]) < 1e-6

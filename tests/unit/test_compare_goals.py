@@ -5,10 +5,12 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from compare_planar import Slice, goal_verdict, unsupported  # noqa: E402
+from compare_planar import FILAMENT_AREA, Slice, goal_verdict, support_volume, unsupported  # noqa: E402
 
 SUPPORTED = Slice("as modelled", 17.0, 10.5, 5700.0, Path("a.gcode"))
 BARE = Slice("as modelled", 7.5, 0.0, 3840.0, Path("b.gcode"))
@@ -57,3 +59,13 @@ def test_overhang_printed_on_support_is_not_left_unsupported():
     assert unsupported(_Result(1170.2, 0.0)) == 1170.2
     assert unsupported(_Result(1170.2, 640.0)) == 0.0
     assert unsupported(_Result(0.0, 0.0)) == 0.0
+
+
+def test_support_volume_counts_the_beads_not_the_filament_pushed_back_after_a_retraction():
+    """PrusaSlicer retracts (G1 E-2) before a travel and pushes the filament back (G1 E2)
+    after it, with no X or Y: those are no support; nor is what other roles lay."""
+    gcode = "\n".join([
+        ";TYPE:Support material", "G1 X10 Y10 E0.5", "G1 E-2 F2400", "G1 X20 Y10 F7800",
+        "G1 E2 F2400", "G1 X20 Y20 E0.25", ";TYPE:Support material interface",
+        "G1 X30 Y20 E0.25", ";TYPE:Internal infill", "G1 X40 Y20 E3"])
+    assert support_volume(gcode) == pytest.approx(1.0 * FILAMENT_AREA / 1000.0)
