@@ -14,6 +14,9 @@ import numpy as np
 COLOUR_BY = ("SubPart", "Tool", "Kind")
 #: Travel moves are drawn in this light grey whatever the colouring ("dimmed").
 TRAVEL_COLOUR = (0.78, 0.78, 0.80)
+#: Support is drawn in this dark grey whatever the colouring (the PNG preview's): it
+#: breaks away after printing, and a user should tell it from the part.
+SUPPORT_COLOUR = (0.47, 0.47, 0.47)
 #: Colours of deposit, cure and cut moves when colouring by kind (travel is dimmed).
 KIND_COLOURS = {"deposit": (0.93, 0.45, 0.10), "cure": (0.55, 0.25, 0.85),
                 "cut": (0.85, 0.10, 0.15)}
@@ -53,8 +56,9 @@ def segment_colours(toolpath, colour_by: str, segment_subparts: Sequence[int]) -
 
 
 def line_set(toolpath, colour_by: str = "SubPart", segment_subparts: Sequence[int] = (),
-             show_travel: bool = True) -> LineSetData:
-    """The whole toolpath as one line set; runs of hidden moves split the polylines."""
+             show_travel: bool = True, support_segments: Sequence[int] = ()) -> LineSetData:
+    """The whole toolpath as one line set; runs of hidden moves split the polylines; the
+    moves of `support_segments` in `SUPPORT_COLOUR`."""
     from freecad_conformal.toolpath import KINDS
 
     points = np.asarray(toolpath.points, dtype=np.float32)
@@ -62,6 +66,8 @@ def line_set(toolpath, colour_by: str = "SubPart", segment_subparts: Sequence[in
     travel = np.asarray(toolpath.kind, dtype=int)[segment_of_move] == KINDS.index("travel")
     colours = segment_colours(toolpath, colour_by, segment_subparts)[segment_of_move]
     colours[travel] = TRAVEL_COLOUR
+    if len(support_segments):
+        colours[np.isin(segment_of_move, np.asarray(support_segments, dtype=int))] = SUPPORT_COLOUR
     keep = np.ones(len(segment_of_move), dtype=bool) if show_travel else ~travel
     return LineSetData(points, _polyline_index(keep), colours[keep].astype(np.float32),
                        int(keep.sum()))

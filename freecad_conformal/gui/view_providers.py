@@ -28,7 +28,7 @@ TOOLPATH_VIEW_PROPERTIES = [
 ]
 REDRAW_PROPERTIES = {"ColourBy", "ShowTravel", "ShowToolAxes", "AxisEvery", "AxisLength",
                      "PathLineWidth", "Frame", "ShowPlatform"}
-DATA_PROPERTIES = {"ToolpathFile", "SegmentSubparts", "PartFrames"}
+DATA_PROPERTIES = {"ToolpathFile", "SegmentSubparts", "SupportSegments", "PartFrames"}
 #: Colour of the tool-axis ticks (dark blue-grey, distinct from every path colour).
 AXIS_COLOUR = (0.20, 0.25, 0.35)
 
@@ -184,7 +184,9 @@ class ViewProviderToolpath(StoredState):
         self.plate_faces.numVertices.setValues(0, len(plates), [4] * len(plates))
         self.plate_faces.numVertices.setNum(len(plates))
         self.platform_switch.whichChild = coin.SO_SWITCH_ALL if shows_platform else coin.SO_SWITCH_NONE
-        data = line_set(toolpath, vobj.ColourBy, subparts, vobj.ShowTravel)
+        support = (list(obj.SupportSegments) if "SupportSegments" in obj.PropertiesList
+                   else [])        # a document saved before support was drawn apart
+        data = line_set(toolpath, vobj.ColourBy, subparts, vobj.ShowTravel, support)
         self.lines.coordIndex.setNum(0)
         self.coords.point.setValues(0, len(data.points), data.points.tolist())
         self.coords.point.setNum(len(data.points))

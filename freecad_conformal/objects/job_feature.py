@@ -33,6 +33,18 @@ JOB_PROPERTIES = [
 JOB_OUTPUTS = ("Summary", "EstimatedSeconds", "SubPartCount", "PartFrameSubparts", "PartFrames")
 
 
+def support_segments(toolpath, roles: list[str]) -> list[int]:
+    """The segments that print support: deposit segments in order are the assembly's
+    paths (`roles`, theirs); none where they do not match (not an assembly toolpath)."""
+    from freecad_conformal.paths.support import SUPPORT_ROLES
+    from freecad_conformal.toolpath import KINDS
+
+    deposits = np.flatnonzero(np.asarray(toolpath.kind, dtype=int) != KINDS.index("travel"))
+    if len(deposits) != len(roles):
+        return []
+    return [int(s) for s, role in zip(deposits, roles) if role in SUPPORT_ROLES]
+
+
 def segment_subparts(toolpath, deposit_subparts: list[int]) -> list[int]:
     """Sub-part of every segment: deposit segments in order are the assembly's paths; a
     travel belongs to the sub-part of the deposit after it (the last one at the end)."""
@@ -70,7 +82,8 @@ class JobFeature(Computed, ToolpathFeature):
                 "values": values_from_object(obj, PLAN_SETTINGS)}
 
     def apply(self, obj, result: dict) -> None:
-        store_toolpath(obj, toolpath_from_bytes(result["toolpath"]), result["segment_subparts"])
+        store_toolpath(obj, toolpath_from_bytes(result["toolpath"]), result["segment_subparts"],
+                       result.get("support_segments", ()))
         keep_text(obj, "GcodeFile", result["gcode"], ".gcode")
         obj.Summary = result["summary"]
         obj.EstimatedSeconds = float(result["seconds"])
@@ -125,6 +138,8 @@ def compute_job(inputs: dict, progress) -> dict:
     return {"toolpath": toolpath.to_bytes(),
             "segment_subparts": segment_subparts(toolpath,
                                                  [p.subpart for p in result.assembly.paths]),
+            "support_segments": support_segments(toolpath,
+                                                 [p.role for p in result.assembly.paths]),
             "gcode": result.post.text, "summary": result.summary(),
             "seconds": float(result.time_s), "subparts": len(result.subparts),
             **part_frames(shape, placed, before_layout, plan)}

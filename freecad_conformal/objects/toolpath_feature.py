@@ -14,11 +14,14 @@ GROUP = "Toolpath"
 TOOLPATH_PROPERTIES = [
     ("App::PropertyFileIncluded", "ToolpathFile", GROUP, "Neutral toolpath (.npz) kept in the document", None),
     ("App::PropertyIntegerList", "SegmentSubparts", GROUP, "Sub-part index of every segment", None),
+    ("App::PropertyIntegerList", "SupportSegments", GROUP,
+     "Segments that print support (drawn grey: it breaks away after printing)", None),
     ("App::PropertyInteger", "PointCount", GROUP, "Tool poses in the toolpath", 0),
     ("App::PropertyInteger", "SegmentCount", GROUP, "Segments in the toolpath", 0),
     ("App::PropertyLength", "PathLength", GROUP, "Length of all moves", 0.0),
 ]
-TOOLPATH_OUTPUTS = ("PointCount", "SegmentCount", "PathLength", "SegmentSubparts")
+TOOLPATH_OUTPUTS = ("PointCount", "SegmentCount", "PathLength", "SegmentSubparts",
+                    "SupportSegments")
 
 
 class ToolpathFeature(StoredState):
@@ -39,8 +42,10 @@ class ToolpathFeature(StoredState):
         load_toolpath(obj)
 
 
-def store_toolpath(obj, toolpath, segment_subparts: Sequence[int] | None = None) -> None:
-    """Put `toolpath` into obj.ToolpathFile (copied into the document) and its statistics."""
+def store_toolpath(obj, toolpath, segment_subparts: Sequence[int] | None = None,
+                   support_segments: Sequence[int] = ()) -> None:
+    """Put `toolpath` into obj.ToolpathFile (copied into the document) and its statistics,
+    with each segment's sub-part and the segments that print support."""
     handle, path = tempfile.mkstemp(suffix=".npz", prefix=f"{obj.Name}_")
     os.close(handle)
     try:
@@ -53,7 +58,10 @@ def store_toolpath(obj, toolpath, segment_subparts: Sequence[int] | None = None)
     subparts = list(segment_subparts) if segment_subparts is not None else [0] * count
     if len(subparts) != count:
         raise ValueError(f"{len(subparts)} sub-part indices for {count} segments")
+    if any(not 0 <= int(s) < count for s in support_segments):
+        raise ValueError(f"support segments outside the toolpath's {count} segments")
     obj.SegmentSubparts = [int(s) for s in subparts]
+    obj.SupportSegments = [int(s) for s in support_segments]
     obj.PointCount = int(len(toolpath.points))
     obj.SegmentCount = int(count)
     obj.PathLength = float(toolpath.move_lengths().sum())

@@ -225,6 +225,17 @@ def test_a_job_in_freecad_prints_the_support_the_command_line_prints(App, Part):
     command_line = plan_job(shelf, plan_options(values), part="shelf")
     assert command_line.support_volume > 0
     assert job["gcode"] == command_line.post.text
+    # The 3D view draws support apart: the job names the segments that print it, those of
+    # the support paths and no others.
+    from freecad_conformal.objects.toolpath_feature import toolpath_from_bytes
+    from freecad_conformal.paths.support import SUPPORT_ROLES
+
+    toolpath = toolpath_from_bytes(job["toolpath"])
+    deposits = [k for k in range(toolpath.segment_count) if toolpath.kind_name(k) != "travel"]
+    roles = [p.role for p in command_line.assembly.paths]
+    assert len(deposits) == len(roles)
+    expected = [k for k, role in zip(deposits, roles) if role in SUPPORT_ROLES]
+    assert expected and job["support_segments"] == expected
 
 
 def _gate(App, Part):

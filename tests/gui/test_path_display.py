@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from freecad_conformal.gui.path_display import (
-    KIND_COLOURS, PALETTE, TRAVEL_COLOUR, _polyline_index, axis_ticks, line_set)
+    KIND_COLOURS, PALETTE, SUPPORT_COLOUR, TRAVEL_COLOUR, _polyline_index, axis_ticks, line_set)
 from freecad_conformal.toolpath import ToolpathBuilder
 
 
@@ -40,6 +40,17 @@ def test_hidden_travel_and_colour_by_subpart():
     assert data.moves == 5
     assert data.coord_index.tolist() == [1, 2, 3, 4, -1, 5, 6, 7, -1]
     np.testing.assert_allclose(data.part_colours[-1], PALETTE[1], atol=1e-6)
+
+
+def test_support_is_drawn_grey_whatever_the_colouring():
+    """Support (segment 1 here) is grey in every colouring, so a user tells what breaks
+    away from the part; the other moves keep theirs."""
+    for colour_by in ("SubPart", "Tool", "Kind"):
+        plain = line_set(small_toolpath(), colour_by, [0, 0, 1, 1])
+        data = line_set(small_toolpath(), colour_by, [0, 0, 1, 1], support_segments=[1])
+        np.testing.assert_allclose(data.part_colours[1:4], [SUPPORT_COLOUR] * 3, atol=1e-6)
+        np.testing.assert_allclose(data.part_colours[[0, 4, 5, 6]],
+                                   plain.part_colours[[0, 4, 5, 6]], atol=1e-6)
 
 
 def test_axis_ticks_start_at_the_tip_along_the_axis():
