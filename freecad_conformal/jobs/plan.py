@@ -19,7 +19,7 @@ from freecad_conformal.fileio import write_all
 from freecad_conformal.geometry.frames import vector_text
 from freecad_conformal.geometry.shape_cache import ShapeCache
 from freecad_conformal.paths import stack_fill
-from freecad_conformal.paths.bead import bead_area
+from freecad_conformal.paths.bead import paths_material
 from freecad_conformal.paths.assemble import Assembly, PathSettings, assemble
 from freecad_conformal.paths.support import SUPPORT_ROLES
 from freecad_conformal.paths.timing import DEFAULT_JERK, estimate_time, jerk_record
@@ -135,9 +135,8 @@ class JobResult:
     @property
     def support_volume(self) -> float:
         """Material (mm³) of the support printed (`--support`), part of `material_volume`."""
-        return float(sum(p.length * bead_area(p.width or self.bead_width, p.thickness,
-                                              self.settings.get("bead_model", "rounded"))
-                         for p in self.assembly.paths if p.role in SUPPORT_ROLES))
+        return paths_material([p for p in self.assembly.paths if p.role in SUPPORT_ROLES],
+                              self.bead_width, self.settings.get("bead_model", "rounded"))
 
     @property
     def travel_length(self) -> float:
@@ -672,8 +671,7 @@ def subpart_summary(sub, layers: list[Layer], assembly: Assembly, width: float,
                      bead_model: str) -> SubPartSummary:
     mine = [p for p in assembly.paths if p.subpart == sub.index]
     length = float(sum(p.length for p in mine))
-    material = float(sum(p.length * bead_area(p.width or width, p.thickness, bead_model)
-                         for p in mine))
+    material = paths_material(mine, width, bead_model)
     return SubPartSummary(
         index=sub.index, name=sub.name or f"sub-part {sub.index}",
         direction=np.asarray(sub.build_direction, dtype=float), layers=len(layers),

@@ -34,6 +34,12 @@ def bead_area(width: float, height: float, model: str = "rounded") -> float:
     return (width - h) * h + math.pi * h * h / 4.0
 
 
+def paths_material(paths, width: float, model: str = "rounded") -> float:
+    """Material (mm³) of deposit paths: each one's length times its bead's cross-section
+    (its own width where it has one, else `width`, on its layer's thickness)."""
+    return float(sum(p.length * bead_area(p.width or width, p.thickness, model) for p in paths))
+
+
 def bead_spacing(width: float, height: float | None, model: str = "rounded") -> float:
     """Centre distance (mm) of neighbouring beads that fills the slab (`width` when the
     height is unknown)."""
