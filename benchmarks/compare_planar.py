@@ -66,7 +66,8 @@ LAYER, NOZZLE, PERIMETERS, INFILL, BEAD = 0.2, 0.4, 2, 0.20, 0.45
 SPEEDS = {"external_perimeter": 30.0, "perimeter": 60.0, "infill": 80.0, "solid_infill": 20.0,
           "travel": 130.0, "small_perimeter": 15.0, "bridge_infill": 60.0, "support": 60.0}
 #: Support where a print needs it (PrusaSlicer's defaults, stated): lines 2.5 mm apart, three
-#: solid interface layers at the support's speed, a 0.2 mm contact gap (`paths.support`).
+#: solid interface layers at the support's speed, a 0.2 mm contact gap, none under what a
+#: bridge spans (its default "Don't support bridges"; `paths.support`).
 SUPPORT_SPACING, SUPPORT_INTERFACE_LAYERS = 2.5, 3
 ACCELERATION, JERK = 1500.0, 10.0
 INFILL_OVERLAP, SOLID_BELOW_AREA, SOLID_LAYERS, MIN_LAYER_TIME, MIN_SPEED = 0.25, 70.0, 3, 5.0, 10.0
@@ -91,7 +92,7 @@ PRUSA_SETTINGS = [
     "--support-material-interface-speed", "100%",
     "--support-material-spacing", f"{SUPPORT_SPACING:g}",
     "--support-material-interface-layers", str(SUPPORT_INTERFACE_LAYERS),
-    "--support-material-contact-distance", str(LAYER),
+    "--support-material-contact-distance", str(LAYER), "--dont-support-bridges",
     "--first-layer-speed", "100%", "--slowdown-below-layer-time", f"{MIN_LAYER_TIME:g}",
     "--min-print-speed", f"{MIN_SPEED:g}", "--use-relative-e-distances"]
 ORIENTATIONS = {"as modelled": [], "rotate-x 90": ["--rotate-x", "90"],
@@ -314,7 +315,7 @@ def plan_options() -> PlanOptions:
               "solid_layers": SOLID_LAYERS, "min_layer_time": MIN_LAYER_TIME,
               "min_speed": MIN_SPEED, "jerk": JERK, "support": True,
               "support_spacing": SUPPORT_SPACING,
-              "support_interface_layers": SUPPORT_INTERFACE_LAYERS,
+              "support_interface_layers": SUPPORT_INTERFACE_LAYERS, "support_bridges": False,
               **{f"{role}_speed": speed for role, speed in SPEEDS.items()}}
     return from_settings(values)
 
@@ -365,17 +366,21 @@ def goal_verdict(best: Slice, bare: Slice | None, support_free: bool, ours_cm3: 
 
 
 def unsupported(result) -> float:
-    """The overhang (mm²) our plan leaves with no support printed under it: all it leaves
-    where it prints none (a note names any columns `plan --support` had to leave out)."""
-    return result.plan.support_area if result.support_volume <= 0 else 0.0
+    """The overhang (mm²) our plan leaves with no support printed under it and no bridge
+    over it: all it leaves where it prints none and bridges none (a note names any columns
+    `plan --support` had to leave out; a sealed cavity's ceiling is bridged, as
+    PrusaSlicer bridges it)."""
+    bridged = result.assembly.bridged_area > 0
+    return result.plan.support_area if result.support_volume <= 0 and not bridged else 0.0
 
 
 def _our_support(result) -> str:
     area = result.plan.support_area
     if area <= 0:
         return "none"
-    return (f"{area:.0f} mm2 on {result.support_volume / 1000:.2f} cm3" if result.support_volume > 0
-            else f"{area:.0f} mm2 bare")
+    if result.support_volume > 0:
+        return f"{area:.0f} mm2 on {result.support_volume / 1000:.2f} cm3"
+    return f"{area:.0f} mm2 bridged" if result.assembly.bridged_area > 0 else f"{area:.0f} mm2 bare"
 
 
 def hms(seconds: float) -> str:

@@ -118,6 +118,8 @@ class Assembly:
     alternated: list[list[int]] = field(default_factory=list)
     #: what became of the support asked for (`supports_of`), for the plan's notes
     support_notes: list[str] = field(default_factory=list)
+    #: overhang (mm², summed over layers) laid as bridges with no support under it
+    bridged_area: float = 0.0
 
 
 def in_layer_travel(position: np.ndarray, start: np.ndarray, axis: np.ndarray,
@@ -542,5 +544,6 @@ def assemble(plan: BuildPlan, layers: dict[int, list[Layer]], settings: PathSett
     retract = position + (exit_distance(position, axis, centre, radius + SAFE_MARGIN) + 1.0) * axis
     travel(retract[None], axis[None])
     return Assembly(builder.build(), all_paths, travels, checked, alternated=alternated,
-                    support_notes=support_notes)
+                    support_notes=support_notes,
+                    bridged_area=sum(s.bridged_area for s in supports.values()))
 

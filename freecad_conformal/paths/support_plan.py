@@ -50,6 +50,8 @@ def supports_of(plan: BuildPlan, layers: dict[int, list[Layer]], settings: Suppo
                          "left without support: its columns would stand below the sub-part's "
                          "base, beside its parent")
         if support.empty:
+            if support.bridged_area > 0:
+                found[sub.index] = support      # no columns; what it bridged is counted
             continue
         samples = support_samples(layers[sub.index], support, sample_spacing(envelope))
         occupied = _support_inside(plan, layers, sub, samples)

@@ -256,6 +256,7 @@ def test_a_bridge_from_pillar_to_pillar_gets_no_support_a_cantilever_does(App, P
     points = _support_points(result)
     assert len(points) and points[:, 0].min() >= 40.0        # under the cantilever only
     assert "laid as bridges from wall to wall" in result.summary()
+    assert 150.0 < result.assembly.bridged_area <= 200.0     # the 20 x 10 mm beam's underside
     both = _support_points(_planned(gate, support=True, support_bridges=True))
     assert len(both[(both[:, 0] > 11.0) & (both[:, 0] < 29.0)])
     assert len(both[both[:, 0] > 41.0])

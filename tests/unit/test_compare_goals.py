@@ -48,9 +48,10 @@ def test_a_plan_that_leaves_overhang_without_support_meets_no_goal():
 class _Result:
     """What `unsupported` reads of a job's result."""
 
-    def __init__(self, area: float, support: float) -> None:
+    def __init__(self, area: float, support: float, bridged: float = 0.0) -> None:
         self.plan = type("Plan", (), {"support_area": area})()
         self.support_volume = support
+        self.assembly = type("Assembly", (), {"bridged_area": bridged})()
 
 
 def test_overhang_printed_on_support_is_not_left_unsupported():
@@ -59,6 +60,8 @@ def test_overhang_printed_on_support_is_not_left_unsupported():
     assert unsupported(_Result(1170.2, 0.0)) == 1170.2
     assert unsupported(_Result(1170.2, 640.0)) == 0.0
     assert unsupported(_Result(0.0, 0.0)) == 0.0
+    # a sealed cavity's ceiling, bridged from wall to wall as PrusaSlicer bridges it
+    assert unsupported(_Result(200.0, 0.0, 187.6)) == 0.0
 
 
 def test_support_volume_counts_the_beads_not_the_filament_pushed_back_after_a_retraction():
