@@ -20,7 +20,8 @@ role (external perimeter 30, perimeters 60, perimeter loops up to 2π·6.5 mm 15
 infill 80, solid and top infill 20, travel 130 mm/s, the first layer at the same speeds), the time estimate's limits
 (acceleration 1500 mm/s², jerk 10 mm/s) and the cooling slowdown (layers under 5 s, not
 below 10 mm/s), support where a print leaves overhang (lines 2.5 mm apart, three interface
-layers, 60 mm/s, a 0.2 mm contact gap, none under bridges: `plan --support` on ours). Bridges
+layers on top and at a foot on the part, 60 mm/s, a 0.2 mm contact gap, none under bridges:
+`plan --support` on ours). Bridges
 over unsupported areas: both lay them apart from anchor to anchor, ours by
 `scan.bridge_angle`, PrusaSlicer's by its bridge detector, with thick round beads. What only PrusaSlicer does: retraction (its estimate counts it; our toolpath has none). Where a perimeter loop has no
 room we lay gap fill, as PrusaSlicer's classic perimeter generator does; its default one
@@ -66,8 +67,9 @@ LAYER, NOZZLE, PERIMETERS, INFILL, BEAD = 0.2, 0.4, 2, 0.20, 0.45
 SPEEDS = {"external_perimeter": 30.0, "perimeter": 60.0, "infill": 80.0, "solid_infill": 20.0,
           "travel": 130.0, "small_perimeter": 15.0, "bridge_infill": 60.0, "support": 60.0}
 #: Support where a print needs it (PrusaSlicer's defaults, stated): lines 2.5 mm apart, three
-#: solid interface layers at the support's speed, a 0.2 mm contact gap, none under what a
-#: bridge spans (its default "Don't support bridges"; `paths.support`).
+#: solid interface layers at the support's speed on top of a column and at its foot where
+#: it stands on the part, a 0.2 mm contact gap, none under what a bridge spans (its
+#: defaults: bottom interface layers as the top's, "Don't support bridges"; `paths.support`).
 SUPPORT_SPACING, SUPPORT_INTERFACE_LAYERS = 2.5, 3
 ACCELERATION, JERK = 1500.0, 10.0
 INFILL_OVERLAP, SOLID_BELOW_AREA, SOLID_LAYERS, MIN_LAYER_TIME, MIN_SPEED = 0.25, 70.0, 3, 5.0, 10.0
@@ -92,6 +94,7 @@ PRUSA_SETTINGS = [
     "--support-material-interface-speed", "100%",
     "--support-material-spacing", f"{SUPPORT_SPACING:g}",
     "--support-material-interface-layers", str(SUPPORT_INTERFACE_LAYERS),
+    "--support-material-bottom-interface-layers", "-1",
     "--support-material-contact-distance", str(LAYER), "--dont-support-bridges",
     "--first-layer-speed", "100%", "--slowdown-below-layer-time", f"{MIN_LAYER_TIME:g}",
     "--min-print-speed", f"{MIN_SPEED:g}", "--use-relative-e-distances"]
@@ -316,6 +319,7 @@ def plan_options() -> PlanOptions:
               "min_speed": MIN_SPEED, "jerk": JERK, "support": True,
               "support_spacing": SUPPORT_SPACING,
               "support_interface_layers": SUPPORT_INTERFACE_LAYERS, "support_bridges": False,
+              "support_bottom_interface_layers": -1,
               **{f"{role}_speed": speed for role, speed in SPEEDS.items()}}
     return from_settings(values)
 

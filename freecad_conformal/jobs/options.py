@@ -42,6 +42,8 @@ def plan_options(values: Mapping[str, Any]) -> PlanOptions:
                          support=SupportSettings(enabled=v["support"],
                                                  spacing=v["support_spacing"],
                                                  interface_layers=v["support_interface_layers"],
+                                                 bottom_interface_layers=v[
+                                                     "support_bottom_interface_layers"],
                                                  bridges=v["support_bridges"]))
     return PlanOptions(machine=v["machine"], tool=v["tool"], material=v["material"],
                        layers=layers, paths=paths, bead_width=v["bead_width"],

@@ -13,6 +13,8 @@ part (a layer holding it: it stands on the part there, one contact layer above i
 slope a little past the angle overhangs by a sliver on each layer, a comb of them one step
 apart: the columns are closed over `CLOSING_RADIUS` into one band before the part and its
 clearance are taken out.
+A column standing on the part starts with `bottom_interface_layers` solid layers (as many
+as on top by default, as PrusaSlicer's); one on the platform starts sparse.
 What a bridge spans from wall to wall (`bridged`: the fill's rows with both ends on the
 layer below) gets no columns, as PrusaSlicer's default "Don't support bridges";
 `SupportSettings.bridges` supports it too.
@@ -71,6 +73,8 @@ class SupportSettings:
     enabled: bool = False
     spacing: float = 2.5
     interface_layers: int = 3
+    #: solid layers at the foot of a column standing on the part; -1: `interface_layers`
+    bottom_interface_layers: int = -1
     #: also under what a bridge spans (PrusaSlicer's "Don't support bridges" is on)
     bridges: bool = False
 
@@ -197,6 +201,7 @@ def stack_support(layers: Sequence[Layer], settings: SupportSettings, bead_width
         base[i] = as_multipolygon(shapely.intersection(area, continuing, grid_size=SUPPORT_GRID))
         interface[i] = as_multipolygon(shapely.difference(area, continuing,
                                                           grid_size=SUPPORT_GRID))
+    _bottom_interfaces(layers, base, interface, settings)
     if on_platform or pending.is_empty:
         return StackSupport(base, interface, 0.0, bridged_area)
     # Columns open at the base of a sub-part resting on its parent stand on nothing known:
@@ -211,6 +216,35 @@ def stack_support(layers: Sequence[Layer], settings: SupportSettings, bead_width
         base[i] = as_multipolygon(base[i].intersection(grounded))
         interface[i] = as_multipolygon(interface[i].intersection(grounded))
     return StackSupport(base, interface, float(pending.area), bridged_area)
+
+
+def _bottom_interfaces(layers: Sequence[Layer], base: list, interface: list,
+                       settings: SupportSettings) -> None:
+    """Turn the foot of each column standing on the part solid, in place: its part in the
+    `bottom_interface_layers` above the contact gap over the part (PrusaSlicer's bottom
+    interface; a column on the platform has none)."""
+    count = settings.bottom_interface_layers
+    if count < 0:
+        count = settings.interface_layers
+    if count == 0:
+        return
+    for j, column in enumerate(base):
+        lowest = j - CONTACT_LAYERS - count
+        if column.is_empty or lowest + count < 0:
+            continue
+        under = [as_multipolygon(_near(region_in(layers[j], layers[k]), column, 0.0))
+                 for k in range(max(lowest, 0), j - CONTACT_LAYERS)]
+        under = [u for u in under if not u.is_empty]
+        if not under:
+            continue
+        # Polygons only: where the column only touches the part's outline the intersection
+        # holds lines, which a union with polygons refuses (mixed dimensions).
+        foot = as_multipolygon(shapely.intersection(column, shapely.union_all(under),
+                                                    grid_size=SUPPORT_GRID))
+        if foot.is_empty:
+            continue
+        interface[j] = as_multipolygon(shapely.union(interface[j], foot, grid_size=SUPPORT_GRID))
+        base[j] = as_multipolygon(shapely.difference(column, foot, grid_size=SUPPORT_GRID))
 
 
 #: Grid (mm) the split of a column into its sparse body and solid top is made on: the

@@ -167,6 +167,10 @@ PLAN_SETTINGS: tuple[Setting, ...] = (
     Setting("support_interface_layers", "int", 3, "support interface layers",
             "solid layers on top of the support, under the overhang", group="support",
             minimum=0),
+    Setting("support_bottom_interface_layers", "int", -1, "support bottom interface layers",
+            "solid layers at the foot of a column that stands on the part (-1: as many as "
+            "on top, PrusaSlicer's default); none on the platform", group="support",
+            minimum=-1),
     Setting("support_bridges", "bool", False, "support bridges",
             "also support what a bridge spans, from wall to wall (off, as PrusaSlicer's "
             "'Don't support bridges' is on: the bridge is laid over the gap)",

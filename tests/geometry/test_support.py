@@ -269,3 +269,30 @@ def test_a_bridge_from_pillar_to_pillar_gets_no_support_a_cantilever_does(App, P
     steps = np.vstack([np.diff(p.points, axis=0) for p in first])
     longest = steps[np.argmax(np.linalg.norm(steps, axis=1))]
     assert abs(longest[0]) > 15.0 and abs(longest[1]) < 1e-6
+
+
+def test_columns_standing_on_the_part_have_a_solid_foot_those_on_the_platform_none(App, Part):
+    """PrusaSlicer's bottom interface (as many layers as on top by default): the columns on
+    the lower shelf (top z = 10) start with solid layers above their contact gap; those on
+    the platform start sparse; `support_bottom_interface_layers` 0 leaves the foot sparse."""
+    shelf = _shelf(App, Part, lower_shelf=True)
+
+    def interface_points(**values):
+        result = _planned(shelf, support=True, **values)
+        return np.vstack([p.points for p in result.assembly.paths
+                          if p.role == "support_interface"] or [np.zeros((0, 3))])
+
+    first_column = 10.0 + (CONTACT_LAYERS + 1) * LAYER        # the first layer on the shelf
+    for values, layers in (({}, 3), ({"support_bottom_interface_layers": 1}, 1),
+                           ({"support_bottom_interface_layers": 0}, 0)):
+        points = interface_points(**values)
+        # (the columns under the lower shelf have their solid top at z 7.4-7.8)
+        foot = points[(points[:, 2] > 10.0) & (points[:, 2] < 15.0) & (points[:, 0] > 10.5)
+                      & (points[:, 0] < 19.5)]
+        assert len(np.unique(np.round(foot[:, 2], 6))) == layers, values
+        if layers:
+            assert foot[:, 2].min() == pytest.approx(first_column, abs=1e-6)
+            assert foot[:, 2].max() == pytest.approx(first_column + (layers - 1) * LAYER,
+                                                     abs=1e-6)
+        # the far half stands on the platform: solid only at its top, under the shelf
+        assert not len(points[(points[:, 2] < 15.0) & (points[:, 0] > 20.5)])
