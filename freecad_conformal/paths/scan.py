@@ -15,7 +15,9 @@ from shapely.geometry import Polygon
 #: Angles tried for the fewest-turns infill direction (every 15° over a half turn).
 CANDIDATE_ANGLES = tuple(math.radians(a) for a in range(0, 180, 15))
 
+
 def polygons_of(geometry) -> list[Polygon]:
+    """The non-empty polygons of any shapely geometry (none of its lines or points)."""
     if geometry.is_empty:
         return []
     if geometry.geom_type == "Polygon":
