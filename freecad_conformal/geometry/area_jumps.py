@@ -75,9 +75,18 @@ class MeshProfile:
         projected = self.area_vectors @ axis
         g = np.sort((self.points @ axis)[self.triangles], axis=1)
         g0, g1, g2 = (np.ascontiguousarray(g[:, k]) for k in range(3))
+        # Triangles wholly below h count whole: a prefix sum over them sorted by their top
+        # corner; only those h crosses are clipped (Pump_Nut: 4 ms per height over all
+        # 17,500 triangles, a few hundred crossed).
+        order = np.argsort(g2, kind="stable")
+        tops = g2[order]
+        below = np.concatenate(([0.0], np.cumsum(projected[order])))
         result = np.zeros(len(heights))
         for k, h in enumerate(heights):
-            result[k] = -float(projected @ sorted_below_fraction(g0 - h, g1 - h, g2 - h))
+            crossed = np.flatnonzero((g0 < h) & (g2 >= h))
+            clipped = sorted_below_fraction(g0[crossed] - h, g1[crossed] - h, g2[crossed] - h)
+            whole = below[np.searchsorted(tops, h, side="left")]
+            result[k] = -(float(whole) + float(projected[crossed] @ clipped))
         return result
 
 

@@ -15,6 +15,10 @@ def test_mesh_profile_areas_of_a_stepped_cylinder(App, Part):
     shape = Part.makeCylinder(10, 10).fuse(Part.makeCylinder(20, 10, App.Vector(0, 0, 10)))
     areas = MeshProfile(shape).areas(np.array([0.0, 0.0, 1.0]), np.array([2.5, 7.5, 12.5, 17.5]))
     np.testing.assert_allclose(areas, [100 * math.pi] * 2 + [400 * math.pi] * 2, rtol=5e-3)
+    # At a level face's own height the section is the one just below it: the triangles
+    # wholly below count whole, those lying in the plane not at all.
+    levels = MeshProfile(shape).areas(np.array([0.0, 0.0, 1.0]), np.array([0.0, 10.0, 20.0]))
+    np.testing.assert_allclose(levels, [0.0, 100 * math.pi, 400 * math.pi], rtol=5e-3, atol=1e-9)
     # Across the axis the section is a rectangle through the centre: 20·10 + 40·10 mm².
     across = MeshProfile(shape).areas(np.array([1.0, 0.0, 0.0]), np.array([0.0]))
     assert across[0] == pytest.approx(600.0, rel=5e-3)
