@@ -19,7 +19,7 @@ sparse pieces under 70 mm² printed solid, three solid top/bottom layers, no ski
 role (external perimeter 30, perimeters 60, perimeter loops up to 2π·6.5 mm 15, sparse
 infill 80, solid and top infill 20, travel 130 mm/s, the first layer at the same speeds), the time estimate's limits
 (acceleration 1500 mm/s², jerk 10 mm/s) and the cooling slowdown (layers under 5 s, not
-below 10 mm/s), support where a print leaves overhang (lines 2.5 mm apart, three interface
+below 10 mm/s), support where a print leaves overhang (2.5 mm between lines, three interface
 layers on top and at a foot on the part, 60 mm/s, a 0.2 mm contact gap, none under bridges:
 `plan --support` on ours). Bridges
 over unsupported areas: both lay them apart from anchor to anchor, ours by
@@ -66,7 +66,7 @@ LAYER, NOZZLE, PERIMETERS, INFILL, BEAD = 0.2, 0.4, 2, 0.20, 0.45
 #: PrusaSlicer 2.5 defaults (mm/s) and its time-estimate machine limits.
 SPEEDS = {"external_perimeter": 30.0, "perimeter": 60.0, "infill": 80.0, "solid_infill": 20.0,
           "travel": 130.0, "small_perimeter": 15.0, "bridge_infill": 60.0, "support": 60.0}
-#: Support where a print needs it (PrusaSlicer's defaults, stated): lines 2.5 mm apart, three
+#: Support where a print needs it (PrusaSlicer's defaults, stated): 2.5 mm between lines, three
 #: solid interface layers at the support's speed on top of a column and at its foot where
 #: it stands on the part, a 0.2 mm contact gap, none under what a bridge spans (its
 #: defaults: bottom interface layers as the top's, "Don't support bridges"; `paths.support`).

@@ -2,7 +2,7 @@
 
 A plan is chosen to leave no overhang; where none is found that does (CrankArm's 1170 mm²,
 a closed cavity's ceiling), `plan --support` prints support under what is left, as a planar
-slicer does with supports on (PrusaSlicer's defaults: rectilinear lines 2.5 mm apart,
+slicer does with supports on (PrusaSlicer's defaults: rectilinear lines with 2.5 mm between them,
 three solid interface layers under the overhang, one layer of contact gap above and
 below, half a bead clear of the part sideways).
 
@@ -68,9 +68,12 @@ SAME_NORMAL = 1.0 - 1e-9
 
 @dataclass(frozen=True)
 class SupportSettings:
-    """Whether support is printed, its line spacing (mm) and its solid interface layers."""
+    """Whether support is printed, the gap between its lines (mm) and its solid interface
+    layers."""
 
     enabled: bool = False
+    #: gap between support lines, as PrusaSlicer's "pattern spacing": the lines lie one
+    #: bead spacing farther apart than this (0: solid)
     spacing: float = 2.5
     interface_layers: int = 3
     #: solid layers at the foot of a column standing on the part; -1: `interface_layers`
@@ -269,11 +272,14 @@ def _near(region: MultiPolygon, area, margin: float):
 
 def support_paths(base: MultiPolygon, interface: MultiPolygon, settings: SupportSettings,
                   bead_width: float, height: float, bead_model: str) -> list[Path2D]:
-    """One layer's support: sparse lines `settings.spacing` apart, solid interface lines."""
+    """One layer's support: sparse lines with `settings.spacing` between them, solid
+    interface lines."""
+    solid = bead_spacing(bead_width, height, bead_model)
     paths = []
     if not base.is_empty:
-        paths += zigzag(base, settings.spacing, SUPPORT_ANGLE, bead_width, "support")
+        # The gap, not the pitch: PrusaSlicer's lines at its default 2.5 mm lie 2.5 mm plus
+        # a line's spacing apart (2.91 mm at 0.45 x 0.2 mm), 14 % less support than 2.5.
+        paths += zigzag(base, settings.spacing + solid, SUPPORT_ANGLE, bead_width, "support")
     if not interface.is_empty:
-        paths += zigzag(interface, bead_spacing(bead_width, height, bead_model),
-                        INTERFACE_ANGLE, bead_width, "support_interface")
+        paths += zigzag(interface, solid, INTERFACE_ANGLE, bead_width, "support_interface")
     return paths

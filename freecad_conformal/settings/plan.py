@@ -162,8 +162,9 @@ PLAN_SETTINGS: tuple[Setting, ...] = (
             "print support under the overhang the plan leaves (none where it leaves none), "
             "in the sub-part's own planar layers", group="support", prop="PrintSupport"),
     Setting("support_spacing", "length", 2.5, "support spacing",
-            "distance between support lines (PrusaSlicer's default)", group="support",
-            minimum=0.0, open_minimum=True),
+            "gap between support lines, as PrusaSlicer's pattern spacing (its default): "
+            "the lines lie a bead spacing farther apart; 0 prints the support solid",
+            group="support", minimum=0.0),
     Setting("support_interface_layers", "int", 3, "support interface layers",
             "solid layers on top of the support, under the overhang", group="support",
             minimum=0),

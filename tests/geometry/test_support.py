@@ -296,3 +296,24 @@ def test_columns_standing_on_the_part_have_a_solid_foot_those_on_the_platform_no
                                                      abs=1e-6)
         # the far half stands on the platform: solid only at its top, under the shelf
         assert not len(points[(points[:, 2] < 15.0) & (points[:, 0] > 20.5)])
+
+
+@pytest.mark.parametrize("gap", [2.5, 1.0])
+def test_support_lines_leave_the_gap_asked_between_them_as_prusaslicer(gap):
+    """PrusaSlicer's "pattern spacing" is the gap between support lines: at its default
+    2.5 mm they lie 2.5 mm plus a line's spacing apart. Ours laid them 2.5 mm apart, 14 %
+    more support than the peer at the same setting."""
+    from shapely.geometry import MultiPolygon, box
+
+    from freecad_conformal.paths.bead import bead_spacing
+    from freecad_conformal.paths.support import support_paths
+
+    width, model = 0.45, "rounded"
+    paths = support_paths(MultiPolygon([box(0, 0, 30, 30)]), MultiPolygon(),
+                          SupportSettings(enabled=True, spacing=gap), width, LAYER, model)
+    points = np.vstack([p.points for p in paths])
+    # Rows along x: their y values, one per row, evenly apart.
+    rows = np.unique(np.round(points[:, 1], 6))
+    pitch = np.diff(rows)
+    assert len(rows) > 5
+    np.testing.assert_allclose(pitch, gap + bead_spacing(width, LAYER, model), rtol=1e-6)
