@@ -36,8 +36,9 @@ from freecad_conformal.paths.bead import bead_area, bead_spacing
 from freecad_conformal.paths.map3d import air_at
 from freecad_conformal.paths.stack_fill import SIMPLIFY_FRACTION, fill_key
 from freecad_conformal.paths.fill2d import (Rows, Walls, fill_area, gap_fill, infill_areas,
-                                            infill_rows, inset, island_walls, polygons_of,
-                                            scan_pieces, thin_wall_paths, valid_region)
+                                            infill_rows, inset, island_walls, thin_wall_paths,
+                                            valid_region)
+from freecad_conformal.paths.scan import polygons_of, scan_pieces
 from freecad_conformal.paths.timing import DEFAULT_JERK, junction_speeds, move_times
 
 #: The estimate's promise: within 10 % of the full plan's time and material (issue 16).

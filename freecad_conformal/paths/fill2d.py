@@ -33,8 +33,8 @@ from shapely.geometry import LineString, MultiPolygon, Polygon
 
 from freecad_conformal.errors import PlanError
 from freecad_conformal.paths.bead import BEAD_MODELS, bead_spacing
-from freecad_conformal.paths.scan import (CANDIDATE_ANGLES, MIN_PIECE, boundary_edges,  # noqa: F401
-                                          bridge_angle, polygons_of, scan_pieces, span_angle)
+from freecad_conformal.paths.scan import (CANDIDATE_ANGLES, boundary_edges, bridge_angle,
+                                          polygons_of, scan_pieces, span_angle)
 from freecad_conformal.paths.thin_walls import (MIN_LENGTH_WIDTHS, MIN_WIDTH_SHARE,
                                                  gap_beads, joined_beads, thin_wall_beads)
 from freecad_conformal.shapely_speed import mitred_buffer

@@ -16,7 +16,8 @@ import numpy as np
 import shapely
 from shapely.geometry import MultiPolygon
 
-from freecad_conformal.paths.fill2d import Path2D, polygons_of, valid_region
+from freecad_conformal.paths.fill2d import Path2D, valid_region
+from freecad_conformal.paths.scan import polygons_of
 from freecad_conformal.layers.model import Layer, as_multipolygon
 
 #: Two layer regions whose vertices agree this closely (mm) are the same region: sections of
@@ -165,6 +166,12 @@ def bridge_regions(layers: Sequence[Layer], skins: Sequence[MultiPolygon],
 AIR_MIN_WIDTHS = 2.0
 
 
+def bridge_wide(area, bead_width: float) -> bool:
+    """Whether `area` over nothing holds a part `AIR_MIN_WIDTHS` beads wide: a bridge to
+    the fill (`_over_air`) and to the support (`support.bridged`) alike."""
+    return not area.is_empty and not area.buffer(-0.5 * AIR_MIN_WIDTHS * bead_width).is_empty
+
+
 def bridge_at(layers: Sequence[Layer], i: int, skin: MultiPolygon,
               below_skin: MultiPolygon | None, solid_below_area: float,
               bead_width: float | None = None) -> MultiPolygon:
@@ -189,11 +196,10 @@ def bridge_at(layers: Sequence[Layer], i: int, skin: MultiPolygon,
 def _over_air(layer: Layer, below: Layer, skin: MultiPolygon, bead_width: float) -> MultiPolygon:
     """The pieces of `skin` (a layer's solid area, or its bridge) over nothing at least
     `AIR_MIN_WIDTHS` beads wide."""
-    half = 0.5 * AIR_MIN_WIDTHS * bead_width
     # What is over nothing lies in the skin: a skin with no part that wide holds none (the
     # slivers a curved wall's skin is on most layers: the bottle's 259 differences with
     # the layer below took 0.29 s).
-    if skin.is_empty or skin.buffer(-half).is_empty:
+    if not bridge_wide(skin, bead_width):
         return MultiPolygon()
     # The layer less the one below, island by island: where they hold the same islands
     # no GEOS Boolean is made.
@@ -201,7 +207,7 @@ def _over_air(layer: Layer, below: Layer, skin: MultiPolygon, bead_width: float)
     if bare.is_empty:
         return MultiPolygon()
     bare = as_multipolygon(_boolean(bare, skin, "intersection"))
-    return MultiPolygon([p for p in polygons_of(bare) if not p.buffer(-half).is_empty])
+    return MultiPolygon([p for p in polygons_of(bare) if bridge_wide(p, bead_width)])
 
 
 def air_at(layers: Sequence[Layer], i: int, bridge,

@@ -39,7 +39,7 @@ from freecad_conformal.geometry.overhang import DEFAULT_OVERHANG_ANGLE
 from freecad_conformal.layers.model import Layer, as_multipolygon
 from freecad_conformal.paths.bead import bead_spacing
 from freecad_conformal.paths.fill2d import Path2D, zigzag
-from freecad_conformal.paths.map3d import AIR_MIN_WIDTHS, SAME_REGION, region_in
+from freecad_conformal.paths.map3d import SAME_REGION, bridge_wide, region_in
 from freecad_conformal.paths.scan import anchored_cover, bridge_angle, polygons_of
 
 #: Roles of the paths support is printed in.
@@ -130,17 +130,16 @@ ANCHOR_BEADS = 0.5
 
 def bridged(layer: Layer, under: MultiPolygon, bead_width: float) -> MultiPolygon:
     """What of `layer` over nothing (beyond `under`, the layer below in its frame) a bridge
-    spans: in each piece at least `AIR_MIN_WIDTHS` beads wide, the rows laid from anchor
+    spans: in each piece wide enough to bridge (`map3d.bridge_wide`), the rows laid from anchor
     to anchor (`scan.bridge_angle`, as the fill lays them) whose ends both rest on `under`.
     PrusaSlicer leaves that unsupported by default ("Don't support bridges": its bridge
     detector's coverage); a cantilever's rows end over air, so it stays supported."""
     if under.is_empty:
         return MultiPolygon()
     reach = ANCHOR_BEADS * bead_width
-    half = 0.5 * AIR_MIN_WIDTHS * bead_width
     spans = []
     for piece in polygons_of(layer.region.difference(under)):
-        if piece.buffer(-half).is_empty:
+        if not bridge_wide(piece, bead_width):
             continue
         angle = bridge_angle(piece, bead_width, under, reach)
         cover = anchored_cover(piece, bead_width, angle, under, reach)
@@ -154,9 +153,8 @@ def stack_support(layers: Sequence[Layer], settings: SupportSettings, bead_width
     """The support areas of one stack (see the module); none where support is off or the
     stack is not `supportable`."""
     count = len(layers)
-    none = StackSupport([MultiPolygon()] * count, [MultiPolygon()] * count)
     if not settings.enabled or not supportable(layers):
-        return none
+        return StackSupport([MultiPolygon()] * count, [MultiPolygon()] * count)
     hang = overhangs(layers, bead_width, angle)
     bridged_area = 0.0
     if not settings.bridges:
@@ -169,9 +167,8 @@ def stack_support(layers: Sequence[Layer], settings: SupportSettings, bead_width
                     grid_size=SUPPORT_GRID))
                 for i, h in enumerate(hang)]
         bridged_area = before - sum(h.area for h in hang)
-        none.bridged_area = bridged_area
     if all(h.is_empty for h in hang):
-        return none
+        return StackSupport([MultiPolygon()] * count, [MultiPolygon()] * count, 0.0, bridged_area)
     gap = XY_GAP_BEADS * bead_width
     base, interface = [MultiPolygon()] * count, [MultiPolygon()] * count
     # Per layer, the columns passing it, closed: what a layer `interface_layers` above

@@ -144,8 +144,8 @@ def test_fewest_turns_from_the_boundary_matches_counting_the_scan_pieces():
 
     import shapely
 
-    from freecad_conformal.paths.fill2d import (CANDIDATE_ANGLES, _scan_segments,
-                                                fewest_turns_angle)
+    from freecad_conformal.paths.fill2d import _scan_segments, fewest_turns_angle
+    from freecad_conformal.paths.scan import CANDIDATE_ANGLES
 
     rng = random.Random(7)
     for _ in range(60):
@@ -199,7 +199,7 @@ def _random_areas(count: int, seed: int):
 def test_scan_pieces_are_the_lines_clipped_to_the_area():
     """Against GEOS clipping each scan line to the area (on valid areas, where it is right):
     the same rows, the same pieces."""
-    from freecad_conformal.paths.fill2d import scan_pieces
+    from freecad_conformal.paths.scan import scan_pieces
 
     for area, rng in _random_areas(40, seed=11):
         spacing, angle = rng.choice((0.45, 1.3)), rng.uniform(0, math.pi)
@@ -227,7 +227,7 @@ def test_scan_pieces_stay_inside_an_area_that_turning_makes_self_intersecting():
 
     import shapely
 
-    from freecad_conformal.paths.fill2d import scan_pieces
+    from freecad_conformal.paths.scan import scan_pieces
 
     text = (Path(__file__).parent / "data" / "scan_area_turned_self_intersecting.wkt").read_text()
     area = shapely.from_wkt(text)
