@@ -91,9 +91,15 @@ def span_angle(area, spacing: float, candidates=CANDIDATE_ANGLES) -> float:
     side's wall to the other (a sealed slot's ceiling: 8 mm lines, where the fewest-turns
     direction ran 30 mm ones lengthwise over the void). Ties go to the first candidate
     (a square's or a disc's ceiling: the same rows as before on even layers)."""
-    best, angle = math.inf, candidates[0]
-    for candidate in candidates:
-        pieces, _ = scan_pieces(area, spacing, candidate)
+    return _shortest_span([(candidate, scan_pieces(area, spacing, candidate)[0])
+                           for candidate in candidates])
+
+
+def _shortest_span(scanned: list[tuple[float, np.ndarray]]) -> float:
+    """The angle among (angle, its scan pieces) whose longest piece is shortest; ties (to
+    `MIN_PIECE`) go to the first."""
+    best, angle = math.inf, scanned[0][0]
+    for candidate, pieces in scanned:
         longest = float((pieces[:, 2] - pieces[:, 1]).max()) if len(pieces) else 0.0
         if longest < best - MIN_PIECE:
             best, angle = longest, candidate
@@ -132,15 +138,17 @@ def bridge_angle(area, spacing: float, anchors, reach: float) -> float:
     it, across the shortest span (`span_angle`). A beam between two pillars is laid from
     one to the other, though it is narrower across; a cantilever, anchored nowhere, and
     a sealed slot's ceiling, anchored everywhere, across their shortest span."""
-    shares = []
+    scanned, shares = [], []
     for candidate in CANDIDATE_ANGLES:
         rows, _, anchored = anchored_rows(area, spacing, candidate, anchors, reach)
         lengths = rows[:, 2] - rows[:, 1] if len(rows) else np.zeros(0)
         total = float(lengths.sum())
+        scanned.append((candidate, rows))
         shares.append(float(lengths[anchored].sum()) / total if total > 0 else 0.0)
     best = max(shares)
-    return span_angle(area, spacing, [a for a, share in zip(CANDIDATE_ANGLES, shares)
-                                      if share >= best - ANCHOR_SLACK])
+    # The same rows decide the span: scanning the close candidates again cost as much.
+    return _shortest_span([found for found, share in zip(scanned, shares)
+                           if share >= best - ANCHOR_SLACK])
 
 
 def anchored_cover(area, spacing: float, angle: float, anchors, reach: float):
