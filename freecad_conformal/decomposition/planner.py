@@ -19,7 +19,8 @@ from freecad_conformal.geometry.frames import vector_text
 from freecad_conformal.geometry.splitting_faces import SplitCandidate, split_solid
 from freecad_conformal.decomposition.cut_search import CutSearch, best_cut
 from freecad_conformal.decomposition.cuts import (LazyAxis, SavingEstimate, area_jump_candidates,
-                                             branch_candidates, face_candidates)
+                                             branch_candidates, face_candidates,
+                                             flange_candidates)
 from freecad_conformal.geometry.overhang import lowest_level, overhang_report
 from freecad_conformal.geometry.shape_parts import faces as faces_of, heights as vertex_heights, vertex_points
 from freecad_conformal.tolerances import (
@@ -188,6 +189,12 @@ def refine(piece: Piece, angle: float, axis, budget: int, notes: list[str],
         # along X).
         best = best_cut(piece, branch_candidates(piece.shape, piece.direction, angle, estimate,
                                                  needed, piece.concave()), angle, search)
+    if best is None:
+        # A flange's sides before an area jump: its underside, square to the shaft, makes
+        # none, and the jumps where the shaft begins cut a spool's flange along one axis
+        # only (half its overhang left).
+        best = best_cut(piece, flange_candidates(piece.shape, piece.direction, angle, needed,
+                                                 piece.concave()), angle, search)
     if best is None:
         # Section 4's area-jump rule only where no splitting face helps: its sections along
         # three axes cost more than everything else here.

@@ -28,7 +28,8 @@ class SubPart:
         name: a short label ("P1", ...).
         rule: what made this sub-part: "root", "axis-face" (a splitting face meeting the
             centroidal-axis criteria), "concave-face", "area-jump", "branch" (a round member
-            cut off square to its axis, decomposition/cuts.branch_candidates) or "member" (one
+            cut off square to its axis, decomposition/cuts.branch_candidates), "flange" (a
+            flange's side cut off along the shaft under it, cuts.flange_candidates) or "member" (one
             of several members leaving its parent along the same direction,
             decomposition/members.py).
         solid_index: which solid of the input it comes from (compounds give a forest).

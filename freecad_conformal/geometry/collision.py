@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from freecad_conformal.freecad_env import import_freecad
-from freecad_conformal.geometry.frames import index_rows, points_array
+from freecad_conformal.geometry.frames import index_rows, perpendicular_frame, points_array
 from freecad_conformal.geometry.surface_mesh import made_mesh
 from freecad_conformal.process.tools import Envelope
 from freecad_conformal.tolerances import BASE_LEVEL_TOLERANCE, SAME_DIRECTION_ANGLE
@@ -112,14 +112,6 @@ def _triangulated(shape) -> tuple[list, list]:
     return copy.tessellate(SAMPLE_DEFLECTION)
 
 
-def _perpendicular_frame(d: np.ndarray) -> np.ndarray:
-    """Two unit vectors (2, 3) perpendicular to `d` and to each other."""
-    helper = np.eye(3)[int(np.argmin(np.abs(d)))]
-    u = np.cross(d, helper)
-    u /= np.linalg.norm(u)
-    return np.vstack([u, np.cross(d, u)])
-
-
 def _cells(uv: np.ndarray, size: float) -> dict[tuple[int, int], np.ndarray]:
     """Indices of the points in each square cell of side `size` of the plane ⊥ the axis."""
     keys = np.floor(uv / size).astype(np.int64)
@@ -146,7 +138,7 @@ def envelope_hits(tool_points: np.ndarray, axis: np.ndarray, envelope: Envelope,
         return hit
     length = envelope.tip_length + envelope.body_length
     radius = envelope.body_diameter / 2
-    frame = _perpendicular_frame(d)
+    frame = perpendicular_frame(d)
     tool_s, obstacle_s = tool_points @ d, obstacle @ d
     tool_uv, obstacle_uv = tool_points @ frame.T, obstacle @ frame.T
     # Only obstacle points within reach of some tool point can be hit (cheap box filter).

@@ -30,6 +30,15 @@ def vector_text(vector) -> str:
     return "(" + ", ".join(f"{float(c):+.3g}" for c in vector) + ")"
 
 
+def perpendicular_frame(d: np.ndarray) -> np.ndarray:
+    """Two unit vectors (2, 3) perpendicular to the unit vector `d` and to each other: the
+    first square to d and to the coordinate axis least along it."""
+    helper = np.eye(3)[int(np.argmin(np.abs(d)))]
+    u = np.cross(d, helper)
+    u /= np.linalg.norm(u)
+    return np.vstack([u, np.cross(d, u)])
+
+
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """a × b of two 3-vectors, as `np.cross` gives it to the last bit (the same products
     and differences) in a tenth of its time: sections take one or two per face, and

@@ -26,7 +26,7 @@ SLIVER_FRACTION = 1e-9
 @dataclass
 class SplitCandidate:
     """One planar region to cut along; `normal` is the plane's normal (unit), `rule` tells
-    which rule proposed it ("concave-face", "area-jump" or "branch")."""
+    which rule proposed it ("concave-face", "area-jump", "branch" or "flange")."""
 
     point: np.ndarray
     normal: np.ndarray

@@ -636,3 +636,43 @@ def test_a_solid_to_decompose_beside_one_searched_keeps_its_decomposition(App, P
     assert np.allclose(flat.build_direction, (0.0, 0.0, 1.0))
     assert plan.support_area == pytest.approx(0.0, abs=1.0)
     assert [note.split(":")[0] for note in plan.notes if "chosen among" in note] == ["solid 2"]
+
+
+def _spool(holes: int):
+    """A tube (r 15 / 12, 60 mm) with a flange (r 30, 5 mm) at each end, each with `holes`
+    bolt holes (r 3) on a 23 mm circle: the upper flange overhangs the tube all round."""
+    from freecad_conformal.freecad_env import import_freecad
+
+    App, Part = import_freecad()
+    V = App.Vector
+    flange = Part.makeCylinder(30, 5).cut(Part.makeCylinder(12, 5))
+    for k in range(holes):
+        turn = 2 * math.pi * k / holes
+        flange = flange.cut(Part.makeCylinder(3, 5, V(23 * math.cos(turn), 23 * math.sin(turn), 0)))
+    tube = Part.makeCylinder(15, 60).cut(Part.makeCylinder(12, 60))
+    return tube.fuse([flange, flange.translated(V(0, 0, 55))]).removeSplitter().Solids[0]
+
+
+@pytest.mark.parametrize("holes", [0, 6])
+def test_a_flange_over_a_shaft_is_cut_off_by_planes_along_the_shaft_just_clear_of_it(holes):
+    """A spool as placed: the upper flange's underside (2120 mm²) overhangs the tube all
+    round. Square to the tube it makes no area jump, no planar face splits it off and no
+    member leaves the tube sideways: area jumps cut two of its sides off where the tube
+    begins along one axis only, and left 1015.0 mm² (1052.7 with the holes). Eight planes
+    along the tube, 0.2 mm clear of it, cut the flange's sides off, each built outwards,
+    leaving the corners of an octagon round the tube over it (58.7 mm²)."""
+    from freecad_conformal.decomposition.cuts import BRANCH_CLEARANCE, FLANGE_SIDES
+
+    spool = _spool(holes)
+    plan = decompose(spool, root_direction=(0, 0, 1))
+    tube, *sides = plan.ordered()
+    np.testing.assert_allclose(tube.build_direction, [0, 0, 1], atol=1e-12)
+    assert [s.rule for s in sides] == ["flange"] * FLANGE_SIDES
+    turns = [2 * math.pi * k / FLANGE_SIDES for k in range(FLANGE_SIDES)]
+    assert sorted(directions(plan)[1:]) == sorted(
+        (round(math.cos(t), 6) + 0.0, round(math.sin(t), 6) + 0.0, 0.0) for t in turns)
+    reach = 15.0 + BRANCH_CLEARANCE
+    corners = FLANGE_SIDES * reach ** 2 * math.tan(math.pi / FLANGE_SIDES) - math.pi * 15.0 ** 2
+    assert overhang_of(tube.shape) == pytest.approx(corners, rel=0.01)
+    assert plan.support_area < corners + 4 * 50.0       # the bolt holes' upper halves
+    assert sum(s.volume for s in plan.subparts) == pytest.approx(spool.Volume, rel=1e-6)
