@@ -331,7 +331,10 @@ def _fused(parent: Piece, child: Piece) -> Piece | None:
 
     _, Part = import_freecad()
     try:
-        solids = parent.shape.fuse(child.shape).removeSplitter().Solids
+        # On copies: pieces of one split share faces and edges, and the fuse's
+        # removeSplitter changed shared ones in place (a bobbin's other pieces then read
+        # negative volumes, and its merge-back gave up).
+        solids = parent.shape.copy().fuse(child.shape.copy()).removeSplitter().Solids
     except Part.OCCError:
         return None
     if len(solids) != 1 or not solids[0].isValid():

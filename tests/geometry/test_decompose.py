@@ -676,3 +676,31 @@ def test_a_flange_over_a_shaft_is_cut_off_by_planes_along_the_shaft_just_clear_o
     assert overhang_of(tube.shape) == pytest.approx(corners, rel=0.01)
     assert plan.support_area < corners + 4 * 50.0       # the bolt holes' upper halves
     assert sum(s.volume for s in plan.subparts) == pytest.approx(spool.Volume, rel=1e-6)
+
+
+def test_fusing_a_cut_back_leaves_the_other_pieces_as_they_were():
+    """Pieces of one split share faces and edges; OCC's fuse with `removeSplitter` on two of
+    them changed those shared ones in place: on a disc cut by three planes the first piece
+    then read 5,440 mm³ instead of 1,251 and a neighbour -3,854 instead of 335, and a
+    bobbin's merge-back (no collision-free order for its collar) gave up on a piece of
+    negative volume. The fuse works on copies."""
+    from freecad_conformal.decomposition.decompose import _fused
+    from freecad_conformal.decomposition.planner import Piece
+    from freecad_conformal.freecad_env import import_freecad
+    from freecad_conformal.geometry.splitting_faces import plane_through, split_solid
+
+    _, Part = import_freecad()
+    disc = Part.makeCylinder(20, 5)
+    planes = [((8, 0, 0), (1, 0, 0)), ((0, 8, 0), (0, 1, 0)), ((-8, 0, 0), (-1, 0, 0))]
+    regions = [disc.common(plane_through(np.array(p, float), np.array(n, float),
+                                         disc.BoundBox)).Faces[0] for p, n in planes]
+    pieces = split_solid(disc, regions)
+    before = [p.Volume for p in pieces]
+    assert len(pieces) == 6 and min(before) > 0
+    for i, j in [(0, 1), (1, 0), (2, 3), (0, 5)]:
+        fused = _fused(Piece(pieces[i], np.array([0.0, 0.0, 1.0])),
+                       Piece(pieces[j], np.array([0.0, 0.0, 1.0])))
+        np.testing.assert_allclose([p.Volume for p in pieces], before, rtol=1e-9)
+        if fused is not None:
+            assert fused.shape.Volume == pytest.approx(before[i] + before[j], rel=1e-6)
+    assert sum(before) == pytest.approx(disc.Volume, rel=1e-9)
