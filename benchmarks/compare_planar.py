@@ -225,8 +225,27 @@ def u_channel():
     return channel.cut(Part.makeBox(40, 10, 4, V(0, 10, 16))).removeSplitter().Solids[0]
 
 
+def spool():
+    """A spool of our own making (tests/geometry/test_decompose.py's twin, with six bolt
+    holes): a tube r 15 / 12, 60 mm long, with a flange r 30 x 5 mm at each end, each with
+    six r 3 holes on a 23 mm circle. Its upper flange overhangs the tube all round; it needs
+    support in every orientation."""
+    import math
+
+    from freecad_conformal.freecad_env import import_freecad
+
+    App, Part = import_freecad()
+    V = App.Vector
+    flange = Part.makeCylinder(30, 5).cut(Part.makeCylinder(12, 5))
+    for k in range(6):
+        turn = 2 * math.pi * k / 6
+        flange = flange.cut(Part.makeCylinder(3, 5, V(23 * math.cos(turn), 23 * math.sin(turn), 0)))
+    tube = Part.makeCylinder(15, 60).cut(Part.makeCylinder(12, 60))
+    return tube.fuse([flange, flange.translated(V(0, 0, 55))]).removeSplitter().Solids[0]
+
+
 #: Parts made here for the comparison, beside the samples and ../shared/parts.
-OWN_PARTS = {"capped_column": capped_column, "u_channel": u_channel}
+OWN_PARTS = {"capped_column": capped_column, "u_channel": u_channel, "spool": spool}
 
 
 def load(name: str):
