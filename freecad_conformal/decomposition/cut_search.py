@@ -157,7 +157,7 @@ def _made_exactly(piece, mesh, ordered: list, angle: float, needed: float,
             break
         if len(made) >= MAX_EXACT_CUTS and len(made) >= len(near):
             break
-        if _tool_blocked(trial, search):
+        if _tool_blocked(trial, search, plane if plane.rule == "flange" else None):
             search.blocked.append(total)
             continue
         exact = _exact_region(plane, region, mesh)
@@ -168,7 +168,7 @@ def _made_exactly(piece, mesh, ordered: list, angle: float, needed: float,
     return made
 
 
-def _tool_blocked(trial, search: CutSearch) -> bool:
+def _tool_blocked(trial, search: CutSearch, flange=None) -> bool:
     """Whether the tool building the trial's child would meet the faces the cut divides,
     on the piece's side (the child's own faces, carried on where the piece keeps them):
     a cut into a coil spring's wire, built along −X inside the coil. That cut would be
@@ -176,14 +176,19 @@ def _tool_blocked(trial, search: CutSearch) -> bool:
     back into its parent), after its exact split (7 s of the coil's 18 s decomposition),
     and the part built whole. Only those faces: the rest of the piece may yet be cut off
     and built after the child (a post's collar beside the arm above it), where the order
-    decides. Read on the mesh's two parts, sampled as `geometry/collision.py` samples
-    sub-parts."""
+    decides. A `flange` plane's child is built outwards past all of the piece beyond the
+    plane (a bobbin's other cheek, which stays on the bed): its sixteen flange cuts were
+    all undone, and took 9.6 s of its plan instead of 2.8. Read on the mesh's two parts,
+    sampled as `geometry/collision.py` samples sub-parts."""
     if search.envelope is None or trial.triangles is None:
         return False
     from freecad_conformal.geometry.collision import builds_into, sample_spacing, spread_samples
 
     (keeper, keeper_faces), (child, child_faces) = trial.triangles()
-    divided = np.isin(keeper_faces, child_faces)
+    if flange is None:
+        divided = np.isin(keeper_faces, child_faces)
+    else:
+        divided = (keeper.mean(axis=1) - flange.point) @ flange.normal > 0.0
     if not divided.any() or not len(child):
         return False
     spacing = sample_spacing(search.envelope)
