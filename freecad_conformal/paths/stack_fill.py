@@ -6,8 +6,11 @@ along the plan). With enough layers a child Python (`child_python.py`) makes the
 last layer back while this process goes from the first; where the two meet this process
 stops and the child is ended. The child's layers come back pickled (exact doubles): the
 same fills, bit for bit, as this process makes. Layers the same to `SAME_FILL` (a prism's,
-but for rounding) share one fill: the first made on either side, so a fill may then come
-from another of those layers than alone (1e-15 mm apart). Without a child (FreeCAD's GUI,
+but for rounding) share one fill: the one made from the first of them (`_canonical`),
+whichever side made it. Each side shares the first it made, and where the two meet
+depends on timing: a shared fill came from another layer from run to run (1e-15 mm
+apart), and on a spool's symmetric pieces a tie in the paths' order broke either way.
+Without a child (FreeCAD's GUI,
 one core, a pool's worker, a child that died) this process makes them all. A plan's job
 starts the child while it chooses the plan (`prestart`), so that it is ready for the paths.
 """
@@ -174,21 +177,47 @@ def stack_fills(stacks: Sequence[tuple[Sequence[Layer], bool]], settings: PathSe
         helper.ask({"stacks": stacks, "settings": settings, "known": known})
     done_from = len(units)      # the child has made every unit from here on
     child_fills: dict[int, list[IslandFill]] = {}
+    keys: list[tuple | None] = [None] * len(units)
     try:
         for k, (s, i) in enumerate(units):
             if helper is not None:
-                for index, skin, bridge, number, fill in helper.received():
+                for index, skin, bridge, number, fill, key in helper.received():
                     if fill is not None:
                         child_fills[number] = fill
                     maker.put(*units[index], skin, bridge, child_fills[number])
+                    keys[index] = key
                     done_from = index
             if k >= done_from:
                 break
-            maker.make(s, i)
+            keys[k] = maker.make(s, i)[3]
     finally:
         if helper is not None:
             helper.stop()
+    if done_from < len(units):
+        _canonical(maker, units, keys, done_from)
     return maker.result()
+
+
+def _canonical(maker: _Maker, units: list, keys: list, done_from: int) -> None:
+    """Every layer given the fill of the first layer of its key: this process made the
+    first ones of its share in order, so only a key whose first layer lies in the child's
+    share (which shares the fill of the last it met) has its fill made again here, from
+    that layer."""
+    first: dict[tuple, int] = {}
+    count: dict[tuple, int] = {}
+    for index, key in enumerate(keys):
+        first.setdefault(key, index)
+        count[key] = count.get(key, 0) + 1
+    fills: dict[tuple, list[IslandFill]] = {}
+    for key, index in first.items():
+        if index >= done_from and count[key] > 1:
+            maker.made.pop(key, None)
+            maker.make(*units[index])
+        s, i = units[index]
+        fills[key] = maker.fills[s][i]
+    for index, key in enumerate(keys[done_from:], start=done_from):
+        s, i = units[index]
+        maker.fills[s][i] = fills[key]
 
 
 #: A child started ahead (`prestart`), not yet asked.
@@ -237,7 +266,7 @@ def _distinct(stacks: Sequence[tuple[Sequence[Layer], bool]]) -> int:
 
 def _from_the_end(request: dict, send: Callable[[object], None]) -> None:
     """Child side: make the units from the last back, sending each as (unit, skin, bridge,
-    fill number, fill or None when that number was sent before)."""
+    fill number, fill or None when that number was sent before, fill key)."""
     stacks, settings = request["stacks"], request["settings"]
     maker = _Maker(stacks, settings, request["known"])
     units = [(s, i) for s, (layers, _) in enumerate(stacks) for i in range(len(layers))]
@@ -247,9 +276,9 @@ def _from_the_end(request: dict, send: Callable[[object], None]) -> None:
         number = numbers.get(key)
         if number is None:
             number = numbers[key] = len(numbers)
-            send((index, skin, bridge, number, fill))
+            send((index, skin, bridge, number, fill, key))
         else:
-            send((index, skin, bridge, number, None))
+            send((index, skin, bridge, number, None, key))
 
 
 def _preload() -> None:

@@ -254,3 +254,41 @@ def test_a_failed_job_ends_the_child_started_for_its_paths(monkeypatch, prestart
         job.plan_additive(load_part("bracket")[0], job.PlanOptions())
     assert len(prestarting) == 1 and prestarting[0].stopped
     assert not stack_fill._PRESTARTED
+
+
+def _prism_a_hair_apart() -> list:
+    """A prism's layers whose regions agree to `SAME_FILL` but not to the last bit: a box of
+    24 layers, its upper half moved 2e-15 mm (a turned part's sections carry such
+    rounding). The layers of one parity share one key, and so one fill."""
+    import dataclasses
+
+    import shapely
+
+    App, Part = import_freecad()
+    box = Part.makeBox(12.0, 7.0, 4.8, App.Vector(0.3, 0.7, 0.0))
+    layers = plan_layers(SubPart(0, box, np.array([0.0, 0.0, 1.0]), volume=box.Volume),
+                         LayerSettings())
+    moved = [dataclasses.replace(layer, region=shapely.transform(layer.region, lambda xy: xy + 2e-15))
+             if k >= len(layers) // 2 else layer for k, layer in enumerate(layers)]
+    return [(moved, False)]
+
+
+@pytest.mark.parametrize("per_call", [1, 3, 7])
+def test_layers_of_one_key_share_the_first_ones_fill_whoever_makes_it(monkeypatch, per_call):
+    """Each side shared the fill it made first: here the lowest layer's of a key, in the
+    child the highest's. Where the two met (timing) decided which layers took which, and
+    a spool's G-code varied from run to run. Now every layer takes the fill of the first
+    layer of its key, as when this process makes them all."""
+    stacks = _prism_a_hair_apart()
+    layers = stacks[0][0]
+    assert len({layer.region.wkb for layer in layers}) == 2
+    alone = stack_fill.stack_fills(stacks, _settings(), child=False)
+    monkeypatch.setattr(stack_fill, "MIN_CHILD_LAYERS", 0)
+    monkeypatch.setattr(stack_fill, "can_start_child", lambda: True)
+    monkeypatch.setattr(stack_fill, "_distinct", lambda stacks: 10 ** 6)
+    monkeypatch.setattr(_Replay, "per_call", per_call)
+    monkeypatch.setattr(stack_fill, "ChildPython", _Replay)
+    made = _made_here(monkeypatch)
+    shared = stack_fill.stack_fills(stacks, _settings())
+    assert 0 < len(made) < len(layers)         # both sides made some
+    assert _same(shared, alone)
