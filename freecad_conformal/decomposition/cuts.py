@@ -221,8 +221,9 @@ def flange_candidates(shape, direction: np.ndarray, angle: float, needed: float,
                       concave: list | None = None) -> Iterator[PlaneCandidates]:
     """Planes along a shaft, just clear of it, where a flange overhangs it (a spool's upper
     flange, a pulley's rim, a bobbin's cheek): the flange's overhanging underside meets the
-    shaft's cylinder at a concave circle, all round (`_all_round`). Square to the shaft, the underside makes no area
-    jump, and a plane through the shaft's axis would split the shaft as well; the planes
+    shaft's cylinder at a concave circle, all round (`_all_round`). Square to the shaft,
+    the underside makes no area jump, and a plane through the shaft's axis would split the
+    shaft as well; the planes
     `FLANGE_SIDES` ways round, at the shaft's radius plus `BRANCH_CLEARANCE` (touching the
     cylinder, OCC may split in slivers), cut off the flange's sides beyond the shaft, each
     built outwards along the plane's normal, leaving the corners between them over the
@@ -245,16 +246,14 @@ def flange_candidates(shape, direction: np.ndarray, angle: float, needed: float,
             continue
         shaft, underside = (edge_angle.faces[kinds.index(kind)] for kind in ("Cylinder", "Plane"))
         normal = plane_normal(faces[underside])
-        axis = np.array(tuple(faces[shaft].Surface.Axis), dtype=float)
-        if (normal is not None and abs(float(normal @ axis)) >= SQUARE_COS * np.linalg.norm(axis)
+        if (normal is not None and abs(float(normal @ _axis(faces[shaft]))) >= SQUARE_COS
                 and float(normal @ direction) < -threshold):
             shafts.setdefault(shaft, set()).add(underside)
     planes = []
     for shaft, undersides in sorted(shafts.items()):
         surface = faces[shaft].Surface
-        axis = np.array(tuple(surface.Axis), dtype=float)
         centre = np.array(tuple(surface.Center), dtype=float)
-        for k, normal in enumerate(_around(perpendicular_frame(axis / np.linalg.norm(axis)))):
+        for k, normal in enumerate(_around(perpendicular_frame(_axis(faces[shaft])))):
             point = centre + (float(surface.Radius) + BRANCH_CLEARANCE) * normal
             saving = sum(_area_beyond(faces[i], point, normal) for i in sorted(undersides))
             if saving > needed:
@@ -289,17 +288,22 @@ def _area_beyond(face, point: np.ndarray, normal: np.ndarray) -> float:
 
 def _area_beyond_now(face, point: np.ndarray, normal: np.ndarray) -> float:
     from freecad_conformal.freecad_env import import_freecad
+    from freecad_conformal.geometry.boxes import box_reach
     from freecad_conformal.geometry.splitting_faces import plane_through
 
     App, _ = import_freecad()
     box = face.BoundBox
-    corners = np.array([[x, y, z] for x in (box.XMin, box.XMax) for y in (box.YMin, box.YMax)
-                        for z in (box.ZMin, box.ZMax)])
-    if float(np.max((corners - point) @ normal)) <= 0.0:
+    if box_reach(box, normal) <= float(point @ normal):
         return 0.0
     reach = box.DiagonalLength + 1.0
     beyond = plane_through(point, normal, box).extrude(App.Vector(*(reach * normal)))
     return float(face.common(beyond).Area)
+
+
+def _axis(face) -> np.ndarray:
+    """The unit axis of a cylindrical face."""
+    axis = np.array(tuple(face.Surface.Axis), dtype=float)
+    return axis / np.linalg.norm(axis)
 
 
 def _all_round(edge) -> bool:

@@ -176,16 +176,16 @@ def stack_fills(stacks: Sequence[tuple[Sequence[Layer], bool]], settings: PathSe
     if helper is not None:
         helper.ask({"stacks": stacks, "settings": settings, "known": known})
     done_from = len(units)      # the child has made every unit from here on
-    child_fills: dict[int, list[IslandFill]] = {}
+    child_fills: dict[int, tuple[list[IslandFill], tuple]] = {}    # number: (fill, key)
     keys: list[tuple | None] = [None] * len(units)
     try:
         for k, (s, i) in enumerate(units):
             if helper is not None:
-                for index, skin, bridge, number, fill, key in helper.received():
-                    if fill is not None:
-                        child_fills[number] = fill
-                    maker.put(*units[index], skin, bridge, child_fills[number])
-                    keys[index] = key
+                for index, skin, bridge, number, made in helper.received():
+                    if made is not None:
+                        child_fills[number] = made
+                    fill, keys[index] = child_fills[number]
+                    maker.put(*units[index], skin, bridge, fill)
                     done_from = index
             if k >= done_from:
                 break
@@ -266,7 +266,7 @@ def _distinct(stacks: Sequence[tuple[Sequence[Layer], bool]]) -> int:
 
 def _from_the_end(request: dict, send: Callable[[object], None]) -> None:
     """Child side: make the units from the last back, sending each as (unit, skin, bridge,
-    fill number, fill or None when that number was sent before, fill key)."""
+    fill number, (fill, fill key) or None when that number was sent before)."""
     stacks, settings = request["stacks"], request["settings"]
     maker = _Maker(stacks, settings, request["known"])
     units = [(s, i) for s, (layers, _) in enumerate(stacks) for i in range(len(layers))]
@@ -276,9 +276,9 @@ def _from_the_end(request: dict, send: Callable[[object], None]) -> None:
         number = numbers.get(key)
         if number is None:
             number = numbers[key] = len(numbers)
-            send((index, skin, bridge, number, fill, key))
+            send((index, skin, bridge, number, (fill, key)))
         else:
-            send((index, skin, bridge, number, None, key))
+            send((index, skin, bridge, number, None))
 
 
 def _preload() -> None:
